@@ -1,0 +1,34 @@
+# Two commands on a fresh clone: `make demo` and `make test`.
+PYTHON ?= python3
+VENV ?= .venv
+BIN := $(VENV)/bin
+
+.PHONY: demo test test-all lint bench install clean
+
+$(BIN)/uma: pyproject.toml
+	$(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install -q --upgrade pip
+	$(BIN)/python -m pip install -q -e '.[dev]'
+	touch $@
+
+install: $(BIN)/uma
+
+demo: install
+	$(BIN)/uma run
+
+test: install
+	$(BIN)/python -m pytest -q -m "not slow"
+
+test-all: install
+	$(BIN)/python -m pytest -q
+
+lint: install
+	$(BIN)/ruff check uma tests
+	$(BIN)/ruff format --check uma tests
+
+bench: install
+	$(BIN)/uma bench sim
+	$(BIN)/uma bench init
+
+clean:
+	rm -rf $(VENV) results

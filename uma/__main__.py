@@ -1,0 +1,5 @@
+import sys
+
+from uma.cli import main
+
+sys.exit(main())
