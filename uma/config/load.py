@@ -1,0 +1,85 @@
+"""Load a scenario file into a validated `Scenario`, or fail with one line naming file, line and key."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from uma.config.scenario import Scenario
+from uma.config.yamlfile import KeyLines, load_yaml
+from uma.errors import ConfigError
+from uma.paths import scenarios_dir
+
+__all__ = ["load_scenario", "default_scenario_path", "scenario_from_dict"]
+
+DEFAULT_SCENARIO = "stockholm-uppsala.yaml"
+
+
+def default_scenario_path() -> Path:
+    return scenarios_dir() / DEFAULT_SCENARIO
+
+
+def _describe_error(error: dict[str, Any]) -> str:
+    kind = error["type"]
+    found = error.get("input")
+    if kind == "extra_forbidden":
+        return "unknown key"
+    if kind == "missing":
+        return "missing required key"
+    found_text = repr(found)
+    if len(found_text) > 60:
+        found_text = found_text[:57] + "..."
+    message = error["msg"]
+    if message.startswith("Value error, "):
+        message = message[len("Value error, ") :]
+    return f"{message[:1].lower()}{message[1:]}, got {found_text}"
+
+
+def scenario_from_dict(data: Any, lines: KeyLines, *, base_dir: Path) -> Scenario:
+    """Validate parsed YAML; errors name the line and key path. Paths resolve against `base_dir`."""
+    from pydantic import ValidationError
+
+    if not isinstance(data, dict):
+        raise ConfigError(f"{lines.where(())}: expected a mapping of scenario keys, got {type(data).__name__}")
+    try:
+        scenario = Scenario.model_validate(data)
+    except ValidationError as err:
+        first = err.errors()[0]
+        key_path = [part for part in first["loc"] if part not in ("function-after",)]
+        more = f" (and {err.error_count() - 1} more)" if err.error_count() > 1 else ""
+        raise ConfigError(f"{lines.where(key_path)}: {_describe_error(first)}{more}") from None
+    scenario = scenario.resolved_paths(base_dir)
+    _check_files(scenario, lines)
+    _check_names(scenario, lines)
+    return scenario
+
+
+def _check_files(scenario: Scenario, lines: KeyLines) -> None:
+    wanted: list[tuple[tuple, str | None]] = [
+        (("source", "path"), scenario.source.path if scenario.source.kind in ("file", "yuv") else None),
+        (("engine", "ladder"), scenario.engine.ladder),
+    ]
+    wanted += [(("route", i, "trace"), seg.trace) for i, seg in enumerate(scenario.route)]
+    for key_path, path in wanted:
+        if path is not None and not Path(path).is_file():
+            raise ConfigError(f"{lines.where(key_path)}: expected an existing file, got {path!r}")
+
+
+def _check_names(scenario: Scenario, lines: KeyLines) -> None:
+    from uma.engine.policy import POLICIES
+
+    if scenario.engine.policy not in POLICIES:
+        choices = ", ".join(sorted(POLICIES))
+        raise ConfigError(
+            f"{lines.where(('engine', 'policy'))}: expected one of {choices}, "
+            f"got {scenario.engine.policy!r}"
+        )
+    if scenario.engine.policy == "fixed" and scenario.engine.fixed_rung is None:
+        raise ConfigError(f"{lines.where(('engine',))}: policy 'fixed' needs 'fixed_rung'")
+
+
+def load_scenario(path: str | Path | None = None) -> Scenario:
+    """Parse and validate a scenario file (the default scenario when `path` is None)."""
+    path = Path(path) if path is not None else default_scenario_path()
+    data, lines = load_yaml(path)
+    return scenario_from_dict(data, lines, base_dir=path.resolve().parent)

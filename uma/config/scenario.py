@@ -1,0 +1,194 @@
+"""The scenario schema: one YAML file parsed once into frozen, validated objects.
+
+Units live in key names (`rate_kbps`, `delay_ms`, `duration_s`, `queue_bytes`). Numbers must be
+numbers (a string such as "2 Mbit/s" is refused, so a unit cannot hide in a value), unknown keys
+are refused, and relative paths are resolved against the scenario file's folder when loaded, so
+the resolved scenario written beside the results repeats the run from anywhere.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, Literal
+
+from pydantic import AllowInfNan, BaseModel, ConfigDict, Field, Strict, model_validator
+
+__all__ = [
+    "Scenario",
+    "SourceConfig",
+    "SenderConfig",
+    "UplinkConfig",
+    "DownlinkConfig",
+    "TechnologyOverride",
+    "SegmentConfig",
+    "FeedbackConfig",
+    "EstimatorConfig",
+    "EngineConfig",
+    "ReceiverConfig",
+    "MetricsConfig",
+]
+
+Num = Annotated[float, Strict(), AllowInfNan(False)]
+PosNum = Annotated[float, Strict(), AllowInfNan(False), Field(gt=0)]
+NonNeg = Annotated[float, Strict(), AllowInfNan(False), Field(ge=0)]
+Fraction = Annotated[float, Strict(), AllowInfNan(False), Field(ge=0, le=1)]
+PosInt = Annotated[int, Strict(), Field(gt=0)]
+NonNegInt = Annotated[int, Strict(), Field(ge=0)]
+Bool = Annotated[bool, Strict()]
+Str = Annotated[str, Strict()]
+
+
+class _Section(BaseModel):
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+
+class SourceConfig(_Section):
+    """What the sender captures: a video file, raw YUV 4:2:0, or a built-in synthetic source."""
+
+    kind: Literal["pattern", "file", "yuv", "talking-head"] = "pattern"
+    path: Str | None = None
+    width: PosInt = 352
+    height: PosInt = 288
+    fps: PosNum = 25.0
+    loop: Bool = True
+
+    @model_validator(mode="after")
+    def _path_needed(self) -> SourceConfig:
+        if self.kind in ("file", "yuv") and not self.path:
+            raise ValueError(f"source kind '{self.kind}' needs 'path' (a video file)")
+        if self.width % 2 or self.height % 2:
+            raise ValueError(f"width and height must be even for 4:2:0, got {self.width}x{self.height}")
+        return self
+
+
+class SenderConfig(_Section):
+    """The sender's own H.264 encoding, at a high rate over the good uplink."""
+
+    rate_kbps: PosNum = 1500.0
+    preset: Str = "ultrafast"
+    keyint_frames: PosInt = 250
+
+
+class UplinkConfig(_Section):
+    """The good sender-to-engine link: fixed rate and delay, no loss."""
+
+    rate_kbps: PosNum = 20000.0
+    delay_ms: NonNeg = 20.0
+
+
+class TechnologyOverride(_Section):
+    """Per-technology link properties that replace the defaults of `uma.traces`."""
+
+    delay_ms: NonNeg | None = None
+    loss_rate: Fraction | None = None
+
+
+class DownlinkConfig(_Section):
+    """The trace-driven engine-to-receiver bottleneck."""
+
+    queue_bytes: PosInt = 40000
+    packet_bytes: PosInt = 1200
+    handover_gap_ms: NonNeg = 500.0
+    technologies: dict[Str, TechnologyOverride] = Field(default_factory=dict)
+
+
+class SegmentConfig(_Section):
+    """One stretch of the commute: a technology for a duration, from a trace file or generated."""
+
+    technology: Str
+    duration_s: PosNum
+    trace: Str | None = None
+    format: Str = "auto"
+    offset_s: NonNeg = 0.0
+    scale: PosNum = 1.0
+
+
+class FeedbackConfig(_Section):
+    """Receiver reports and keyframe requests over the mobile uplink."""
+
+    interval_ms: PosNum = 100.0
+    keyframe_min_interval_ms: NonNeg = 300.0
+
+
+class EstimatorConfig(_Section):
+    """The engine's delay-based bandwidth estimator (see `uma.engine.estimator`)."""
+
+    initial_kbps: PosNum = 300.0
+    min_kbps: PosNum = 5.0
+    max_kbps: PosNum = 20000.0
+    queue_high_ms: PosNum = 150.0
+    queue_low_ms: PosNum = 40.0
+    decrease_factor: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, lt=1)] = 0.85
+    increase_per_s: NonNeg = 0.25
+    loss_high: Fraction = 0.1
+
+
+class EngineConfig(_Section):
+    """The UMA engine: rate policy by name, ladder file, modelled compute cost."""
+
+    policy: Str = "throughput"
+    ladder: Str | None = None
+    safety: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, le=1)] = 0.85
+    up_hold_ms: NonNeg = 2000.0
+    fixed_rung: NonNegInt | None = None
+    transcode_ms: NonNeg = 4.0
+    estimator: EstimatorConfig = Field(default_factory=EstimatorConfig)
+
+
+class ReceiverConfig(_Section):
+    """The mobile receiver's conversational playout delay."""
+
+    playout_delay_ms: PosNum = 300.0
+
+
+class MetricsConfig(_Section):
+    """Which quality metrics to compute for every displayed frame."""
+
+    psnr: Bool = True
+    ssim: Bool = True
+
+
+class Scenario(_Section):
+    """A whole experiment; `Scenario.load(path)` is the way in (`uma.config.load_scenario`)."""
+
+    name: Annotated[str, Strict(), Field(pattern=r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")]
+    description: Str = ""
+    seed: NonNegInt = 0
+    duration_s: PosNum | None = None
+    source: SourceConfig = Field(default_factory=SourceConfig)
+    sender: SenderConfig = Field(default_factory=SenderConfig)
+    uplink: UplinkConfig = Field(default_factory=UplinkConfig)
+    downlink: DownlinkConfig = Field(default_factory=DownlinkConfig)
+    route: tuple[SegmentConfig, ...] = Field(min_length=1)
+    feedback: FeedbackConfig = Field(default_factory=FeedbackConfig)
+    engine: EngineConfig = Field(default_factory=EngineConfig)
+    receiver: ReceiverConfig = Field(default_factory=ReceiverConfig)
+    metrics: MetricsConfig = Field(default_factory=MetricsConfig)
+
+    @property
+    def route_duration_s(self) -> float:
+        return sum(segment.duration_s for segment in self.route)
+
+    @property
+    def run_duration_s(self) -> float:
+        """Simulated capture time: `duration_s`, or the whole route when not given."""
+        return self.duration_s if self.duration_s is not None else self.route_duration_s
+
+    def resolved_paths(self, base_dir: Path) -> Scenario:
+        """A copy whose relative file paths are made absolute against `base_dir`."""
+
+        def absolute(path: str | None) -> str | None:
+            if path is None:
+                return None
+            candidate = Path(path).expanduser()
+            return str(candidate if candidate.is_absolute() else (base_dir / candidate).resolve())
+
+        route = tuple(
+            segment.model_copy(update={"trace": absolute(segment.trace)}) for segment in self.route
+        )
+        source = self.source.model_copy(update={"path": absolute(self.source.path)})
+        engine = self.engine.model_copy(update={"ladder": absolute(self.engine.ladder)})
+        return self.model_copy(update={"route": route, "source": source, "engine": engine})
+
+    def with_seed(self, seed: int) -> Scenario:
+        return self.model_copy(update={"seed": seed})

@@ -1,0 +1,45 @@
+"""Messages the receiver sends the engine over the mobile uplink.
+
+Units: times in seconds (`_s`), delays in milliseconds (`_ms`), sizes in bits (`_bits`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = ["ReceiverReport", "KeyframeRequest"]
+
+
+@dataclass(frozen=True)
+class ReceiverReport:
+    """What the receiver saw since its previous report (RTCP receiver-report style).
+
+    `queue_delay_ms` is the mean one-way delay of the packets received in the interval minus the
+    smallest one-way delay seen in the recent past: it grows when a queue builds at the
+    bottleneck. It is None when no packet arrived in the interval.
+    """
+
+    sent_s: float
+    interval_s: float
+    received_bits: int
+    packets_received: int
+    packets_lost: int
+    highest_seq: int
+    queue_delay_ms: float | None
+
+    @property
+    def received_kbps(self) -> float:
+        return self.received_bits / self.interval_s / 1000.0 if self.interval_s > 0 else 0.0
+
+    @property
+    def loss_fraction(self) -> float:
+        total = self.packets_received + self.packets_lost
+        return self.packets_lost / total if total else 0.0
+
+
+@dataclass(frozen=True)
+class KeyframeRequest:
+    """The receiver lost a reference frame and asks for an IDR (an RTCP PLI)."""
+
+    sent_s: float
+    frame: int
