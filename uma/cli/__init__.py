@@ -29,9 +29,7 @@ Start with `uma run` (the default Stockholm-Uppsala scenario), then `uma run --h
 def _command_modules(prefix: str) -> list[str]:
     import uma.cli as pkg
 
-    return sorted(
-        m.name for m in pkgutil.iter_modules(pkg.__path__) if m.name.startswith(prefix)
-    )
+    return sorted(m.name for m in pkgutil.iter_modules(pkg.__path__) if m.name.startswith(prefix))
 
 
 def build_parser() -> argparse.ArgumentParser:

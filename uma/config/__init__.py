@@ -1,4 +1,7 @@
-"""Scenario configuration: YAML parsed once into frozen, validated objects with key paths in errors."""
+"""Scenario configuration: YAML parsed once into frozen, validated objects.
+
+Errors carry the file, line and key path of the bad value.
+"""
 
 from uma.config.load import default_scenario_path, load_scenario, scenario_from_dict
 from uma.config.scenario import (

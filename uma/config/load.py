@@ -1,4 +1,4 @@
-"""Load a scenario file into a validated `Scenario`, or fail with one line naming file, line and key."""
+"""Load a scenario file into a validated `Scenario`, or fail with one line naming file, line, key."""
 
 from __future__ import annotations
 
@@ -40,7 +40,9 @@ def scenario_from_dict(data: Any, lines: KeyLines, *, base_dir: Path) -> Scenari
     from pydantic import ValidationError
 
     if not isinstance(data, dict):
-        raise ConfigError(f"{lines.where(())}: expected a mapping of scenario keys, got {type(data).__name__}")
+        raise ConfigError(
+            f"{lines.where(())}: expected a mapping of scenario keys, got {type(data).__name__}"
+        )
     try:
         scenario = Scenario.model_validate(data)
     except ValidationError as err:
@@ -56,7 +58,10 @@ def scenario_from_dict(data: Any, lines: KeyLines, *, base_dir: Path) -> Scenari
 
 def _check_files(scenario: Scenario, lines: KeyLines) -> None:
     wanted: list[tuple[tuple, str | None]] = [
-        (("source", "path"), scenario.source.path if scenario.source.kind in ("file", "yuv") else None),
+        (
+            ("source", "path"),
+            scenario.source.path if scenario.source.kind in ("file", "yuv") else None,
+        ),
         (("engine", "ladder"), scenario.engine.ladder),
     ]
     wanted += [(("route", i, "trace"), seg.trace) for i, seg in enumerate(scenario.route)]

@@ -57,7 +57,9 @@ class SourceConfig(_Section):
         if self.kind in ("file", "yuv") and not self.path:
             raise ValueError(f"source kind '{self.kind}' needs 'path' (a video file)")
         if self.width % 2 or self.height % 2:
-            raise ValueError(f"width and height must be even for 4:2:0, got {self.width}x{self.height}")
+            raise ValueError(
+                f"width and height must be even for 4:2:0, got {self.width}x{self.height}"
+            )
         return self
 
 

@@ -71,7 +71,9 @@ class UmaEngine:
         if config.policy == "fixed" and config.fixed_rung is not None:
             self.rung = min(config.fixed_rung, len(rung_rates_kbps) - 1)
         else:
-            self.rung = highest_fitting(rung_rates_kbps, config.safety * self.estimator.estimate_kbps)
+            self.rung = highest_fitting(
+                rung_rates_kbps, config.safety * self.estimator.estimate_kbps
+            )
         self.last_switch_s = 0.0
         self.last_report_s = 0.0
         self.last_stale_decrease_s = 0.0
@@ -116,7 +118,9 @@ class UmaEngine:
         return self.estimator.estimate_kbps
 
     # --- decisions out ---------------------------------------------------------------------
-    def on_frame(self, frame: int, now_s: float, *, capacity_kbps: float | None = None) -> FrameDecision:
+    def on_frame(
+        self, frame: int, now_s: float, *, capacity_kbps: float | None = None
+    ) -> FrameDecision:
         """Decide for source frame `frame`, arriving from the sender at `now_s`."""
         self._check_stale(now_s)
         view = PolicyView(
@@ -144,10 +148,14 @@ class UmaEngine:
             self.last_switch_s = now_s
 
         if not self._scheduled(frame):
-            return FrameDecision(frame, self.rung, scheduled=False, send=False, force_idr=False, reason="fps")
+            return FrameDecision(
+                frame, self.rung, scheduled=False, send=False, force_idr=False, reason="fps"
+            )
         budget_bits = self.estimator.estimate_kbps * 1000.0 * MAX_BACKLOG_S
         if self.outstanding_bits > budget_bits and not switched:
-            return FrameDecision(frame, self.rung, scheduled=True, send=False, force_idr=False, reason="backlog")
+            return FrameDecision(
+                frame, self.rung, scheduled=True, send=False, force_idr=False, reason="backlog"
+            )
 
         force_idr = switched
         min_gap_s = self.feedback.keyframe_min_interval_ms / 1000.0

@@ -10,7 +10,14 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
-__all__ = ["PolicyView", "POLICIES", "throughput_policy", "oracle_policy", "fixed_policy", "highest_fitting"]
+__all__ = [
+    "PolicyView",
+    "POLICIES",
+    "throughput_policy",
+    "oracle_policy",
+    "fixed_policy",
+    "highest_fitting",
+]
 
 
 @dataclass(frozen=True)

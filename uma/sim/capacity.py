@@ -46,7 +46,7 @@ class CapacitySchedule:
     @classmethod
     def from_trace(cls, trace, *, handover_gap_s: float = 0.0) -> CapacitySchedule:
         """From a `uma.traces.Trace`, with zero capacity for `handover_gap_s` at each change of
-        technology (both sides labelled), as a mobile's data path pauses during a vertical handover."""
+        technology (both sides labelled), as a mobile's data path pauses in a vertical handover."""
         starts = np.asarray(trace.times_s, dtype=np.float64)
         rates_bps = np.asarray(trace.rates_kbps, dtype=np.float64) * 1000.0
         techs = list(trace.technologies)

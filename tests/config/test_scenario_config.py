@@ -1,0 +1,102 @@
+import pytest
+
+from uma.config import load_scenario
+from uma.errors import ConfigError
+
+MINIMAL = """\
+name: demo
+route:
+  - technology: WLAN
+    duration_s: 10
+"""
+
+
+def write(tmp_path, text, name="s.yaml"):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def test_minimal_scenario_gets_defaults(tmp_path):
+    scenario = load_scenario(write(tmp_path, MINIMAL))
+    assert scenario.name == "demo"
+    assert scenario.run_duration_s == 10
+    assert scenario.receiver.playout_delay_ms == 300
+    assert scenario.engine.policy == "throughput"
+
+
+def test_default_scenario_loads():
+    scenario = load_scenario()
+    assert scenario.name == "stockholm-uppsala"
+    techs = {segment.technology for segment in scenario.route}
+    assert {"WLAN", "3G", "GPRS", "GSM"} <= techs
+
+
+def test_unknown_key_names_line_and_path(tmp_path):
+    path = write(tmp_path, MINIMAL + "receiver:\n  playout_ms: 300\n")
+    with pytest.raises(ConfigError, match=r"s\.yaml:6 \(receiver\.playout_ms\): unknown key"):
+        load_scenario(path)
+
+
+def test_wrong_type_names_key(tmp_path):
+    text = MINIMAL.replace("duration_s: 10", 'duration_s: "10 s"')
+    with pytest.raises(ConfigError, match=r":4 \(route\[0\]\.duration_s\): .*number"):
+        load_scenario(write(tmp_path, text))
+
+
+def test_unit_hidden_in_value_is_refused(tmp_path):
+    text = MINIMAL + "sender:\n  rate_kbps: 2 Mbit/s\n"
+    with pytest.raises(ConfigError, match=r"sender\.rate_kbps"):
+        load_scenario(write(tmp_path, text))
+
+
+def test_negative_and_nan_are_refused(tmp_path):
+    with pytest.raises(ConfigError, match=r"downlink\.queue_bytes"):
+        load_scenario(write(tmp_path, MINIMAL + "downlink:\n  queue_bytes: -5\n"))
+    with pytest.raises(ConfigError, match=r"uplink\.delay_ms"):
+        load_scenario(write(tmp_path, MINIMAL + "uplink:\n  delay_ms: .nan\n"))
+
+
+def test_missing_trace_file_names_segment(tmp_path):
+    text = MINIMAL + "  - {technology: 3G, duration_s: 5, trace: nowhere.csv}\n"
+    with pytest.raises(ConfigError, match=r"route\[1\]\.trace\): expected an existing file"):
+        load_scenario(write(tmp_path, text))
+
+
+def test_trace_path_resolves_against_scenario_folder(tmp_path):
+    (tmp_path / "t.csv").write_text("time_s,rate_kbps,technology\n0,100,3G\n")
+    text = MINIMAL + "  - {technology: 3G, duration_s: 5, trace: t.csv}\n"
+    scenario = load_scenario(write(tmp_path, text))
+    assert scenario.route[1].trace == str((tmp_path / "t.csv").resolve())
+
+
+def test_unknown_policy_lists_choices(tmp_path):
+    text = MINIMAL + "engine:\n  policy: magic\n"
+    with pytest.raises(ConfigError, match=r"engine\.policy\): expected one of fixed, oracle"):
+        load_scenario(write(tmp_path, text))
+
+
+def test_missing_required_key(tmp_path):
+    with pytest.raises(ConfigError, match=r"\(route\): missing required key"):
+        load_scenario(write(tmp_path, "name: x\n"))
+
+
+def test_yaml_syntax_error_names_line(tmp_path):
+    with pytest.raises(ConfigError, match=r"s\.yaml:4: invalid YAML"):
+        load_scenario(write(tmp_path, "name: x\nroute: []\nseed: 1\n  oops: 2\n"))
+
+
+def test_missing_scenario_file(tmp_path):
+    with pytest.raises(ConfigError, match="no such file"):
+        load_scenario(tmp_path / "absent.yaml")
+
+
+def test_top_level_must_be_mapping(tmp_path):
+    with pytest.raises(ConfigError, match="expected a mapping"):
+        load_scenario(write(tmp_path, "- 1\n- 2\n"))
+
+
+def test_config_is_frozen(tmp_path):
+    scenario = load_scenario(write(tmp_path, MINIMAL))
+    with pytest.raises(Exception):  # noqa: B017 - pydantic's frozen error
+        scenario.seed = 3

@@ -1,0 +1,79 @@
+"""Aggregate one run's per-frame log into the numbers of `metrics.json`.
+
+Units are in the key names: kbit/s, bits, ms, dB; ratios are fractions of 1. Percentiles use
+numpy's default (linear) interpolation. PSNR and SSIM are means over every display instant,
+frozen ones included (a frozen display is what the user sees); `ssim_db` = -10 log10(1 - SSIM)
+of that mean, as Salsify reports it.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import Counter
+from collections.abc import Iterable
+from typing import Any
+
+import numpy as np
+
+from uma.metrics.delay import display_delays_ms
+from uma.metrics.framelog import FrameLog
+
+__all__ = ["aggregate", "ssim_to_db"]
+
+
+def ssim_to_db(ssim: float) -> float:
+    """-10 log10(1 - SSIM), capped at 100 dB for identical pictures."""
+    if math.isnan(ssim):
+        return float("nan")
+    return 100.0 if ssim >= 1.0 - 1e-10 else -10.0 * math.log10(1.0 - ssim)
+
+
+def _stat(values: np.ndarray, fn) -> float | None:
+    values = values[np.isfinite(values)]
+    return round(float(fn(values)), 4) if values.size else None
+
+
+def aggregate(
+    log: FrameLog,
+    *,
+    duration_s: float,
+    capacity_bits: float,
+    link: dict[str, int],
+    event_kinds: Iterable[str],
+) -> dict[str, Any]:
+    """The aggregates of one run; `log["delay_ms"]` is filled in as a side effect."""
+    delays = display_delays_ms(log["capture_ms"], log["display_ms"], log["shown_frame"])
+    log["delay_ms"][:] = delays
+    arrival = log["arrival_ms"] - log["capture_ms"]
+    kinds = Counter(event_kinds)
+    h264_bits = int(log["size_bits"][log["codec"] == "h264"].sum())
+    mbc_bits = int(log["size_bits"][log["codec"] == "mbc"].sum())
+    mean_ssim = _stat(log["ssim"], np.mean)
+    p95 = lambda v: np.percentile(v, 95)  # noqa: E731
+    return {
+        "frames": int(log.frames),
+        "duration_s": round(duration_s, 3),
+        "frames_sent": int(log["sent"].sum()),
+        "frames_decoded": int(log["decoded"].sum()),
+        "idr_frames": int(log["keyframe"].sum()),
+        "bits_sent": {"h264": h264_bits, "mbc": mbc_bits},
+        "kbps_h264": round(h264_bits / duration_s / 1000.0, 3),
+        "kbps_mbc": round(mbc_bits / duration_s / 1000.0, 3),
+        "bits_delivered": int(link["bits_delivered"]),
+        "capacity_mean_kbps": round(capacity_bits / duration_s / 1000.0, 3),
+        "link_utilisation": round(link["bits_delivered"] / capacity_bits, 4)
+        if capacity_bits
+        else None,
+        "packets": dict(link),
+        "freeze_ratio": round(float(log["frozen"].mean()), 4) if log.frames else None,
+        "psnr_db": _stat(log["psnr_db"], np.mean),
+        "ssim": mean_ssim,
+        "ssim_db": round(ssim_to_db(mean_ssim), 4) if mean_ssim is not None else None,
+        "delay_median_ms": _stat(delays, np.median),
+        "delay_p95_ms": _stat(delays, p95),
+        "arrival_delay_median_ms": _stat(arrival, np.median),
+        "arrival_delay_p95_ms": _stat(arrival, p95),
+        "switches": kinds.get("rung_switch", 0),
+        "handovers": kinds.get("handover", 0),
+        "keyframe_requests": kinds.get("keyframe_request", 0),
+    }

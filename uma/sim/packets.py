@@ -1,0 +1,67 @@
+"""What travels on the downlink: encoded frames ("units") cut into packets.
+
+Units: sizes in bits and bytes as named, times in seconds.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = ["EncodedUnit", "Packet", "packetize", "HEADER_BYTES"]
+
+# IPv4 + UDP + RTP headers on every packet.
+HEADER_BYTES = 40
+
+
+@dataclass(frozen=True)
+class EncodedUnit:
+    """One encoded frame as the engine sends it; `unit_seq` counts sent units without gaps,
+    so the receiver can tell a lost unit (and a broken reference chain) from a skipped frame."""
+
+    unit_seq: int
+    frame: int
+    codec: str
+    rung: int
+    width: int
+    height: int
+    keyframe: bool
+    data: bytes
+
+
+@dataclass(frozen=True)
+class Packet:
+    seq: int
+    unit: EncodedUnit
+    index: int
+    count: int
+    size_bits: int
+    sent_s: float
+
+
+def packetize(
+    unit: EncodedUnit, *, first_seq: int, payload_bytes: int, sent_s: float
+) -> list[Packet]:
+    """Cut `unit` into packets of at most `payload_bytes` of payload plus headers."""
+    size = max(1, len(unit.data))
+    count = -(-size // payload_bytes)
+    packets = []
+    for index in range(count):
+        payload = min(payload_bytes, size - index * payload_bytes)
+        packets.append(
+            Packet(
+                seq=first_seq + index,
+                unit=unit,
+                index=index,
+                count=count,
+                size_bits=8 * (payload + HEADER_BYTES),
+                sent_s=sent_s,
+            )
+        )
+    return packets
+
+
+def packet_sizes_bits(unit: EncodedUnit, *, payload_bytes: int) -> list[int]:
+    """The packet sizes `packetize` would produce, before sequence numbers are known."""
+    size = max(1, len(unit.data))
+    count = -(-size // payload_bytes)
+    return [8 * (min(payload_bytes, size - i * payload_bytes) + HEADER_BYTES) for i in range(count)]

@@ -1,0 +1,139 @@
+"""The mobile receiver: reassembles and really decodes frames, reports, and plays them out.
+
+Units: simulation time in seconds; delays in ms in reports and logs; sizes in bits.
+
+A unit (encoded frame) is decodable when all its packets arrived and the reference chain is
+intact: it is a keyframe, or it directly follows the last decoded unit. A lost packet breaks the
+chain until the next IDR, and the receiver asks for one. Each source frame has a display deadline
+(capture time + playout delay); at that instant the display shows the newest decoded frame not
+newer than it. The display is frozen when that is not the frame the engine meant to be seen then
+(the last frame the rung's frame rate scheduled): a late, lost, undecodable or backlog-skipped
+frame freezes it; a lower frame rate by design does not.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from uma.engine.reports import KeyframeRequest, ReceiverReport
+from uma.metrics.framelog import FrameLog
+from uma.sim.packets import EncodedUnit, Packet
+
+__all__ = ["ReceiverState", "BASE_DELAY_WINDOW_S"]
+
+# One-way delays older than this no longer set the base (a handover changes the path's delay).
+BASE_DELAY_WINDOW_S = 10.0
+# Ask again for an IDR when none came this long after the last request.
+KEYFRAME_RETRY_S = 1.0
+
+
+@dataclass
+class ReceiverState:
+    """Everything the receiver knows; packet and timer handlers are its methods."""
+
+    log: FrameLog
+    decode: Callable[[EncodedUnit], np.ndarray | None]
+    request_keyframe: Callable[[KeyframeRequest], None]
+    now: Callable[[], float]
+    assembling: dict[int, list] = field(default_factory=dict)  # unit_seq -> [unit, packets got]
+    expected_unit: int = 0
+    broken: bool = False
+    last_request_s: float = float("-inf")
+    decoded: dict[int, np.ndarray] = field(default_factory=dict)  # frame -> picture
+    # Report counters since the previous report.
+    bits: int = 0
+    packets: int = 0
+    lost: int = 0
+    highest_seq: int = -1
+    owd_sum_s: float = 0.0
+    base_window: deque = field(default_factory=deque)  # (time_s, owd_s), increasing owd
+
+    def on_packet(self, packet: Packet) -> None:
+        now_s = self.now()
+        if packet.seq > self.highest_seq + 1:
+            self.lost += packet.seq - self.highest_seq - 1
+        self.highest_seq = max(self.highest_seq, packet.seq)
+        self.bits += packet.size_bits
+        self.packets += 1
+        owd_s = now_s - packet.sent_s
+        self.owd_sum_s += owd_s
+        self._track_base(now_s, owd_s)
+
+        unit = packet.unit
+        # The link is FIFO: a packet of a later unit means earlier incomplete units are lost.
+        for seq in [s for s in self.assembling if s < unit.unit_seq]:
+            del self.assembling[seq]
+            self._chain_broken(seq)
+        entry = self.assembling.setdefault(unit.unit_seq, [unit, 0])
+        entry[1] += 1
+        if entry[1] == packet.count:
+            del self.assembling[unit.unit_seq]
+            self._complete(unit, now_s)
+
+    def _complete(self, unit: EncodedUnit, now_s: float) -> None:
+        if not unit.keyframe and (self.broken or unit.unit_seq != self.expected_unit):
+            self._chain_broken(unit.unit_seq)
+            return
+        picture = self.decode(unit)
+        if picture is None:
+            self._chain_broken(unit.unit_seq)
+            return
+        self.broken = False
+        self.expected_unit = unit.unit_seq + 1
+        self.decoded[unit.frame] = picture
+        self.log["arrival_ms"][unit.frame] = now_s * 1000.0
+        self.log["decoded"][unit.frame] = 1
+
+    def _chain_broken(self, unit_seq: int) -> None:
+        if unit_seq < self.expected_unit and not self.broken:
+            return  # a stale duplicate; the chain already moved on
+        self.broken = True
+        now_s = self.now()
+        if now_s - self.last_request_s >= KEYFRAME_RETRY_S or self.last_request_s < 0:
+            self.last_request_s = now_s
+            self.request_keyframe(KeyframeRequest(sent_s=now_s, frame=unit_seq))
+
+    def _track_base(self, now_s: float, owd_s: float) -> None:
+        window = self.base_window
+        while window and window[-1][1] >= owd_s:
+            window.pop()
+        window.append((now_s, owd_s))
+        while window[0][0] < now_s - BASE_DELAY_WINDOW_S:
+            window.popleft()
+
+    def make_report(self, interval_s: float) -> ReceiverReport:
+        """Summarise the interval since the last report and reset its counters."""
+        now_s = self.now()
+        if self.broken and now_s - self.last_request_s >= KEYFRAME_RETRY_S:
+            self.last_request_s = now_s
+            self.request_keyframe(KeyframeRequest(sent_s=now_s, frame=self.expected_unit))
+        queue_ms = None
+        if self.packets:
+            base_s = self.base_window[0][1]
+            queue_ms = max(0.0, (self.owd_sum_s / self.packets - base_s) * 1000.0)
+        report = ReceiverReport(
+            sent_s=now_s,
+            interval_s=interval_s,
+            received_bits=self.bits,
+            packets_received=self.packets,
+            packets_lost=self.lost,
+            highest_seq=self.highest_seq,
+            queue_delay_ms=queue_ms,
+        )
+        self.bits = self.packets = self.lost = 0
+        self.owd_sum_s = 0.0
+        return report
+
+    def shown_at(self, frame: int) -> tuple[int, np.ndarray | None]:
+        """The newest decoded frame not newer than `frame`; older pictures are let go."""
+        candidates = [k for k in self.decoded if k <= frame]
+        if not candidates:
+            return -1, None
+        shown = max(candidates)
+        for k in [k for k in self.decoded if k < shown]:
+            del self.decoded[k]
+        return shown, self.decoded[shown]

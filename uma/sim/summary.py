@@ -1,0 +1,73 @@
+"""Turn a `RunResult` into the contents of its result files."""
+
+from __future__ import annotations
+
+from dataclasses import asdict
+from pathlib import Path
+from typing import Any
+
+from uma.metrics.aggregate import aggregate
+from uma.metrics.results import events_csv, write_results
+from uma.sim.world import RunResult
+
+__all__ = ["run_metrics", "save_run", "format_summary"]
+
+
+def run_metrics(result: RunResult) -> dict[str, Any]:
+    """The `metrics.json` object of a run: identification, then the aggregates."""
+    head = {
+        "scenario": result.scenario.name,
+        "seed": result.scenario.seed,
+        "source": result.source_name,
+        "video": f"{result.width}x{result.height}@{result.fps:g}",
+        "policy": result.scenario.engine.policy,
+    }
+    body = aggregate(
+        result.log,
+        duration_s=result.duration_s,
+        capacity_bits=result.capacity.bits_until(result.duration_s),
+        link=asdict(result.link),
+        event_kinds=[event.kind for event in result.events],
+    )
+    body["feedback_lost"] = result.feedback_lost
+    return head | body
+
+
+def save_run(result: RunResult, out_dir: str | Path) -> dict[str, Any]:
+    """Write the run's result files atomically; returns its metrics."""
+    import yaml
+
+    metrics = run_metrics(result)
+    scenario_yaml = yaml.safe_dump(result.scenario.model_dump(mode="json"), sort_keys=False)
+    write_results(
+        out_dir,
+        scenario_yaml=scenario_yaml,
+        metrics=metrics,
+        frames_csv=result.log.to_csv(),
+        events_csv_text=events_csv(result.events),
+    )
+    return metrics
+
+
+def format_summary(metrics: dict[str, Any], out_dir: str | Path) -> str:
+    """A few lines a person reads after `uma run`."""
+
+    def show(key: str, unit: str = "") -> str:
+        value = metrics.get(key)
+        return "n/a" if value is None else f"{value:g}{unit}"
+
+    return "\n".join(
+        [
+            f"scenario {metrics['scenario']} (seed {metrics['seed']}): {metrics['frames']} frames"
+            f" of {metrics['video']} from {metrics['source']}, {show('duration_s', ' s')}",
+            f"  sent      {show('kbps_h264', ' kbit/s')} H.264, link utilisation "
+            f"{show('link_utilisation')}, mean capacity {show('capacity_mean_kbps', ' kbit/s')}",
+            f"  quality   PSNR {show('psnr_db', ' dB')}, SSIM {show('ssim')}"
+            f" ({show('ssim_db', ' dB')})",
+            f"  display   frozen {show('freeze_ratio')} of the time, delay median "
+            f"{show('delay_median_ms', ' ms')}, p95 {show('delay_p95_ms', ' ms')}",
+            f"  engine    {metrics['switches']} rung switches, {metrics['handovers']} handovers, "
+            f"{metrics['keyframe_requests']} keyframe requests",
+            f"  results   {out_dir}",
+        ]
+    )

@@ -1,0 +1,207 @@
+"""Wire the world of one scenario and run it: the only function that knows every part.
+
+Units: simulation time in seconds. Randomness: one `numpy.random.SeedSequence` from the
+scenario's seed, split into independent streams for the route, downlink loss and feedback loss,
+so the same seed and inputs give the same run, bit for bit.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import simpy
+
+from uma.config.scenario import Scenario
+from uma.engine.engine import EngineEvent, UmaEngine
+from uma.metrics.framelog import FrameLog
+from uma.sim.capacity import CapacitySchedule
+from uma.sim.codecs import CodecChain
+from uma.sim.links import Downlink, FixedLink, LinkProps, LinkStats, downlink_process
+from uma.sim.processes import (
+    World,
+    display_process,
+    engine_process,
+    report_process,
+    sender_process,
+)
+from uma.sim.quality import QualityMeter
+from uma.sim.receiver import ReceiverState
+from uma.sim.sources import open_source
+
+__all__ = ["RunResult", "run_scenario", "build_capacity"]
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """What a run leaves behind for metrics and reports."""
+
+    scenario: Scenario
+    log: FrameLog
+    events: tuple[EngineEvent, ...]
+    link: LinkStats
+    capacity: CapacitySchedule
+    duration_s: float
+    fps: float
+    source_name: str
+    width: int
+    height: int
+    feedback_lost: int
+    codec_s: float = 0.0
+    metrics_s: float = 0.0
+
+
+def build_capacity(scenario: Scenario, rng: np.random.Generator) -> CapacitySchedule:
+    """The downlink capacity of the scenario's route, with its handover gaps."""
+    from uma.traces import RouteSegment, build_route
+
+    segments = [
+        RouteSegment(
+            technology=seg.technology,
+            duration_s=seg.duration_s,
+            trace=seg.trace,
+            format=seg.format,
+            offset_s=seg.offset_s,
+            scale=seg.scale,
+        )
+        for seg in scenario.route
+    ]
+    trace = build_route(segments, rng=rng)
+    return CapacitySchedule.from_trace(
+        trace, handover_gap_s=scenario.downlink.handover_gap_ms / 1000.0
+    )
+
+
+def _link_props(scenario: Scenario) -> Callable[[str], LinkProps]:
+    from uma.traces import technology_defaults
+
+    overrides = scenario.downlink.technologies
+    cache: dict[str, LinkProps] = {}
+
+    def props(technology: str) -> LinkProps:
+        if technology not in cache:
+            default = technology_defaults(technology)
+            delay_ms, loss = default.delay_ms, default.loss_rate
+            override = overrides.get(technology)
+            if override is not None:
+                delay_ms = override.delay_ms if override.delay_ms is not None else delay_ms
+                loss = override.loss_rate if override.loss_rate is not None else loss
+            cache[technology] = LinkProps(delay_s=delay_ms / 1000.0, loss_rate=loss)
+        return cache[technology]
+
+    return props
+
+
+def _handover_events(capacity: CapacitySchedule, end_s: float) -> list[EngineEvent]:
+    events = []
+    techs = capacity.technologies
+    for i in range(1, len(techs)):
+        t_s = float(capacity.starts_s[i])
+        if t_s < end_s and techs[i] != techs[i - 1] and techs[i] and techs[i - 1]:
+            events.append(EngineEvent(t_s, "handover", f"{techs[i - 1]}->{techs[i]}"))
+    return events
+
+
+def run_scenario(
+    scenario: Scenario,
+    *,
+    progress: Callable[[int, int], None] | None = None,
+    account: bool = False,
+) -> RunResult:
+    """Simulate `scenario`; `progress(done, total)` is told of each displayed frame.
+
+    With `account`, the wall-clock seconds spent in codecs and quality metrics are summed for
+    `uma bench sim`; they are measured, never used by the simulation.
+    """
+    from uma.video import load_ladder
+
+    route_rng, loss_rng, feedback_rng = (
+        np.random.default_rng(s) for s in np.random.SeedSequence(scenario.seed).spawn(3)
+    )
+    capacity = build_capacity(scenario, route_rng)
+    ladder = load_ladder(scenario.engine.ladder)
+    source = open_source(scenario.source, seed=scenario.seed)
+    fps = float(source.fps)
+    frames = int(round(scenario.run_duration_s * fps))
+    log = FrameLog(frames)
+    env = simpy.Environment()
+    codec = CodecChain(
+        scenario, ladder, width=source.width, height=source.height, fps=fps, account=account
+    )
+    quality = QualityMeter(
+        scenario.metrics, width=source.width, height=source.height, account=account
+    )
+    engine = UmaEngine(
+        scenario.engine,
+        rung_rates_kbps=tuple(r.rate_kbps for r in ladder.rungs),
+        rung_fps=tuple(r.fps for r in ladder.rungs),
+        source_fps=fps,
+        feedback=scenario.feedback,
+    )
+    props = _link_props(scenario)
+    world_ref: list[World] = []
+    receiver = ReceiverState(
+        log=log,
+        decode=codec.receiver_decode,
+        request_keyframe=lambda request: world_ref[0].send_feedback(
+            request, engine.on_keyframe_request
+        ),
+        now=lambda: env.now,
+    )
+    downlink = Downlink(
+        env=env,
+        capacity=capacity,
+        queue_limit_bytes=scenario.downlink.queue_bytes,
+        props=props,
+        rng=loss_rng,
+        deliver=receiver.on_packet,
+    )
+    world = World(
+        env=env,
+        scenario=scenario,
+        frames=frames,
+        fps=fps,
+        source_iter=iter(source.frames()),
+        source_size=(source.width, source.height),
+        ladder=ladder,
+        engine=engine,
+        capacity=capacity,
+        uplink=FixedLink(
+            env, scenario.uplink.rate_kbps * 1000.0, scenario.uplink.delay_ms / 1000.0
+        ),
+        downlink=downlink,
+        receiver=receiver,
+        link_props=props,
+        feedback_rng=feedback_rng,
+        log=log,
+        codec=codec,
+        quality=quality,
+        progress=progress,
+        inbox=simpy.Store(env),
+    )
+    world_ref.append(world)
+    env.process(sender_process(env, world))
+    env.process(engine_process(env, world))
+    env.process(downlink_process(env, downlink))
+    env.process(report_process(env, world))
+    display = env.process(display_process(env, world))
+    env.run(until=display)
+
+    end_s = frames / fps
+    events = sorted(_handover_events(capacity, end_s) + engine.events, key=lambda e: e.time_s)
+    return RunResult(
+        scenario=scenario,
+        log=log,
+        events=tuple(events),
+        link=downlink.stats,
+        capacity=capacity,
+        duration_s=end_s,
+        fps=fps,
+        source_name=source.name,
+        width=source.width,
+        height=source.height,
+        feedback_lost=world.feedback_lost,
+        codec_s=codec.seconds,
+        metrics_s=quality.seconds,
+    )
