@@ -1,4 +1,4 @@
-"""Load a scenario file into a validated `Scenario`, or fail with one line naming file, line, key."""
+"""Load a scenario file into a validated `Scenario`, or fail naming file, line and key."""
 
 from __future__ import annotations
 
