@@ -1,0 +1,107 @@
+import numpy as np
+
+from uma.metrics.framelog import FrameLog
+from uma.sim.packets import EncodedUnit, packetize
+from uma.sim.receiver import ReceiverState
+
+
+class Clock:
+    t = 0.0
+
+    def __call__(self):
+        return self.t
+
+
+def make_receiver():
+    clock = Clock()
+    requests = []
+    decoded_units = []
+
+    def decode(unit):
+        decoded_units.append(unit.unit_seq)
+        return np.full((24, 16), unit.frame, dtype=np.uint8)
+
+    receiver = ReceiverState(
+        log=FrameLog(20), decode=decode, request_keyframe=requests.append, now=clock
+    )
+    return receiver, clock, requests, decoded_units
+
+
+def unit(seq, frame, *, key=False, size=2000):
+    return EncodedUnit(
+        unit_seq=seq,
+        frame=frame,
+        codec="h264",
+        rung=0,
+        width=16,
+        height=16,
+        keyframe=key,
+        data=b"z" * size,
+    )
+
+
+def deliver(receiver, clock, u, first_seq, t, *, drop=()):
+    clock.t = t
+    packets = packetize(u, first_seq=first_seq, payload_bytes=1000, sent_s=t - 0.05)
+    for p in packets:
+        if p.index not in drop:
+            receiver.on_packet(p)
+    return first_seq + len(packets)
+
+
+def test_complete_chain_decodes_every_frame():
+    receiver, clock, requests, decoded = make_receiver()
+    seq = 0
+    for i in range(4):
+        seq = deliver(receiver, clock, unit(i, 2 * i, key=i == 0), seq, 0.1 * i)
+    assert decoded == [0, 1, 2, 3]
+    assert requests == []
+    assert receiver.log["decoded"][[0, 2, 4, 6]].tolist() == [1, 1, 1, 1]
+    assert receiver.log["arrival_ms"][2] == 100.0
+
+
+def test_lost_packet_breaks_chain_until_idr_and_asks_for_one():
+    receiver, clock, requests, decoded = make_receiver()
+    seq = deliver(receiver, clock, unit(0, 0, key=True), 0, 0.0)
+    seq = deliver(receiver, clock, unit(1, 1), seq, 0.04, drop={1})  # incomplete
+    seq = deliver(receiver, clock, unit(2, 2), seq, 0.08)  # reveals the loss; not decodable
+    seq = deliver(receiver, clock, unit(3, 3), seq, 0.12)
+    assert decoded == [0]
+    assert len(requests) == 1
+    seq = deliver(receiver, clock, unit(4, 4, key=True), seq, 0.16)
+    seq = deliver(receiver, clock, unit(5, 5), seq, 0.20)
+    assert decoded == [0, 4, 5]
+
+
+def test_wholly_lost_unit_is_noticed_by_its_successor():
+    receiver, clock, requests, decoded = make_receiver()
+    seq = deliver(receiver, clock, unit(0, 0, key=True), 0, 0.0)
+    seq += 2  # unit 1 dropped entirely at the queue
+    deliver(receiver, clock, unit(2, 2), seq, 0.1)
+    assert decoded == [0]
+    report = receiver.make_report(0.1)
+    assert report.packets_lost == 2
+    assert len(requests) == 1
+
+
+def test_shown_frame_is_newest_not_newer_than_display_slot():
+    receiver, clock, _, _ = make_receiver()
+    seq = deliver(receiver, clock, unit(0, 0, key=True), 0, 0.0)
+    seq = deliver(receiver, clock, unit(1, 3), seq, 0.1)
+    seq = deliver(receiver, clock, unit(2, 5), seq, 0.2)
+    assert receiver.shown_at(2)[0] == 0
+    assert receiver.shown_at(4)[0] == 3
+    shown, picture = receiver.shown_at(9)
+    assert shown == 5 and picture[0, 0] == 5
+
+
+def test_report_measures_rate_and_queue_delay():
+    receiver, clock, _, _ = make_receiver()
+    seq = deliver(receiver, clock, unit(0, 0, key=True, size=1000), 0, 1.0)
+    report = receiver.make_report(0.5)
+    assert report.received_bits == 8 * (1000 + 40)
+    assert report.received_kbps == 8 * 1040 / 0.5 / 1000
+    assert report.queue_delay_ms == 0.0
+    assert report.highest_seq == seq - 1
+    empty = receiver.make_report(0.5)
+    assert empty.packets_received == 0 and empty.queue_delay_ms is None

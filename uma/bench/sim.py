@@ -1,0 +1,134 @@
+"""`uma bench sim`: the whole simulation against the bare codec and metric work it contains.
+
+Units: wall-clock seconds (`_s`), measured with `time.perf_counter` in this process only.
+
+The simulation of a scenario is timed first. Then, in the same process, exactly the codec work
+it did is redone without SimPy: the sender's encode of every frame, the engine's decode and its
+re-encode of the frames it sent (same rungs, same IDRs), the receiver's decode of the frames it
+decoded; and, apart, the same quality metrics on the same (source, displayed) pairs.
+`ratio` = sim_s / (codec_s + metrics_s): what the simulation adds around the unavoidable work.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from uma.config.scenario import Scenario
+
+__all__ = ["SimBenchConfig", "run_sim_bench", "format_table"]
+
+
+@dataclass(frozen=True)
+class SimBenchConfig:
+    scenario: Scenario
+    frames: int
+    width: int
+    height: int
+    video: str | None = None
+
+
+def _prepare(config: SimBenchConfig) -> Scenario:
+    scenario = config.scenario
+    source = scenario.source
+    if config.video is not None:
+        source = source.model_copy(update={"kind": "file", "path": config.video, "loop": True})
+    else:
+        source = source.model_copy(update={"width": config.width, "height": config.height})
+    duration_s = config.frames / source.fps
+    return scenario.model_copy(update={"source": source, "duration_s": duration_s})
+
+
+def _replay(scenario: Scenario, result) -> tuple[float, float]:
+    """Redo the run's codec work and metrics alone; returns (codec_s, metrics_s)."""
+    from uma.sim.codecs import CodecChain
+    from uma.sim.packets import EncodedUnit
+    from uma.sim.quality import QualityMeter
+    from uma.sim.sources import open_source
+    from uma.video import load_ladder
+
+    ladder = load_ladder(scenario.engine.ladder)
+    source = open_source(scenario.source, seed=scenario.seed)
+    log = result.log
+    chain = CodecChain(
+        scenario, ladder, width=source.width, height=source.height, fps=result.fps, account=True
+    )
+    meter = QualityMeter(scenario.metrics, width=source.width, height=source.height, account=True)
+    decoded: dict[int, np.ndarray] = {}
+    frames = iter(source.frames())
+    for index in range(log.frames):
+        frame = next(frames)
+        encoded = chain.sender_encode(frame)
+        picture = chain.engine_decode(encoded)
+        if log["sent"][index] and picture is not None:
+            rung = int(log["rung"][index])
+            out = chain.engine_encode(picture, rung, force_idr=bool(log["keyframe"][index]))
+            if log["decoded"][index]:
+                unit = EncodedUnit(
+                    unit_seq=index,
+                    frame=index,
+                    codec="h264",
+                    rung=rung,
+                    width=0,
+                    height=0,
+                    keyframe=bool(out.is_keyframe),
+                    data=out.data,
+                )
+                shown_picture = chain.receiver_decode(unit)
+                if shown_picture is not None:
+                    decoded[index] = shown_picture
+        shown = int(log["shown_frame"][index])
+        meter.score(frame, shown, decoded.get(shown))
+        for old in [k for k in decoded if k < shown]:
+            del decoded[old]
+    return chain.seconds, meter.seconds
+
+
+def run_sim_bench(config: SimBenchConfig) -> dict[str, Any]:
+    """Time the simulation and its bare codec and metric work; the JSON of CONVENTIONS.md."""
+    from uma.sim import run_scenario
+
+    scenario = _prepare(config)
+    start = time.perf_counter()
+    result = run_scenario(scenario, account=True)
+    sim_s = time.perf_counter() - start
+    codec_s, metrics_s = _replay(scenario, result)
+    simulated_s = result.duration_s
+    return {
+        "frames": int(result.log.frames),
+        "video": f"{result.width}x{result.height}@{result.fps:g}",
+        "scenario": scenario.name,
+        "sim_s": round(sim_s, 3),
+        "codec_s": round(codec_s, 3),
+        "metrics_s": round(metrics_s, 3),
+        "ratio": round(sim_s / (codec_s + metrics_s), 3),
+        "realtime_x": round(simulated_s / sim_s, 2),
+        "simulated_s": round(simulated_s, 3),
+        "split_in_sim_s": {
+            "codec": round(result.codec_s, 3),
+            "metrics": round(result.metrics_s, 3),
+            "rest": round(sim_s - result.codec_s - result.metrics_s, 3),
+        },
+    }
+
+
+def format_table(result: dict[str, Any]) -> str:
+    split = result["split_in_sim_s"]
+    rows = [
+        f"uma bench sim: {result['scenario']}, {result['frames']} frames of {result['video']}"
+        f" ({result['simulated_s']} s simulated)",
+        "",
+        f"  {'whole simulation':<34}{result['sim_s']:>9.3f} s",
+        f"    {'of which codecs':<32}{split['codec']:>9.3f} s",
+        f"    {'of which quality metrics':<32}{split['metrics']:>9.3f} s",
+        f"    {'of which the rest (SimPy, links)':<32}{split['rest']:>9.3f} s",
+        f"  {'same codec work alone':<34}{result['codec_s']:>9.3f} s",
+        f"  {'same metrics alone':<34}{result['metrics_s']:>9.3f} s",
+        "",
+        f"  ratio sim / (codec + metrics)     {result['ratio']:>9.3f}   (target <= 1.5)",
+        f"  faster than real time             {result['realtime_x']:>9.2f}x  (target >= 20 at CIF)",
+    ]
+    return "\n".join(rows)

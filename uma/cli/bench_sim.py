@@ -1,0 +1,57 @@
+"""`uma bench sim`: simulation cost against the bare codec and metric work inside it."""
+
+from __future__ import annotations
+
+import argparse
+
+__all__ = ["register"]
+
+
+def _size(text: str) -> tuple[int, int]:
+    presets = {"cif": (352, 288), "qcif": (176, 144)}
+    if text.lower() in presets:
+        return presets[text.lower()]
+    try:
+        width, height = (int(v) for v in text.lower().split("x"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected cif, qcif or WxH, got {text!r}") from None
+    if width <= 0 or height <= 0 or width % 2 or height % 2:
+        raise argparse.ArgumentTypeError(f"expected even positive WxH, got {text!r}")
+    return width, height
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    from uma.cli.cmd_bench import add_common_arguments
+
+    parser = sub.add_parser(
+        "sim",
+        help="whole simulation vs the same libx264 and metric work alone",
+        description="Run a scenario (default: the default scenario) for --frames frames, then redo "
+        "its codec work (sender encode, engine decode and re-encode, receiver decode) and its "
+        "quality metrics alone in the same process, and print both times, their ratio and how "
+        "much faster than real time the simulation ran.",
+    )
+    parser.add_argument("--scenario", metavar="FILE", help="scenario file (default: the default)")
+    parser.add_argument("--frames", type=int, default=750, help="frames to simulate (default 750)")
+    parser.add_argument("--size", type=_size, default=(352, 288), help="cif, qcif or WxH")
+    parser.add_argument("--video", metavar="FILE", help="use this video file as the source")
+    add_common_arguments(parser)
+    parser.set_defaults(func=handle)
+
+
+def handle(args: argparse.Namespace) -> int:
+    from uma.bench.sim import SimBenchConfig, format_table, run_sim_bench
+    from uma.cli.cmd_bench import emit
+    from uma.config import load_scenario
+    from uma.errors import ConfigError
+
+    if args.frames <= 0:
+        raise ConfigError(f"--frames: expected a positive integer, got {args.frames}")
+    scenario = load_scenario(args.scenario).with_seed(args.seed)
+    width, height = args.size
+    config = SimBenchConfig(
+        scenario=scenario, frames=args.frames, width=width, height=height, video=args.video
+    )
+    result = run_sim_bench(config)
+    emit(result, format_table(result), as_json=args.json)
+    return 0
