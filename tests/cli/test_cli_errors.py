@@ -1,0 +1,40 @@
+import subprocess
+import sys
+
+import pytest
+
+from uma.cli import main
+
+
+def test_help_lists_commands(capsys):
+    with pytest.raises(SystemExit) as exit_info:
+        main(["--help"])
+    assert exit_info.value.code == 0
+    out = capsys.readouterr().out
+    assert "run" in out and "bench" in out
+
+
+def test_bad_scenario_is_one_line_and_exit_2(tmp_path, capsys):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("name: x\nroute:\n  - {technology: WLAN, duration_s: -3}\n")
+    assert main(["run", str(bad), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1
+    assert err[0].startswith("uma: error: ") and "route[0].duration_s" in err[0]
+    assert not (tmp_path / "out").exists()
+
+
+def test_missing_scenario_file_exit_2(tmp_path, capsys):
+    assert main(["run", str(tmp_path / "nope.yaml")]) == 2
+    assert "no such file" in capsys.readouterr().err
+
+
+def test_help_is_light():
+    # `uma --help` must not import the heavy libraries.
+    code = (
+        "import sys; from uma.cli import build_parser; build_parser(); "
+        "heavy = [m for m in ('av', 'cv2', 'skimage', 'simpy', 'numba', 'dask', 'matplotlib') "
+        "if m in sys.modules]; print(heavy)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"
