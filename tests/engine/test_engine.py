@@ -59,8 +59,9 @@ def test_switch_down_forces_idr_and_is_logged():
 
 def test_backlog_skips_frames_until_reports_catch_up():
     engine = make_engine(policy="fixed", fixed_rung=3)
+    assert engine.on_frame(0, 0.0).send
     engine.on_packets_sent([12_000] * 20)  # 240 kbit outstanding, more than 0.3 s at 400 kbit/s
-    decision = engine.on_frame(0, 0.05)
+    decision = engine.on_frame(1, 0.04)
     assert decision.scheduled and not decision.send and decision.reason == "backlog"
     report = ReceiverReport(
         sent_s=0.1,
@@ -73,7 +74,17 @@ def test_backlog_skips_frames_until_reports_catch_up():
     )
     engine.on_report(report, 0.1)
     assert engine.outstanding_bits == 0
-    assert engine.on_frame(1, 0.12).send
+    assert engine.on_frame(2, 0.08).send
+
+
+def test_backlogged_engine_still_probes_and_presumes_old_packets_lost():
+    engine = make_engine(policy="fixed", fixed_rung=3)
+    assert engine.on_frame(0, 0.0).send
+    engine.on_packets_sent([12_000] * 20)
+    assert not engine.on_frame(1, 0.5).send
+    assert engine.on_frame(25, 1.0).send  # probe after a second without sending
+    engine.on_frame(26, 2.5)  # no report progress for over 2 s: presumed lost
+    assert engine.outstanding_bits == 0
 
 
 def test_missing_reports_decay_the_estimate():

@@ -43,7 +43,7 @@ def test_decrease_at_most_once_per_drain_time():
     )
     assert again.estimate_kbps == state.estimate_kbps
     later = update_estimate(
-        state, report(150, queue_ms=400), now_s=1.5, outstanding_bits=0, config=CONFIG
+        state, report(150, queue_ms=400), now_s=2.1, outstanding_bits=0, config=CONFIG
     )
     assert later.estimate_kbps < state.estimate_kbps
 
@@ -61,12 +61,12 @@ def test_empty_queue_grows_but_stays_anchored():
         state = update_estimate(
             state, report(400, queue_ms=5), now_s=step * 0.1, outstanding_bits=0, config=CONFIG
         )
-    assert 500 < state.estimate_kbps <= 800 + 1e-9
+    assert 500 < state.estimate_kbps <= 3 * 400 + 1e-9
 
 
 def test_silence_with_data_in_flight_decays_to_floor():
     state = initial_estimate(CONFIG)
-    for step in range(200):
+    for step in range(600):
         state = update_estimate(
             state, report(0, received=0), now_s=step * 0.1, outstanding_bits=10_000, config=CONFIG
         )

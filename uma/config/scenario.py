@@ -121,8 +121,9 @@ class EstimatorConfig(_Section):
     queue_high_ms: PosNum = 150.0
     queue_low_ms: PosNum = 40.0
     decrease_factor: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, lt=1)] = 0.85
-    increase_per_s: NonNeg = 0.25
+    increase_per_s: NonNeg = 0.5
     loss_high: Fraction = 0.1
+    window_s: PosNum = 1.0
 
 
 class EngineConfig(_Section):
@@ -131,7 +132,7 @@ class EngineConfig(_Section):
     policy: Str = "throughput"
     ladder: Str | None = None
     safety: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, le=1)] = 0.85
-    up_hold_ms: NonNeg = 2000.0
+    up_hold_ms: NonNeg = 1000.0
     fixed_rung: NonNegInt | None = None
     transcode_ms: NonNeg = 4.0
     estimator: EstimatorConfig = Field(default_factory=EstimatorConfig)

@@ -23,6 +23,11 @@ __all__ = ["UmaEngine", "FrameDecision", "EngineEvent"]
 STALE_REPORTS = 3
 # Encoded frames waiting in the network beyond this much sending time are not worth adding to.
 MAX_BACKLOG_S = 0.3
+# Packets the receiver has not acknowledged after this long are presumed lost (a lost tail
+# would otherwise look outstanding forever and stall the engine).
+PRESUME_LOST_S = 2.0
+# While backlogged, still send a frame this often: a probe that keeps the reports coming.
+PROBE_INTERVAL_S = 1.0
 
 
 @dataclass(frozen=True)
@@ -81,11 +86,15 @@ class UmaEngine:
         self.idr_pending = False
         self.cum_sent_bits: list[int] = [0]  # cum_sent_bits[seq + 1] = bits sent up to packet seq
         self.highest_seq = -1
+        self.last_progress_s = 0.0
+        self.last_sent_s = float("-inf")
         self.events: list[EngineEvent] = []
 
     # --- events in -------------------------------------------------------------------------
     def on_report(self, report: ReceiverReport, now_s: float) -> None:
-        self.highest_seq = max(self.highest_seq, report.highest_seq)
+        if report.highest_seq > self.highest_seq:
+            self.highest_seq = report.highest_seq
+            self.last_progress_s = now_s
         self.last_report_s = now_s
         self.estimator = update_estimate(
             self.estimator,
@@ -123,6 +132,9 @@ class UmaEngine:
     ) -> FrameDecision:
         """Decide for source frame `frame`, arriving from the sender at `now_s`."""
         self._check_stale(now_s)
+        if self.outstanding_bits and now_s - self.last_progress_s > PRESUME_LOST_S:
+            self.highest_seq = len(self.cum_sent_bits) - 2
+            self.last_progress_s = now_s
         view = PolicyView(
             now_s=now_s,
             rung_rates_kbps=self.rung_rates_kbps,
@@ -152,7 +164,8 @@ class UmaEngine:
                 frame, self.rung, scheduled=False, send=False, force_idr=False, reason="fps"
             )
         budget_bits = self.estimator.estimate_kbps * 1000.0 * MAX_BACKLOG_S
-        if self.outstanding_bits > budget_bits and not switched:
+        probe_due = now_s - self.last_sent_s >= PROBE_INTERVAL_S
+        if self.outstanding_bits > budget_bits and not switched and not probe_due:
             return FrameDecision(
                 frame, self.rung, scheduled=True, send=False, force_idr=False, reason="backlog"
             )
@@ -164,6 +177,7 @@ class UmaEngine:
         if force_idr:
             self.idr_pending = False
             self.last_idr_s = now_s
+        self.last_sent_s = now_s
         return FrameDecision(frame, self.rung, scheduled=True, send=True, force_idr=force_idr)
 
     def _scheduled(self, frame: int) -> bool:

@@ -2,13 +2,16 @@
 
 Units: rates in kbit/s, times in seconds, delays in milliseconds.
 
-A bottleneck is over-used when its queue grows or it drops packets; then what got through is the
-capacity, so the estimate falls to a fraction of the received rate (multiplicative decrease, at
-most once per queue-drain time so one congestion episode is not punished many times). When the
-queue is near empty the link may carry more, so the estimate grows by a fixed fraction per second
-(like Google Congestion Control's increase), but never above twice the received rate, so an
-application-limited stream cannot talk the estimate up without evidence. A report with nothing
-received while data is outstanding means an outage: the estimate decays towards the floor.
+Reports arrive every ~100 ms, too few packets each to measure a slow link, so the received rate
+and loss are taken over a sliding window of recent reports (`window_s`). A bottleneck is
+over-used when its queue grows (or it loses many packets): the link was busy, so what got
+through over the window is the capacity, and the estimate falls to a fraction of it
+(multiplicative decrease, at most once per queue-drain time, so one congestion episode is not
+punished many times). When the queue is near empty the link may carry more, so the estimate grows
+by a fixed fraction per second (like Google Congestion Control's increase), but not above three
+times the received rate, so an application-limited stream cannot talk the estimate up without
+evidence. Reports with nothing received while data is in flight mean an outage: the estimate
+decays towards the floor.
 """
 
 from __future__ import annotations
@@ -27,10 +30,29 @@ class EstimatorState:
     last_decrease_s: float = float("-inf")
     queue_delay_ms: float = 0.0
     loss_fraction: float = 0.0
+    received_kbps: float = 0.0
+    # (interval_s, received_bits, packets_received, packets_lost) of recent reports, newest last
+    window: tuple[tuple[float, int, int, int], ...] = ()
 
 
 def initial_estimate(config: EstimatorConfig) -> EstimatorState:
     return EstimatorState(estimate_kbps=config.initial_kbps)
+
+
+def _windowed(state: EstimatorState, report: ReceiverReport, window_s: float):
+    window = state.window + (
+        (report.interval_s, report.received_bits, report.packets_received, report.packets_lost),
+    )
+    total_s = sum(item[0] for item in window)
+    while len(window) > 1 and total_s - window[0][0] >= window_s:
+        total_s -= window[0][0]
+        window = window[1:]
+    bits = sum(item[1] for item in window)
+    received = sum(item[2] for item in window)
+    lost = sum(item[3] for item in window)
+    rate_kbps = bits / total_s / 1000.0 if total_s > 0 else 0.0
+    loss = lost / (received + lost) if received + lost else 0.0
+    return window, rate_kbps, loss
 
 
 def update_estimate(
@@ -42,8 +64,7 @@ def update_estimate(
     config: EstimatorConfig,
 ) -> EstimatorState:
     """Fold one receiver report into the estimate; a pure function."""
-    received_kbps = report.received_kbps
-    loss = report.loss_fraction
+    window, received_kbps, loss = _windowed(state, report, config.window_s)
     queue_ms = report.queue_delay_ms
     estimate = state.estimate_kbps
     last_decrease_s = state.last_decrease_s
@@ -51,22 +72,24 @@ def update_estimate(
     if report.packets_received == 0:
         if outstanding_bits > 0:
             # Nothing arrives although data is in flight: an outage or a deep fade.
-            estimate *= config.decrease_factor
+            estimate *= config.decrease_factor ** (report.interval_s / config.window_s)
         queue_ms = state.queue_delay_ms
     elif loss > config.loss_high or queue_ms > config.queue_high_ms:
-        drain_s = max(report.interval_s, (queue_ms or 0.0) / 1000.0)
+        drain_s = max(config.window_s, queue_ms / 1000.0)
         if now_s - last_decrease_s >= drain_s:
             estimate = min(estimate, received_kbps) * config.decrease_factor
             last_decrease_s = now_s
     elif queue_ms < config.queue_low_ms:
         grown = estimate * (1.0 + config.increase_per_s * report.interval_s)
-        estimate = min(grown, max(2.0 * received_kbps, estimate))
+        estimate = min(grown, max(3.0 * received_kbps, estimate))
 
     estimate = min(max(estimate, config.min_kbps), config.max_kbps)
     return replace(
         state,
         estimate_kbps=estimate,
         last_decrease_s=last_decrease_s,
-        queue_delay_ms=queue_ms if queue_ms is not None else 0.0,
+        queue_delay_ms=queue_ms,
         loss_fraction=loss,
+        received_kbps=received_kbps,
+        window=window,
     )

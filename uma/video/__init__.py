@@ -1,0 +1,25 @@
+"""Video: H.264 over PyAV (libx264 encode, FFmpeg decode), the rate ladder, frame sources.
+
+Frames are planar YUV 4:2:0 arrays of shape (H * 3 // 2, W), uint8, everywhere in uma.
+PyAV and OpenCV are imported inside the functions that need them.
+"""
+
+from uma.video.h264 import EncodedFrame, H264Decoder, H264Encoder
+from uma.video.ladder import Ladder, Rung, default_ladder_path, load_ladder
+from uma.video.scale import resize_yuv420, split_planes
+from uma.video.sources import PatternSource, RawYuvSource, VideoFileSource
+
+__all__ = [
+    "H264Encoder",
+    "H264Decoder",
+    "EncodedFrame",
+    "Ladder",
+    "Rung",
+    "load_ladder",
+    "default_ladder_path",
+    "resize_yuv420",
+    "split_planes",
+    "VideoFileSource",
+    "RawYuvSource",
+    "PatternSource",
+]
