@@ -282,7 +282,7 @@ def sniff_format(path: Path) -> str:
     """Guess a trace's format from its first data line (see the table above)."""
     lines = _lines(path)
     first = lines[0][1]
-    if first.replace(" ", "").startswith("time_s,rate_kbps"):
+    if first.replace(" ", "").startswith("time_s"):
         return "uma-csv"
     if "NetworkMode" in first and "DL_bitrate" in first:
         return "labelled-csv"
@@ -290,7 +290,7 @@ def sniff_format(path: Path) -> str:
     blank = first.split()
     if len(blank) == 1 and len(comma) == 1 and first.isdigit():
         return "mahimahi"
-    if len(comma) == 2 and comma[1].strip().lower() in NYU_UNITS_KBPS:
+    if len(comma) == 2 and any(c.isalpha() for c in comma[1]):
         return "nyu-mets"
     if len(comma) == 2:
         return "bytes-per-sec"
