@@ -149,6 +149,8 @@ class MetricsConfig(_Section):
 
     psnr: Bool = True
     ssim: Bool = True
+    # Threads that score frames beside the simulation (0: inline); results do not depend on it.
+    workers: NonNegInt = 2
 
 
 class Scenario(_Section):

@@ -150,9 +150,6 @@ def display_process(env: simpy.Environment, world: World):
         log["display_ms"][index] = deadline_s * 1000.0
         log["shown_frame"][index] = shown
         log["frozen"][index] = int(shown < 0 or shown != last_scheduled)
-        source = world.source_frames.pop(index)
-        psnr, ssim = world.quality.score(source, shown, picture)
-        log["psnr_db"][index] = psnr
-        log["ssim"][index] = ssim
+        world.quality.submit(index, world.source_frames.pop(index), shown, picture)
         if world.progress is not None:
             world.progress(index + 1, world.frames)

@@ -187,6 +187,9 @@ def run_scenario(
     env.process(report_process(env, world))
     display = env.process(display_process(env, world))
     env.run(until=display)
+    for index, (psnr, similarity) in quality.finish().items():
+        log["psnr_db"][index] = psnr
+        log["ssim"][index] = similarity
 
     end_s = frames / fps
     events = sorted(_handover_events(capacity, end_s) + engine.events, key=lambda e: e.time_s)
