@@ -129,9 +129,7 @@ def run_scenario(
     codec = CodecChain(
         scenario, ladder, width=source.width, height=source.height, fps=fps, account=account
     )
-    quality = QualityMeter(
-        scenario.metrics, width=source.width, height=source.height, account=account
-    )
+    quality = QualityMeter(scenario.metrics, width=source.width, height=source.height)
     engine = UmaEngine(
         scenario.engine,
         rung_rates_kbps=tuple(r.rate_kbps for r in ladder.rungs),
