@@ -100,3 +100,17 @@ def test_config_is_frozen(tmp_path):
     scenario = load_scenario(write(tmp_path, MINIMAL))
     with pytest.raises(Exception):  # noqa: B017 - pydantic's frozen error
         scenario.seed = 3
+
+
+def test_shipped_scenarios_load():
+    from uma.paths import scenarios_dir
+
+    full = load_scenario(scenarios_dir() / "stockholm-uppsala-full.yaml")
+    assert 2000 <= full.run_duration_s <= 3000
+
+
+def test_real_trace_scenario_loads(shared_data):
+    from uma.paths import scenarios_dir
+
+    real = load_scenario(scenarios_dir() / "stockholm-uppsala-real.yaml")
+    assert all(seg.trace is None or seg.trace.startswith("/") for seg in real.route)
