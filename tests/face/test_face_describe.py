@@ -1,0 +1,131 @@
+import cv2
+import numpy as np
+import pytest
+import skimage.data
+
+from uma.cli import main
+from uma.errors import FaceError
+from uma.face import (
+    describe,
+    detect_face,
+    fit_points,
+    load_description,
+    load_model,
+    make_params,
+    project,
+    read_points,
+)
+from uma.paths import codecs_dir
+
+
+def test_fit_from_points_round_trip_recovers_parameters():
+    model = load_model()
+    rng = np.random.default_rng(5)
+    shape = rng.normal(0, 0.3, model.n_shapes)
+    actions = rng.uniform(0, 0.6, model.n_actions)
+    truth = make_params(
+        model,
+        tx_px=180,
+        ty_px=150,
+        scale_px=60,
+        rx_rad=0.08,
+        ry_rad=-0.12,
+        rz_rad=0.06,
+        actions=actions,
+    )
+    clicks = project(model.personalised(shape), truth)
+    points = {name: tuple(clicks[index]) for name, index in model.feature_points.items()}
+    fit = fit_points(model, points)
+    assert fit
+    assert fit.rms_px < 0.1
+    assert np.abs(fit.params[:3] - truth[:3]).max() < 0.1  # pixels
+    assert np.abs(fit.params[3:6] - truth[3:6]).max() < 0.01  # radians
+
+
+@pytest.mark.parametrize(
+    "points, reason",
+    [
+        ({"3.5": (10, 10), "3.6": (20, 10)}, "at least 6"),
+        (
+            {
+                "3.5": (10, 10),
+                "3.6": (20, 10),
+                "9.3": (15, 20),
+                "8.3": (12, 30),
+                "8.4": (18, 30),
+                "2.1": (15, 900),
+            },
+            "outside",
+        ),
+        (
+            {
+                k: (10.0 + i, 10.0 + 2 * i)
+                for i, k in enumerate(["3.5", "3.6", "9.3", "8.3", "8.4", "2.1"])
+            },
+            "one line",
+        ),
+    ],
+)
+def test_bad_points_fail_with_reason(points, reason):
+    fit = fit_points(load_model(), points, image_shape=(100, 100))
+    assert not fit
+    assert reason in fit.reason
+
+
+def test_astronaut_description_round_trips_and_is_small(tmp_path):
+    image = cv2.cvtColor(skimage.data.astronaut(), cv2.COLOR_RGB2BGR)
+    description = describe(image, read_points(codecs_dir() / "face" / "astronaut.yaml"))
+    assert description and description.fit_rms_px < 3.0
+    size = description.save(tmp_path / "a.face")
+    assert 2_000 < size < 40_000
+    back = load_description(tmp_path / "a.face")
+    assert np.allclose(back.projected(), description.projected(), atol=0.01)
+    assert back.texture.shape == description.texture.shape
+
+
+def test_detector_finds_the_astronaut_and_not_a_flat_image():
+    gray = cv2.cvtColor(skimage.data.astronaut(), cv2.COLOR_RGB2GRAY)
+    box = detect_face(gray)
+    assert box and 150 < box.centre[0] < 300 and 60 < box.centre[1] < 200
+    assert not detect_face(np.full((200, 200), 255, np.uint8))
+    assert not detect_face(cv2.cvtColor(skimage.data.coffee(), cv2.COLOR_RGB2GRAY))
+
+
+def test_read_points_errors(tmp_path):
+    bad = tmp_path / "p.yaml"
+    bad.write_text("points:\n  '3.5': [1, two]\n")
+    with pytest.raises(FaceError, match=r"point 3\.5: expected \[x, y\]"):
+        read_points(bad)
+    with pytest.raises(FaceError, match="no such"):
+        read_points(tmp_path / "none.yaml")
+
+
+def test_describe_cli_writes_description_and_overlay(tmp_path, capsys):
+    image = tmp_path / "astro.png"
+    cv2.imwrite(str(image), cv2.cvtColor(skimage.data.astronaut(), cv2.COLOR_RGB2BGR))
+    code = main(
+        [
+            "describe",
+            str(image),
+            "--points",
+            str(codecs_dir() / "face" / "astronaut.yaml"),
+            "--out",
+            str(tmp_path / "out"),
+        ]
+    )
+    assert code == 0
+    assert (tmp_path / "out" / "astro.face").stat().st_size > 0
+    assert cv2.imread(str(tmp_path / "out" / "astro.fit.png")) is not None
+    assert "bytes" in capsys.readouterr().out
+
+
+def test_describe_cli_rejects_image_without_face(tmp_path, capsys):
+    image = tmp_path / "coffee.png"
+    cv2.imwrite(str(image), cv2.cvtColor(skimage.data.coffee(), cv2.COLOR_RGB2BGR))
+    code = main(["describe", str(image), "--points", str(codecs_dir() / "face" / "astronaut.yaml")])
+    assert code == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("uma: error:") and "coffee.png" in err and "no face" in err
+    bad = tmp_path / "x.png"
+    bad.write_text("not an image")
+    assert main(["describe", str(bad), "--points", "whatever.yaml"]) == 2

@@ -1,0 +1,75 @@
+import cv2
+import numpy as np
+import pytest
+import skimage.data
+
+from uma.face import (
+    load_model,
+    make_params,
+    project,
+    rasterize,
+    render,
+    sample_bilinear,
+    visible_triangles,
+    warp_points,
+)
+from uma.metrics.quality import psnr_db
+
+
+@pytest.fixture(scope="module")
+def template():
+    gray = cv2.cvtColor(skimage.data.astronaut(), cv2.COLOR_RGB2GRAY)
+    model = load_model()
+    params = make_params(model, tx_px=224, ty_px=118, scale_px=68)
+    return gray, model, params
+
+
+def test_rendering_template_at_its_own_pose_reproduces_it(template):
+    gray, model, params = template
+    points = project(model, params)
+    result = render(gray, points, points, model.triangles, gray.shape)
+    assert result.mask.sum() > 5000
+    assert psnr_db(gray[result.mask], result.image[result.mask]) > 35
+
+
+def test_forward_and_inverse_mappings_agree(template):
+    gray, model, params = template
+    source = project(model, params)
+    moved = params.copy()
+    moved[[0, 1, 2, 4, 5]] += [9.0, -6.0, 6.0, 0.12, 0.05]
+    target = project(model, moved)
+    visible = visible_triangles(model, moved)
+    image = render(gray, source, target, model.triangles, gray.shape, visible=visible).image
+    # Inverse: sample the rendered image where each template pixel went.
+    raster = rasterize(source, model.triangles, gray.shape, triangle_mask=visible)
+    samples = sample_bilinear(image, warp_points(raster, target))
+    original = gray[raster.ys, raster.xs].astype(np.float32)
+    # Ignore pixels on triangle borders, where the two bilinear resamplings differ most.
+    interior = raster.bary.min(axis=1) > 0.05
+    assert psnr_db(original[interior], samples[interior]) > 30
+
+
+def test_batched_warp_matches_single(template):
+    gray, model, params = template
+    raster = rasterize(project(model, params), model.triangles, gray.shape)
+    batch = np.stack([params, params + np.r_[3.0, 1.0, 0, 0, 0.1, 0, np.zeros(model.n_actions)]])
+    points = project(model, batch)
+    together = warp_points(raster, points)
+    assert np.allclose(together[1], warp_points(raster, points[1]), atol=1e-4)
+    values = sample_bilinear(gray, together)
+    assert values.shape == (2, raster.size) and values.dtype == np.float32
+
+
+def test_rasterize_covers_without_cracks(template):
+    gray, model, params = template
+    points = project(model, params)
+    raster = rasterize(points, model.triangles, gray.shape)
+    mask = np.zeros(gray.shape, dtype=np.uint8)
+    mask[raster.ys, raster.xs] = 1
+    hull = np.zeros_like(mask)
+    cv2.fillConvexPoly(
+        hull, np.round(cv2.convexHull(points.astype(np.float32))).astype(np.int32), 1
+    )
+    inner = cv2.erode(hull, np.ones((5, 5), np.uint8))
+    assert mask[inner > 0].all()
+    assert np.allclose(raster.bary.sum(axis=1), 1.0, atol=1e-5)

@@ -1,0 +1,49 @@
+"""The face model: wireframe (uma's own and Candide-3), geometry, renderer, detector, content
+description, and a talking-head source with ground truth. OpenCV is imported where needed."""
+
+from uma.face.describe import ContentDescription, describe, load_description, read_points
+from uma.face.detect import Box, detect_face
+from uma.face.fit_points import PointFit, fit_points
+from uma.face.geometry import (
+    N_POSE,
+    POSE_NAMES,
+    deform,
+    make_params,
+    project,
+    rotation_matrix,
+    visible_triangles,
+)
+from uma.face.model import FaceModel, load_model, save_model
+from uma.face.render import Raster, RenderResult, rasterize, render, sample_bilinear, warp_points
+from uma.face.talking_head import Motion, TalkingHeadSource
+from uma.face.wfm import read_wfm
+
+__all__ = [
+    "FaceModel",
+    "load_model",
+    "save_model",
+    "read_wfm",
+    "N_POSE",
+    "POSE_NAMES",
+    "make_params",
+    "rotation_matrix",
+    "deform",
+    "project",
+    "visible_triangles",
+    "Raster",
+    "RenderResult",
+    "rasterize",
+    "warp_points",
+    "sample_bilinear",
+    "render",
+    "PointFit",
+    "fit_points",
+    "ContentDescription",
+    "describe",
+    "load_description",
+    "read_points",
+    "Box",
+    "detect_face",
+    "Motion",
+    "TalkingHeadSource",
+]

@@ -1,0 +1,189 @@
+"""Content description: the personal wireframe, its texture and initial pose, in one file.
+
+Units: pixels (texture coordinates), radians, unitless coefficients.
+
+The engine sends this file ahead to the receiver once; afterwards only face animation parameters
+travel. To keep it small the texture is the face's bounding box (plus a margin) from the
+template, JPEG-coded, and the model travels as its personalised vertices and triangles with the
+action units (the receiver animates; it never needs the shape units again).
+"""
+
+from __future__ import annotations
+
+import io
+import json
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from uma.errors import FaceError
+from uma.face.fit_points import PointFit, fit_points
+from uma.face.geometry import project
+from uma.face.model import FaceModel
+from uma.failure import Failure
+
+__all__ = ["ContentDescription", "describe", "load_description", "read_points"]
+
+MARGIN = 0.15  # of the face box, around the texture crop
+JPEG_QUALITY = 90
+
+
+@dataclass(frozen=True, eq=False)
+class ContentDescription:
+    """A personal model fitted to a template: `params` place `model` on `texture` (gray or BGR)."""
+
+    model: FaceModel
+    texture: np.ndarray
+    params: np.ndarray
+    shape: np.ndarray
+    points: dict[str, tuple[float, float]]
+    fit_rms_px: float
+    origin_px: tuple[float, float] = (0.0, 0.0)  # where the texture's top-left sat in the image
+
+    def __bool__(self) -> bool:
+        return True
+
+    @property
+    def gray(self) -> np.ndarray:
+        import cv2
+
+        return (
+            self.texture
+            if self.texture.ndim == 2
+            else cv2.cvtColor(self.texture, cv2.COLOR_BGR2GRAY)
+        )
+
+    def projected(self) -> np.ndarray:
+        """The model's vertices on the texture, (N, 2) pixels."""
+        return project(self.model, self.params)
+
+    def to_bytes(self) -> bytes:
+        import cv2
+
+        ok, jpeg = cv2.imencode(".jpg", self.texture, [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY])
+        if not ok:
+            raise FaceError("cannot JPEG-encode the texture")
+        meta = {
+            "name": self.model.name,
+            "action_unit_names": list(self.model.action_unit_names),
+            "shape_unit_names": list(self.model.shape_unit_names),
+            "feature_points": self.model.feature_points,
+            "points": {k: list(v) for k, v in self.points.items()},
+            "fit_rms_px": self.fit_rms_px,
+            "origin_px": list(self.origin_px),
+        }
+        buffer = io.BytesIO()
+        np.savez_compressed(
+            buffer,
+            meta=np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8),
+            vertices=self.model.vertices.astype(np.float32),
+            triangles=self.model.triangles.astype(np.uint16),
+            action_units=self.model.action_units.astype(np.float16),
+            params=self.params,
+            shape=self.shape,
+            texture_jpeg=jpeg.ravel(),
+        )
+        return buffer.getvalue()
+
+    def save(self, path: str | Path) -> int:
+        """Write the description (atomically); returns its size in bytes."""
+        from uma.atomic import atomic_write_bytes
+
+        data = self.to_bytes()
+        atomic_write_bytes(path, data)
+        return len(data)
+
+
+def load_description(path: str | Path) -> ContentDescription:
+    """Read a description written by `ContentDescription.save`."""
+    import cv2
+
+    path = Path(path)
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            meta = json.loads(bytes(data["meta"]).decode())
+            texture = cv2.imdecode(data["texture_jpeg"], cv2.IMREAD_UNCHANGED)
+            vertices = data["vertices"].astype(np.float64)
+            model = FaceModel(
+                name=meta["name"],
+                vertices=vertices,
+                triangles=data["triangles"].astype(np.int32),
+                shape_units=np.zeros((0,) + vertices.shape),
+                shape_unit_names=(),
+                action_units=data["action_units"].astype(np.float64),
+                action_unit_names=tuple(meta["action_unit_names"]),
+                feature_points=meta["feature_points"],
+            )
+            return ContentDescription(
+                model=model,
+                texture=texture,
+                params=data["params"],
+                shape=data["shape"],
+                points={k: tuple(v) for k, v in meta["points"].items()},
+                fit_rms_px=float(meta["fit_rms_px"]),
+                origin_px=tuple(meta.get("origin_px", (0.0, 0.0))),
+            )
+    except FileNotFoundError:
+        raise FaceError(f"{path}: no such content description") from None
+    except (OSError, ValueError, KeyError) as err:
+        raise FaceError(f"{path}: not a uma content description ({err})") from None
+
+
+def read_points(path: str | Path) -> dict[str, tuple[float, float]]:
+    """Feature points from YAML or JSON: `{name: [x, y]}`, at the top level or under `points:`."""
+    import yaml
+
+    path = Path(path)
+    try:
+        data = yaml.safe_load(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise FaceError(f"{path}: no such feature-point file") from None
+    except (OSError, UnicodeDecodeError, yaml.YAMLError) as err:
+        raise FaceError(f"{path}: not a YAML/JSON feature-point file ({err})") from None
+    if isinstance(data, dict) and isinstance(data.get("points"), dict):
+        data = data["points"]
+    if not isinstance(data, dict) or not data:
+        raise FaceError(f"{path}: expected a mapping of feature point names to [x, y]")
+    points = {}
+    for name, value in data.items():
+        ok = isinstance(value, list | tuple) and len(value) == 2
+        ok = ok and all(isinstance(v, int | float) and not isinstance(v, bool) for v in value)
+        if not ok or not all(np.isfinite(value)):
+            raise FaceError(f"{path}: point {name}: expected [x, y] in pixels, got {value!r}")
+        points[str(name)] = (float(value[0]), float(value[1]))
+    return points
+
+
+def describe(
+    image: np.ndarray, points: Mapping[str, tuple[float, float]], *, model: FaceModel | None = None
+) -> ContentDescription | Failure:
+    """Fit `model` (uma's wireframe by default) to `points` on `image` and cut out its texture."""
+    from uma.face.model import load_model
+
+    model = model if model is not None else load_model()
+    fit = fit_points(model, points, image_shape=image.shape[:2])
+    if not fit:
+        return fit
+    assert isinstance(fit, PointFit)
+    personal = model.personalised(fit.shape)
+    corners = project(personal, fit.params)
+    low, high = corners.min(axis=0), corners.max(axis=0)
+    margin = MARGIN * (high - low)
+    x0, y0 = np.maximum(np.floor(low - margin), 0).astype(int)
+    x1 = int(min(np.ceil(high[0] + margin[0]), image.shape[1]))
+    y1 = int(min(np.ceil(high[1] + margin[1]), image.shape[0]))
+    params = fit.params.copy()
+    params[0] -= x0
+    params[1] -= y0
+    shifted = {k: (x - x0, y - y0) for k, (x, y) in points.items()}
+    return ContentDescription(
+        model=personal,
+        texture=np.ascontiguousarray(image[y0:y1, x0:x1]),
+        params=params,
+        shape=fit.shape,
+        points=shifted,
+        fit_rms_px=fit.rms_px,
+        origin_px=(float(x0), float(y0)),
+    )

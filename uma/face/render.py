@@ -1,0 +1,154 @@
+"""Texture mapping with the wireframe: rasterise once, warp and sample many times.
+
+Units: pixels (x right, y down, pixel centres at integer coordinates).
+
+`rasterize` finds, for every pixel centre inside the projected mesh, its triangle and
+barycentric coordinates: done once per template. `warp_points` moves those pixels with the
+vertices (for many parameter sets at once) and `sample_bilinear` reads an image there: the
+inverse mapping that fitting calls thousands of times. `render` is the forward direction: it
+rasterises the target and maps each target pixel back into the texture.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["Raster", "RenderResult", "rasterize", "warp_points", "sample_bilinear", "render"]
+
+
+@dataclass(frozen=True, eq=False)
+class Raster:
+    """Pixels covered by a projected mesh; `corners` are the vertex numbers of each pixel's triangle."""
+
+    ys: np.ndarray  # (K,) int
+    xs: np.ndarray  # (K,) int
+    tri: np.ndarray  # (K,) int
+    bary: np.ndarray  # (K, 3) float32
+    corners: np.ndarray  # (K, 3) int
+    shape: tuple[int, int]
+
+    @property
+    def size(self) -> int:
+        return int(self.ys.shape[0])
+
+
+@dataclass(frozen=True, eq=False)
+class RenderResult:
+    image: np.ndarray
+    mask: np.ndarray  # bool (H, W): pixels the face covers
+
+
+def _barycentric(
+    points: np.ndarray, triangles: np.ndarray, tri: np.ndarray, px: np.ndarray
+) -> np.ndarray:
+    a = points[triangles[tri, 0]]
+    b = points[triangles[tri, 1]]
+    c = points[triangles[tri, 2]]
+    v0, v1, v2 = b - a, c - a, px - a
+    det = v0[:, 0] * v1[:, 1] - v0[:, 1] * v1[:, 0]
+    det = np.where(np.abs(det) < 1e-12, 1e-12, det)
+    l1 = (v2[:, 0] * v1[:, 1] - v2[:, 1] * v1[:, 0]) / det
+    l2 = (v0[:, 0] * v2[:, 1] - v0[:, 1] * v2[:, 0]) / det
+    return np.column_stack([1.0 - l1 - l2, l1, l2])
+
+
+def rasterize(
+    points_px: np.ndarray,
+    triangles: np.ndarray,
+    shape: tuple[int, int],
+    *,
+    triangle_mask: np.ndarray | None = None,
+    depth: np.ndarray | None = None,
+) -> Raster:
+    """Every pixel centre of `shape` inside a (masked) triangle; with `depth` (N,) the nearest
+    triangle wins where triangles overlap (larger z is nearer), else the later one."""
+    import cv2
+
+    height, width = shape
+    points = np.asarray(points_px, dtype=np.float64)
+    labels = np.full((height, width), -1, dtype=np.int32)
+    order = np.arange(len(triangles))
+    if triangle_mask is not None:
+        order = order[np.asarray(triangle_mask, bool)]
+    if depth is not None:
+        order = order[np.argsort(np.asarray(depth)[triangles[order]].mean(axis=1), kind="stable")]
+    # Fill each triangle's pixel centres with fillPoly, at 4 bits of sub-pixel precision.
+    for t in order:
+        poly = np.round(points[triangles[t]] * 16).astype(np.int32)
+        cv2.fillPoly(labels, [poly], int(t), lineType=cv2.LINE_8, shift=4)
+    ys, xs = np.nonzero(labels >= 0)
+    tri = labels[ys, xs]
+    px = np.column_stack([xs, ys]).astype(np.float64)
+    bary = _barycentric(points, triangles, tri, px)
+    # fillPoly's edge pixels may lie a fraction of a pixel outside their triangle (and a later
+    # neighbour overwrites the label): clamp them onto it rather than leave cracks.
+    bary = np.clip(bary, 0.0, None)
+    bary /= bary.sum(axis=1, keepdims=True)
+    return Raster(
+        ys=ys,
+        xs=xs,
+        tri=tri,
+        bary=bary.astype(np.float32),
+        corners=triangles[tri],
+        shape=(height, width),
+    )
+
+
+def warp_points(raster: Raster, points_px: np.ndarray) -> np.ndarray:
+    """Where each raster pixel lands when the vertices move to `points_px` (..., N, 2) -> (..., K, 2)."""
+    points = np.asarray(points_px, dtype=np.float32)
+    corners = points[..., raster.corners, :]  # (..., K, 3, 2)
+    return np.einsum("kj,...kjd->...kd", raster.bary, corners)
+
+
+def sample_bilinear(image: np.ndarray, xy: np.ndarray, *, fill: float | None = None) -> np.ndarray:
+    """Bilinear samples of `image` at `xy` (..., K, 2); outside the image the border repeats, or
+    `fill` when given. Returns (..., K) float32, or (..., K, C) for a colour image."""
+    import cv2
+
+    xy = np.asarray(xy, dtype=np.float32)
+    lead = xy.shape[:-1]
+    flat = xy.reshape(-1, 2)
+    count = flat.shape[0]
+    # cv2.remap wants 2-D maps no wider than 32767.
+    cols = 4096
+    rows = -(-count // cols) if count else 0
+    padded = np.zeros((rows * cols, 2), dtype=np.float32)
+    padded[:count] = flat
+    maps = padded.reshape(rows, cols, 2)
+    border = cv2.BORDER_REPLICATE if fill is None else cv2.BORDER_CONSTANT
+    source = image if image.dtype in (np.uint8, np.float32) else image.astype(np.float32)
+    out = cv2.remap(source, maps, None, cv2.INTER_LINEAR, borderMode=border, borderValue=fill or 0)
+    channels = () if image.ndim == 2 else (image.shape[2],)
+    return (
+        out.reshape((rows * cols,) + channels)[:count].astype(np.float32).reshape(lead + channels)
+    )
+
+
+def render(
+    texture: np.ndarray,
+    texture_points_px: np.ndarray,
+    target_points_px: np.ndarray,
+    triangles: np.ndarray,
+    out_shape: tuple[int, int],
+    *,
+    visible: np.ndarray | None = None,
+    depth: np.ndarray | None = None,
+    background: np.ndarray | None = None,
+) -> RenderResult:
+    """Texture-map `texture` (its mesh at `texture_points_px`) onto a mesh at `target_points_px`."""
+    raster = rasterize(target_points_px, triangles, out_shape, triangle_mask=visible, depth=depth)
+    source_xy = warp_points(raster, np.asarray(texture_points_px))
+    values = sample_bilinear(texture, source_xy)
+    if background is None:
+        image = np.zeros(out_shape + texture.shape[2:], dtype=texture.dtype)
+    else:
+        image = background.copy()
+    if np.issubdtype(image.dtype, np.integer):
+        values = np.clip(np.rint(values), 0, np.iinfo(image.dtype).max)
+    image[raster.ys, raster.xs] = values.astype(image.dtype)
+    mask = np.zeros(out_shape, dtype=bool)
+    mask[raster.ys, raster.xs] = True
+    return RenderResult(image=image, mask=mask)
