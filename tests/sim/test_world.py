@@ -75,3 +75,12 @@ def test_outage_for_the_whole_run_freezes_without_crashing(tmp_path):
     metrics = run(path, tmp_path / "r")
     assert metrics["freeze_ratio"] == 1.0
     assert metrics["frames_decoded"] == 0
+
+
+def test_talking_head_source_by_name():
+    from uma.config import SourceConfig
+    from uma.sim.sources import open_source
+
+    source = open_source(SourceConfig(kind="talking-head", width=176, height=144), seed=0)
+    frame = next(iter(source.frames()))
+    assert frame.shape == (216, 176) and source.name == "talking-head"

@@ -108,11 +108,13 @@ def run_scenario(
     *,
     progress: Callable[[int, int], None] | None = None,
     account: bool = False,
+    source=None,
 ) -> RunResult:
     """Simulate `scenario`; `progress(done, total)` is told of each displayed frame.
 
     With `account`, the wall-clock seconds spent in codecs and quality metrics are summed for
-    `uma bench sim`; they are measured, never used by the simulation.
+    `uma bench sim`; they are measured, never used by the simulation. `source` replaces the
+    scenario's frame source (a benchmark passes frames it prepared beforehand).
     """
     from uma.video import load_ladder
 
@@ -121,7 +123,7 @@ def run_scenario(
     )
     capacity = build_capacity(scenario, route_rng)
     ladder = load_ladder(scenario.engine.ladder)
-    source = open_source(scenario.source, seed=scenario.seed)
+    source = source if source is not None else open_source(scenario.source, seed=scenario.seed)
     fps = float(source.fps)
     frames = int(round(scenario.run_duration_s * fps))
     log = FrameLog(frames)
