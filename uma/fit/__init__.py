@@ -1,0 +1,37 @@
+"""Fitting the face model to an image: the cost, SAABs, Gauss-Newton, the hybrid, MDE.
+
+Pure numpy and compiled kernels (numba); no SimPy. Fits return a `FitResult` or a
+`uma.failure.Failure` that tests false and says why.
+"""
+
+from uma.fit.cost import Cost, FitTemplate
+from uma.fit.fit import fit_face, initial_guess
+from uma.fit.gauss_newton import GaussNewtonConfig, gauss_newton
+from uma.fit.mde import mde_px
+from uma.fit.saabs import (
+    AnnealingSchedule,
+    FitResult,
+    SaabsConfig,
+    anneal,
+    metropolis_accept,
+    saabs,
+)
+from uma.fit.search import SearchBox, search_box
+
+__all__ = [
+    "FitTemplate",
+    "Cost",
+    "AnnealingSchedule",
+    "SaabsConfig",
+    "FitResult",
+    "metropolis_accept",
+    "anneal",
+    "saabs",
+    "GaussNewtonConfig",
+    "gauss_newton",
+    "SearchBox",
+    "search_box",
+    "mde_px",
+    "fit_face",
+    "initial_guess",
+]

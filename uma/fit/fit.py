@@ -1,0 +1,134 @@
+"""Initialise the face model on an image: detector, search box, method, and failure values.
+
+Units: pixels, radians. `fit_face` is what the engine calls when it switches to the model-based
+codec: it checks the image, lets the face detector place the search, runs the chosen method
+(SAABs, SAABs with illumination compensation, Gauss-Newton, or the hybrid: SAABs' global pose
+search polished by Gauss-Newton) and returns a `FitResult`, or a `Failure` that says why.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from uma.face.detect import Box, detect_face
+from uma.failure import Failure
+from uma.fit.cost import Cost, FitTemplate
+from uma.fit.gauss_newton import GaussNewtonConfig, gauss_newton
+from uma.fit.saabs import FitResult, SaabsConfig, saabs
+from uma.fit.search import SearchBox, search_box
+
+__all__ = ["fit_face", "initial_guess", "DetectorCalibration", "METHODS", "check_image"]
+
+METHODS = ("saabs", "saabs_ic", "gauss_newton", "hybrid")
+# A fit whose correlation with the template stays below this found no face.
+MIN_CORRELATION = 0.3
+
+
+@dataclass(frozen=True)
+class DetectorCalibration:
+    """How the template's own detection box relates to its model placement (box widths)."""
+
+    dx: float
+    dy: float
+    scale: float
+
+    @classmethod
+    def from_template(cls, template: FitTemplate, box: Box) -> DetectorCalibration:
+        cx, cy = box.centre
+        p = template.params
+        return cls((p[0] - cx) / box.width, (p[1] - cy) / box.width, p[2] / box.width)
+
+
+def check_image(image: np.ndarray) -> Failure | None:
+    """Why an image cannot be fitted (wrong kind, flat, saturated), or None."""
+    if image.ndim != 2 or image.shape[0] < 16 or image.shape[1] < 16:
+        return Failure(f"expected a gray image of at least 16x16, got shape {image.shape}")
+    values = np.asarray(image, dtype=np.float32)
+    if not np.all(np.isfinite(values)):
+        return Failure("image holds NaN or infinite values")
+    if float(values.std()) < 2.0:
+        return Failure("image is flat: nothing to fit")
+    if np.mean((values <= 2) | (values >= 253)) > 0.9:
+        return Failure("image is saturated: nothing to fit")
+    return None
+
+
+def initial_guess(
+    template: FitTemplate, image: np.ndarray, calibration: DetectorCalibration | None
+) -> tuple[np.ndarray, SearchBox] | Failure:
+    """Start and search box from the face detector on `image`; without a calibration (the
+    template's own box), the template's placement is the start."""
+    start = template.params.copy()
+    width = template.face_width_px
+    if calibration is not None:
+        gray = np.clip(image, 0, 255).astype(np.uint8)
+        box = detect_face(gray, min_size_px=max(24, min(gray.shape) // 5), neighbours=3)
+        if not box:
+            return Failure(f"no face found ({box.reason})")
+        cx, cy = box.centre
+        start[0] = cx + calibration.dx * box.width
+        start[1] = cy + calibration.dy * box.width
+        start[2] = calibration.scale * box.width
+        start[3:6] = 0.0
+        width = width * start[2] / template.params[2]
+    return start, search_box(start, width)
+
+
+def fit_face(
+    template: FitTemplate,
+    image: np.ndarray,
+    *,
+    method: str = "hybrid",
+    start: np.ndarray | None = None,
+    box: SearchBox | None = None,
+    calibration: DetectorCalibration | None = None,
+    saabs_config: SaabsConfig = SaabsConfig(),
+    gn_config: GaussNewtonConfig = GaussNewtonConfig(),
+    rng=None,
+) -> FitResult | Failure:
+    """Fit `template`'s model to `image`; `start`/`box` default to the detector's proposal."""
+    if method not in METHODS:
+        return Failure(f"unknown method {method!r}; expected one of {', '.join(METHODS)}")
+    problem = check_image(image)
+    if problem is not None:
+        return problem
+    if start is None or box is None:
+        guess = initial_guess(template, image, calibration)
+        if not guess:
+            return guess
+        start, box = guess
+    rng = np.random.default_rng(rng)
+    image = np.asarray(image, dtype=np.float32)
+    if method == "gauss_newton":
+        result = gauss_newton(template, image, start, box, config=gn_config)
+    else:
+        config = saabs_config
+        if method == "saabs_ic":
+            config = replace(config, illumination=True)
+        cost = Cost(template, image, illumination=config.illumination)
+        if method == "hybrid":
+            # SAABs finds the pose; Gauss-Newton then polishes pose and action units together.
+            found = saabs(cost, start, box, config=config, rng=rng, actions=False)
+            polished = gauss_newton(template, image, found.params, box, config=gn_config)
+            result = FitResult(
+                params=polished.params,
+                cost=float(cost(polished.params)),
+                evaluations=found.evaluations + polished.evaluations + 1,
+                iterations=found.iterations + polished.iterations,
+            )
+        else:
+            result = saabs(cost, start, box, config=config, rng=rng)
+    if not np.all(np.isfinite(result.params)):
+        return Failure("the fit diverged")
+    if 1.0 - result.cost < MIN_CORRELATION:
+        return Failure(
+            f"no face matched: best correlation {1.0 - result.cost:.2f} < {MIN_CORRELATION}"
+        )
+    pinned = np.isclose(result.params[:2], box.low[:2]) | np.isclose(
+        result.params[:2], box.high[:2]
+    )
+    if pinned.any():
+        return Failure("the face lies outside the search box")
+    return result
