@@ -154,8 +154,11 @@ def run_init_bench(config: InitBenchConfig, *, progress=None) -> dict[str, Any]:
     for name, stats in per_method.items():
         large = np.array(stats["large"], dtype=bool)
         summary = _summary(stats["mde"], stats["ms"], stats["ev"])
-        pick = lambda key: [v for v, keep in zip(stats[key], large, strict=True) if keep]  # noqa: E731
-        summary["large_pose"] = _summary(pick("mde"), pick("ms"), pick("ev"))
+        chosen = {
+            key: [v for v, keep in zip(stats[key], large, strict=True) if keep]
+            for key in ("mde", "ms", "ev")
+        }
+        summary["large_pose"] = _summary(chosen["mde"], chosen["ms"], chosen["ev"])
         methods[name] = summary
     return {
         "cases": len(cases),

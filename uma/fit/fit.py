@@ -3,7 +3,7 @@
 Units: pixels, radians. `fit_face` is what the engine calls when it switches to the model-based
 codec: it checks the image, lets the face detector place the search, runs the chosen method
 (SAABs, SAABs with illumination compensation, Gauss-Newton, or the hybrid: SAABs' global pose
-search polished by Gauss-Newton) and returns a `FitResult`, or a `Failure` that says why.
+search with illumination compensation, polished by Gauss-Newton) and returns a `FitResult`, or a `Failure` that says why.
 """
 
 from __future__ import annotations
@@ -105,7 +105,9 @@ def fit_face(
         result = gauss_newton(template, image, start, box, config=gn_config)
     else:
         config = saabs_config
-        if method == "saabs_ic":
+        # The hybrid's global search compares patches after illumination compensation, so a
+        # change of light cannot pull the pose; Gauss-Newton then solves gain and offset itself.
+        if method in ("saabs_ic", "hybrid"):
             config = replace(config, illumination=True)
         cost = Cost(template, image, illumination=config.illumination)
         if method == "hybrid":

@@ -31,9 +31,35 @@ __all__ = ["GaussNewtonConfig", "gauss_newton"]
 class GaussNewtonConfig:
     iterations: int = 30
     damping: float = 1e-3
-    blur_sigma_px: float = 1.0  # smooths the image so its gradient reaches further
+    blur_sigma_px: float = 0.5  # smooths the image so its gradient reaches a little further
     tolerance_px: float = 1e-3  # stop when the largest vertex move is below this
     fit_actions: bool = True
+    # A gain and offset per triangle patch instead of one for the image: follows light that
+    # changes across the face (the counterpart of SAABs' illumination compensation).
+    patch_photometry: bool = False
+
+
+def _patch_photometry(samples, template, tri, visible, gain, offset, n_tri):
+    """Per-triangle least-squares gain and offset; small or flat patches keep the global ones."""
+    keep = visible
+    idx = tri[keep]
+    s, t = samples[keep], template[keep]
+    n = np.bincount(idx, minlength=n_tri).astype(np.float64)
+    ss = np.bincount(idx, s, n_tri)
+    st = np.bincount(idx, t, n_tri)
+    sss = np.bincount(idx, s * s, n_tri)
+    sst = np.bincount(idx, s * t, n_tri)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        var = sss - ss * ss / n
+        cov = sst - ss * st / n
+        patch_gain = cov / var
+        usable = (
+            (n >= 8) & (var > 1e-3 * np.maximum(n, 1)) & (patch_gain > 0.2) & (patch_gain < 5.0)
+        )
+        patch_offset = (st - patch_gain * ss) / n
+    g = np.where(usable[tri], patch_gain[tri], gain)
+    o = np.where(usable[tri], patch_offset[tri], offset)
+    return g, o
 
 
 class _Images:
@@ -71,6 +97,7 @@ def gauss_newton(
     bary = np.ascontiguousarray(r.bary, dtype=np.float32)
     n_params = start.size if config.fit_actions else 6
     params = box.clip(np.asarray(start, dtype=np.float64))
+    n_tri = len(model.triangles)
     evaluations = 0
 
     def residual(p: np.ndarray):
@@ -82,8 +109,10 @@ def gauss_newton(
         s, t = samples[visible], t_values[visible]
         if s.size < 16 or s.std() < 1e-6:
             return None
-        gain = np.cov(s, t, bias=True)[0, 1] / s.var()
-        offset = t.mean() - gain * s.mean()
+        gain = np.full(samples.shape, np.cov(s, t, bias=True)[0, 1] / s.var())
+        offset = np.full(samples.shape, t.mean() - gain[0] * s.mean())
+        if config.patch_photometry:
+            gain, offset = _patch_photometry(samples, t_values, r.tri, visible, gain, offset, n_tri)
         return gain * samples + offset - t_values, visible, gain, points[0]
 
     state = residual(params)
@@ -104,7 +133,7 @@ def gauss_newton(
         warped = _warp_positions(template, points[None])[0]
         gx = sample_at(images.gx, corners, bary, points[None].astype(np.float32))[0]
         gy = sample_at(images.gy, corners, bary, points[None].astype(np.float32))[0]
-        jac = gain * (gx[None] * d_warp[..., 0] + gy[None] * d_warp[..., 1])  # (P, K)
+        jac = gain[None] * (gx[None] * d_warp[..., 0] + gy[None] * d_warp[..., 1])  # (P, K)
         jac = jac[:, visible].T
         hessian = jac.T @ jac
         gradient = jac.T @ res[visible]
