@@ -119,7 +119,9 @@ def run_init_bench(config: InitBenchConfig, *, progress=None) -> dict[str, Any]:
         _run_method(name, warm, start, box, np.random.default_rng(0), 50)
 
     rows = []
-    per_method = {name: {"mde": [], "ms": [], "ev": [], "large": []} for name in METHOD_NAMES}
+    per_method = {
+        name: {"mde": [], "ms": [], "ev": [], "large": [], "lit": []} for name in METHOD_NAMES
+    }
     detected = 0
     for index, case in enumerate(cases):
         (start, box), found = _start(case)
@@ -146,19 +148,25 @@ def run_init_bench(config: InitBenchConfig, *, progress=None) -> dict[str, Any]:
             stats["ms"].append(elapsed_ms)
             stats["ev"].append(result.evaluations if result is not None else 0)
             stats["large"].append(is_large_pose(case))
+            stats["lit"].append(case.lighting != "same")
         rows.append(row)
         if progress is not None:
             progress(index + 1, len(cases))
 
     methods = {}
     for name, stats in per_method.items():
-        large = np.array(stats["large"], dtype=bool)
         summary = _summary(stats["mde"], stats["ms"], stats["ev"])
-        chosen = {
-            key: [v for v, keep in zip(stats[key], large, strict=True) if keep]
-            for key in ("mde", "ms", "ev")
-        }
-        summary["large_pose"] = _summary(chosen["mde"], chosen["ms"], chosen["ev"])
+        subsets = (
+            ("large_pose", "large", True),
+            ("same_light", "lit", False),
+            ("light_change", "lit", True),
+        )
+        for key, flag, want in subsets:
+            chosen = {
+                k: [v for v, f in zip(stats[k], stats[flag], strict=True) if f == want]
+                for k in ("mde", "ms", "ev")
+            }
+            summary[key] = _summary(chosen["mde"], chosen["ms"], chosen["ev"])
         methods[name] = summary
     return {
         "cases": len(cases),
@@ -192,7 +200,7 @@ def format_table(result: dict[str, Any], *, max_rows: int = 40) -> str:
     if len(result["rows"]) > max_rows:
         lines.append(f"... {len(result['rows']) - max_rows} more cases (see --json)")
     lines += ["", "(* large pose)", ""]
-    lines.append(f"{'':<40}" + "".join(f"{n:>15}" for n in names))
+    lines.append(f"{'':<48}" + "".join(f"{n:>15}" for n in names))
     for label, key in (
         ("median MDE (px)", "mde_median_px"),
         ("95th percentile MDE (px)", "mde_p95_px"),
@@ -200,9 +208,14 @@ def format_table(result: dict[str, Any], *, max_rows: int = 40) -> str:
         ("median time (ms)", "time_median_ms"),
         ("median cost evaluations", "evaluations_median"),
     ):
-        for scope, pick in (("all", lambda m: m), ("large pose", lambda m: m["large_pose"])):
+        for scope, pick in (
+            ("all", lambda m: m),
+            ("large pose", lambda m: m["large_pose"]),
+            ("same light (ORL)", lambda m: m["same_light"]),
+            ("light change (Yale B)", lambda m: m["light_change"]),
+        ):
             cells = "".join(f"{_fmt(pick(result['methods'][n])[key]):>15}" for n in names)
-            lines.append(f"{label + ', ' + scope:<40}{cells}")
+            lines.append(f"{label + ', ' + scope:<48}{cells}")
     return "\n".join(lines)
 
 
