@@ -28,6 +28,7 @@ class Raster:
     bary: np.ndarray  # (K, 3) float32
     corners: np.ndarray  # (K, 3) int
     shape: tuple[int, int]
+    inside: np.ndarray | None = None  # (K,) bool: centre inside its triangle (not clamped onto it)
 
     @property
     def size(self) -> int:
@@ -82,6 +83,7 @@ def rasterize(
     tri = labels[ys, xs]
     px = np.column_stack([xs, ys]).astype(np.float64)
     bary = _barycentric(points, triangles, tri, px)
+    inside = np.all(bary >= -1e-6, axis=1)
     # fillPoly's edge pixels may lie a fraction of a pixel outside their triangle (and a later
     # neighbour overwrites the label): clamp them onto it rather than leave cracks.
     bary = np.clip(bary, 0.0, None)
@@ -93,6 +95,7 @@ def rasterize(
         bary=bary.astype(np.float32),
         corners=triangles[tri],
         shape=(height, width),
+        inside=inside,
     )
 
 

@@ -38,6 +38,17 @@ class FitTemplate:
         raster = rasterize(
             points, model.triangles, image.shape, triangle_mask=visible_triangles(model, params)
         )
+        # Keep the pixels whose centres lie inside their triangle: at the template's own pose
+        # they map exactly onto themselves, so the cost there is exactly zero.
+        keep = raster.inside
+        raster = Raster(
+            ys=raster.ys[keep],
+            xs=raster.xs[keep],
+            tri=raster.tri[keep],
+            bary=raster.bary[keep],
+            corners=raster.corners[keep],
+            shape=raster.shape,
+        )
         values = image[raster.ys, raster.xs].astype(np.float32)
         return cls(model=model, params=params, image=image, raster=raster, values=values)
 

@@ -128,9 +128,10 @@ def fit_face(
         return Failure(
             f"no face matched: best correlation {1.0 - result.cost:.2f} < {MIN_CORRELATION}"
         )
-    pinned = np.isclose(result.params[:2], box.low[:2]) | np.isclose(
-        result.params[:2], box.high[:2]
-    )
-    if pinned.any():
+    # A face beyond the box drags the fit onto its walls: translation or scale at a bound, or
+    # the head turned and nodded to the limit at once.
+    margin = 0.01 * (box.high - box.low)
+    pinned = (result.params <= box.low + margin) | (result.params >= box.high - margin)
+    if pinned[:3].any() or pinned[3:5].all():
         return Failure("the face lies outside the search box")
     return result
