@@ -34,6 +34,19 @@ class Raster:
     def size(self) -> int:
         return int(self.ys.shape[0])
 
+    def take(self, keep: np.ndarray) -> Raster:
+        """The pixels selected by `keep` (a boolean mask or indices)."""
+        inside = None if self.inside is None else self.inside[keep]
+        return Raster(
+            ys=self.ys[keep],
+            xs=self.xs[keep],
+            tri=self.tri[keep],
+            bary=self.bary[keep],
+            corners=self.corners[keep],
+            shape=self.shape,
+            inside=inside,
+        )
+
 
 @dataclass(frozen=True, eq=False)
 class RenderResult:

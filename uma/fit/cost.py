@@ -40,15 +40,7 @@ class FitTemplate:
         )
         # Keep the pixels whose centres lie inside their triangle: at the template's own pose
         # they map exactly onto themselves, so the cost there is exactly zero.
-        keep = raster.inside
-        raster = Raster(
-            ys=raster.ys[keep],
-            xs=raster.xs[keep],
-            tri=raster.tri[keep],
-            bary=raster.bary[keep],
-            corners=raster.corners[keep],
-            shape=raster.shape,
-        )
+        raster = raster.take(raster.inside)
         values = image[raster.ys, raster.xs].astype(np.float32)
         return cls(model=model, params=params, image=image, raster=raster, values=values)
 
@@ -57,15 +49,7 @@ class FitTemplate:
         if step <= 1:
             return self
         keep = np.arange(0, self.raster.size, step)
-        r = self.raster
-        raster = Raster(
-            ys=r.ys[keep],
-            xs=r.xs[keep],
-            tri=r.tri[keep],
-            bary=r.bary[keep],
-            corners=r.corners[keep],
-            shape=r.shape,
-        )
+        raster = self.raster.take(keep)
         return FitTemplate(self.model, self.params, self.image, raster, self.values[keep])
 
     @property

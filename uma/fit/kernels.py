@@ -37,6 +37,15 @@ def _bilinear(image, x, y):
     return top * (1.0 - fy) + bottom * fy
 
 
+@njit(cache=True, fastmath=True, inline="always")
+def _warped_sample(image, corners, bary, points, b, k):
+    """The image at template pixel k moved by candidate b's vertices."""
+    i, j, m = corners[k, 0], corners[k, 1], corners[k, 2]
+    x = bary[k, 0] * points[b, i, 0] + bary[k, 1] * points[b, j, 0] + bary[k, 2] * points[b, m, 0]
+    y = bary[k, 0] * points[b, i, 1] + bary[k, 1] * points[b, j, 1] + bary[k, 2] * points[b, m, 1]
+    return _bilinear(image, x, y)
+
+
 @njit(cache=True, fastmath=True)
 def sample_at(image, corners, bary, points):
     """Samples of `image` at the template pixels moved to `points` (B, N, 2) -> (B, K)."""
@@ -45,18 +54,7 @@ def sample_at(image, corners, bary, points):
     out = np.empty((batch, count), dtype=np.float32)
     for b in range(batch):
         for k in range(count):
-            a, c, d = corners[k, 0], corners[k, 1], corners[k, 2]
-            x = (
-                bary[k, 0] * points[b, a, 0]
-                + bary[k, 1] * points[b, c, 0]
-                + bary[k, 2] * points[b, d, 0]
-            )
-            y = (
-                bary[k, 0] * points[b, a, 1]
-                + bary[k, 1] * points[b, c, 1]
-                + bary[k, 2] * points[b, d, 1]
-            )
-            out[b, k] = _bilinear(image, x, y)
+            out[b, k] = _warped_sample(image, corners, bary, points, b, k)
     return out
 
 
@@ -80,18 +78,7 @@ def ncc_scores(image, corners, bary, tri, template, points, visible):
         for k in range(count):
             if not visible[b, tri[k]]:
                 continue
-            a, c, d = corners[k, 0], corners[k, 1], corners[k, 2]
-            x = (
-                bary[k, 0] * points[b, a, 0]
-                + bary[k, 1] * points[b, c, 0]
-                + bary[k, 2] * points[b, d, 0]
-            )
-            y = (
-                bary[k, 0] * points[b, a, 1]
-                + bary[k, 1] * points[b, c, 1]
-                + bary[k, 2] * points[b, d, 1]
-            )
-            s = _bilinear(image, x, y)
+            s = _warped_sample(image, corners, bary, points, b, k)
             t = template[k]
             n += 1
             s_s += s
@@ -127,18 +114,7 @@ def patch_ncc_scores(image, corners, bary, tri, template, points, visible, n_tri
             j = tri[k]
             if not visible[b, j]:
                 continue
-            a, c, d = corners[k, 0], corners[k, 1], corners[k, 2]
-            x = (
-                bary[k, 0] * points[b, a, 0]
-                + bary[k, 1] * points[b, c, 0]
-                + bary[k, 2] * points[b, d, 0]
-            )
-            y = (
-                bary[k, 0] * points[b, a, 1]
-                + bary[k, 1] * points[b, c, 1]
-                + bary[k, 2] * points[b, d, 1]
-            )
-            s = _bilinear(image, x, y)
+            s = _warped_sample(image, corners, bary, points, b, k)
             t = template[k]
             acc[j, 0] += 1.0
             acc[j, 1] += s
