@@ -84,3 +84,38 @@ def test_talking_head_source_by_name():
     source = open_source(SourceConfig(kind="talking-head", width=176, height=144), seed=0)
     frame = next(iter(source.frames()))
     assert frame.shape == (216, 176) and source.name == "talking-head"
+
+
+def test_lower_frame_rate_by_design_is_not_a_freeze(tmp_path):
+    # Rung 3 of the ladder runs at 12.5 fps: every other frame is left out on purpose.
+    path = tmp_path / "fixed.yaml"
+    path.write_text(
+        SHORT.replace("  - {technology: GPRS, duration_s: 3}\n", "")
+        + "engine: {policy: fixed, fixed_rung: 3}\n"
+    )
+    metrics = run(path, tmp_path / "r")
+    lines = (tmp_path / "r" / "frames.csv").read_text().splitlines()
+    header = lines[0].split(",")
+    rows = [dict(zip(header, line.split(","), strict=True)) for line in lines[1:]]
+    scheduled = sum(int(r["scheduled"]) for r in rows)
+    assert len(rows) == 75 and 30 <= scheduled <= 45  # about half
+    late_start = [r for r in rows[25:] if r["scheduled"] == "0"]
+    assert late_start and all(r["frozen"] == "0" for r in late_start)
+    assert metrics["freeze_ratio"] < 0.1
+
+
+def test_undecodable_video_in_scenario_is_one_line_exit_2(tmp_path, capsys):
+    video = tmp_path / "notes.mp4"
+    video.write_text("this is not a video\n" * 20)
+    path = tmp_path / "bad.yaml"
+    path.write_text(
+        SHORT.replace(
+            "source: {kind: pattern, width: 176, height: 144, fps: 25}",
+            "source: {kind: file, path: notes.mp4}",
+        )
+    )
+    code = main(["run", str(path), "--out", str(tmp_path / "r"), "--quiet"])
+    assert code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "notes.mp4" in err[0] and err[0].startswith("uma: error:")
+    assert not (tmp_path / "r" / "metrics.json").exists()
