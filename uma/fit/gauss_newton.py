@@ -74,10 +74,16 @@ class _Images:
         self.gy = np.ascontiguousarray(cv2.Sobel(smooth, cv2.CV_32F, 0, 1, ksize=3) / 8.0)
 
 
-def _warp_positions(template: FitTemplate, points: np.ndarray) -> np.ndarray:
+def _warp_matrix(template: FitTemplate):
+    """The sparse (K, N) matrix of barycentric weights: pixel positions = W @ vertex positions."""
+    from scipy.sparse import csr_matrix
+
     r = template.raster
-    corners = points[..., r.corners, :]
-    return np.einsum("kj,...kjd->...kd", r.bary, corners)
+    rows = np.repeat(np.arange(r.size), 3)
+    return csr_matrix(
+        (r.bary.ravel().astype(np.float64), (rows, r.corners.ravel())),
+        shape=(r.size, template.model.n_vertices),
+    )
 
 
 def gauss_newton(
@@ -98,6 +104,7 @@ def gauss_newton(
     n_params = start.size if config.fit_actions else 6
     params = box.clip(np.asarray(start, dtype=np.float64))
     n_tri = len(model.triangles)
+    warp = _warp_matrix(template)
     evaluations = 0
 
     def residual(p: np.ndarray):
@@ -129,15 +136,15 @@ def gauss_newton(
         shifted = np.repeat(params[None], n_params, axis=0)
         shifted[np.arange(n_params), np.arange(n_params)] += steps
         d_points = (project(model, shifted) - points[None]) / steps[:, None, None]  # (P, N, 2)
-        d_warp = _warp_positions(template, d_points)  # (P, K, 2)
-        warped = _warp_positions(template, points[None])[0]
+        n_vertices = d_points.shape[1]
+        flat = d_points.transpose(1, 0, 2).reshape(n_vertices, 2 * n_params)
+        d_warp = (warp @ flat).reshape(-1, n_params, 2).transpose(1, 0, 2)  # (P, K, 2)
         gx = sample_at(images.gx, corners, bary, points[None].astype(np.float32))[0]
         gy = sample_at(images.gy, corners, bary, points[None].astype(np.float32))[0]
         jac = gain[None] * (gx[None] * d_warp[..., 0] + gy[None] * d_warp[..., 1])  # (P, K)
         jac = jac[:, visible].T
         hessian = jac.T @ jac
         gradient = jac.T @ res[visible]
-        del warped
         improved = False
         for _ in range(6):
             lhs = hessian + damping * np.diag(np.diag(hessian) + 1e-9)
