@@ -81,7 +81,7 @@ def test_saabs_recovers_a_known_pose(template, cases):
         errors.append(mde_px(model, result.params, case.truth))
         assert (
             result.evaluations
-            <= SaabsConfig().global_phase.budget + SaabsConfig().local_phase.budget + 2
+            <= SaabsConfig().global_phase.budget + SaabsConfig().local_phase.budget + 3
         )
     start_errors = [mde_px(model, template.fit.params, c.truth) for c in cases]
     assert np.median(errors) < 1.5

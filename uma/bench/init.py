@@ -32,6 +32,7 @@ class InitBenchConfig:
     faces: Path | None = None
     yale: Path | None = None
     seed: int = 0
+    cif_frames: int = 10
 
 
 def _start(case: Case):
@@ -168,6 +169,9 @@ def run_init_bench(config: InitBenchConfig, *, progress=None) -> dict[str, Any]:
             }
             summary[key] = _summary(chosen["mde"], chosen["ms"], chosen["ev"])
         methods[name] = summary
+    from uma.bench.init_cif import run_cif_bench
+
+    cif = run_cif_bench(config.cif_frames, seed=config.seed) if config.cif_frames > 0 else None
     return {
         "cases": len(cases),
         "image": f"{IMAGE_SIZE[0]}x{IMAGE_SIZE[1]}",
@@ -176,6 +180,7 @@ def run_init_bench(config: InitBenchConfig, *, progress=None) -> dict[str, Any]:
         "detector_found": detected,
         "evaluation_budget": budget,
         "methods": methods,
+        "cif": cif,
         "rows": rows,
     }
 
@@ -216,6 +221,19 @@ def format_table(result: dict[str, Any], *, max_rows: int = 40) -> str:
         ):
             cells = "".join(f"{_fmt(pick(result['methods'][n])[key]):>15}" for n in names)
             lines.append(f"{label + ', ' + scope:<48}{cells}")
+    cif = result.get("cif")
+    if cif:
+        lines += [
+            "",
+            f"Whole CIF talking-head frames ({cif['frames']} frames, {cif['template_pixels']} template pixels; "
+            "stretch goal: 40 ms a frame)",
+        ]
+        for method in ("saabs", "hybrid"):
+            m = cif[method]
+            lines.append(
+                f"  {method:<8} median {_fmt(m['time_median_ms'])} ms, MDE median {_fmt(m['mde_median_px'])} px, "
+                f"p95 {_fmt(m['mde_p95_px'])} px, failures {m['failures']}"
+            )
     return "\n".join(lines)
 
 

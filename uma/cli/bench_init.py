@@ -27,6 +27,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--yale", metavar="DIR", help="Yale B folder (default ../shared/data/faces/yale_b)"
     )
     parser.add_argument("--cases", type=int, default=40, help="number of cases (default 40)")
+    parser.add_argument(
+        "--cif-frames",
+        type=int,
+        default=10,
+        help="whole CIF talking-head frames to fit too (default 10; 0: none)",
+    )
     add_common_arguments(parser)
     parser.set_defaults(func=handle)
 
@@ -52,7 +58,11 @@ def handle(args: argparse.Namespace) -> int:
         from tqdm import tqdm
 
         bar = tqdm(total=args.cases, unit="case", desc="bench init", file=sys.stderr, leave=False)
-    config = InitBenchConfig(cases=args.cases, faces=faces, yale=yale, seed=args.seed)
+    if args.cif_frames < 0:
+        raise ConfigError(f"--cif-frames: expected a non-negative integer, got {args.cif_frames}")
+    config = InitBenchConfig(
+        cases=args.cases, faces=faces, yale=yale, seed=args.seed, cif_frames=args.cif_frames
+    )
     try:
         result = run_init_bench(
             config, progress=(lambda done, total: bar.update(1)) if bar else None

@@ -34,6 +34,7 @@ class GaussNewtonConfig:
     blur_sigma_px: float = 0.5  # smooths the image so its gradient reaches a little further
     tolerance_px: float = 1e-3  # stop when the largest vertex move is below this
     fit_actions: bool = True
+    max_pixels: int = 8000  # every n-th template pixel beyond this many (a CIF face has ~19,000)
     # A gain and offset per triangle patch instead of one for the image: follows light that
     # changes across the face (the counterpart of SAABs' illumination compensation).
     patch_photometry: bool = False
@@ -96,6 +97,8 @@ def gauss_newton(
 ) -> FitResult:
     """Fit by damped Gauss-Newton from `start`, staying inside `box`."""
     model = template.model
+    step = -(-template.raster.size // max(config.max_pixels, 1))
+    template = template.subsampled(step)
     images = _Images(image, config.blur_sigma_px)
     t_values = template.values.astype(np.float64)
     r = template.raster
