@@ -38,3 +38,14 @@ def test_help_is_light():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "[]"
+
+
+def test_malformed_trace_in_scenario_names_file_and_line(tmp_path, capsys):
+    trace = tmp_path / "t.csv"
+    trace.write_text("time_s,rate_kbps,technology\n0,100,3G\n1,lots,3G\n")
+    scenario = tmp_path / "s.yaml"
+    scenario.write_text("name: x\nroute:\n  - {technology: 3G, duration_s: 2, trace: t.csv}\n")
+    assert main(["run", str(scenario), "--out", str(tmp_path / "out"), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "line 3 of" in err[0] and "t.csv" in err[0]
+    assert not (tmp_path / "out" / "metrics.json").exists()

@@ -114,3 +114,43 @@ def test_real_trace_scenario_loads(shared_data):
 
     real = load_scenario(scenarios_dir() / "stockholm-uppsala-real.yaml")
     assert all(seg.trace is None or seg.trace.startswith("/") for seg in real.route)
+
+
+def test_unknown_technology_names_the_segment(tmp_path):
+    text = MINIMAL.replace("technology: WLAN", "technology: Carrier pigeon")
+    with pytest.raises(ConfigError, match=r":3 \(route\[0\]\.technology\): expected one of GSM"):
+        load_scenario(write(tmp_path, text))
+
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+yaml_values = st.recursive(
+    st.none()
+    | st.booleans()
+    | st.integers(-5, 5)
+    | st.floats(allow_nan=True)
+    | st.text(max_size=8),
+    lambda children: (
+        st.lists(children, max_size=3) | st.dictionaries(st.text(max_size=8), children, max_size=3)
+    ),
+    max_leaves=8,
+)
+keys = st.sampled_from(
+    ["name", "seed", "route", "source", "engine", "receiver", "downlink", "bogus"]
+)
+
+
+@given(data=st.dictionaries(keys, yaml_values, max_size=5))
+@settings(max_examples=150, deadline=None)
+def test_any_yaml_mapping_is_a_scenario_or_one_config_error(tmp_path_factory, data):
+    import yaml
+
+    path = tmp_path_factory.mktemp("h") / "s.yaml"
+    path.write_text(yaml.safe_dump(data))
+    try:
+        scenario = load_scenario(path)
+    except ConfigError as err:
+        assert "s.yaml" in str(err) and "\n" not in str(err)
+    else:
+        assert scenario.route

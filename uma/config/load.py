@@ -79,6 +79,14 @@ def _check_names(scenario: Scenario, lines: KeyLines) -> None:
             f"{lines.where(('engine', 'policy'))}: expected one of {choices}, "
             f"got {scenario.engine.policy!r}"
         )
+    from uma.traces.technology import TECHNOLOGIES, normalise_technology
+
+    for index, segment in enumerate(scenario.route):
+        if segment.trace is None and normalise_technology(segment.technology) not in TECHNOLOGIES:
+            raise ConfigError(
+                f"{lines.where(('route', index, 'technology'))}: expected one of "
+                f"{', '.join(TECHNOLOGIES)} (or a trace file), got {segment.technology!r}"
+            )
     if scenario.engine.policy == "fixed" and scenario.engine.fixed_rung is None:
         raise ConfigError(f"{lines.where(('engine',))}: policy 'fixed' needs 'fixed_rung'")
 
