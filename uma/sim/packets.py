@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["EncodedUnit", "Packet", "packetize", "HEADER_BYTES"]
+__all__ = ["EncodedUnit", "Packet", "packetize", "packet_sizes_bits", "HEADER_BYTES"]
 
 # IPv4 + UDP + RTP headers on every packet.
 HEADER_BYTES = 40
@@ -42,22 +42,18 @@ def packetize(
     unit: EncodedUnit, *, first_seq: int, payload_bytes: int, sent_s: float
 ) -> list[Packet]:
     """Cut `unit` into packets of at most `payload_bytes` of payload plus headers."""
-    size = max(1, len(unit.data))
-    count = -(-size // payload_bytes)
-    packets = []
-    for index in range(count):
-        payload = min(payload_bytes, size - index * payload_bytes)
-        packets.append(
-            Packet(
-                seq=first_seq + index,
-                unit=unit,
-                index=index,
-                count=count,
-                size_bits=8 * (payload + HEADER_BYTES),
-                sent_s=sent_s,
-            )
+    sizes = packet_sizes_bits(unit, payload_bytes=payload_bytes)
+    return [
+        Packet(
+            seq=first_seq + index,
+            unit=unit,
+            index=index,
+            count=len(sizes),
+            size_bits=size,
+            sent_s=sent_s,
         )
-    return packets
+        for index, size in enumerate(sizes)
+    ]
 
 
 def packet_sizes_bits(unit: EncodedUnit, *, payload_bytes: int) -> list[int]:

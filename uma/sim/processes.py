@@ -35,7 +35,6 @@ class World:
     frames: int
     fps: float
     source_iter: Any
-    source_size: tuple[int, int]  # (width, height)
     ladder: Any
     engine: UmaEngine
     capacity: CapacitySchedule

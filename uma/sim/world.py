@@ -163,7 +163,6 @@ def run_scenario(
         frames=frames,
         fps=fps,
         source_iter=iter(source.frames()),
-        source_size=(source.width, source.height),
         ladder=ladder,
         engine=engine,
         capacity=capacity,
