@@ -73,3 +73,12 @@ def test_trace_validation():
         Trace(np.array([0.0]), np.array([np.nan]), ("",), 1.0)
     with pytest.raises(TraceError, match="does not cover"):
         Trace(np.array([0.0, 2.0]), np.array([1.0, 1.0]), ("", ""), 2.0)
+
+
+def test_project_trace_reads_and_crosses_technologies():
+    from uma.paths import traces_dir
+    from uma.traces import read_trace
+
+    trace = read_trace(traces_dir() / "cell-edge-fallback.csv")
+    assert trace.duration_s == pytest.approx(80.0)
+    assert {"3G", "GPRS", "GSM"} == set(trace.technologies)
