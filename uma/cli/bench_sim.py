@@ -4,20 +4,9 @@ from __future__ import annotations
 
 import argparse
 
+from uma.cli.args import frame_size
+
 __all__ = ["register"]
-
-
-def _size(text: str) -> tuple[int, int]:
-    presets = {"cif": (352, 288), "qcif": (176, 144)}
-    if text.lower() in presets:
-        return presets[text.lower()]
-    try:
-        width, height = (int(v) for v in text.lower().split("x"))
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected cif, qcif or WxH, got {text!r}") from None
-    if width <= 0 or height <= 0 or width % 2 or height % 2:
-        raise argparse.ArgumentTypeError(f"expected even positive WxH, got {text!r}")
-    return width, height
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -33,7 +22,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     parser.add_argument("--scenario", metavar="FILE", help="scenario file (default: the default)")
     parser.add_argument("--frames", type=int, default=750, help="frames to simulate (default 750)")
-    parser.add_argument("--size", type=_size, default=(352, 288), help="cif, qcif or WxH")
+    parser.add_argument("--size", type=frame_size, default=(352, 288), help="cif, qcif or WxH")
     parser.add_argument("--video", metavar="FILE", help="use this video file as the source")
     add_common_arguments(parser)
     parser.set_defaults(func=handle)

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import argparse
 
+from uma.cli.args import frame_size
+
 __all__ = ["register"]
 
 HELP = """\
@@ -12,16 +14,6 @@ Write a synthetic talking-head clip: the astronaut photograph animated by the fa
 with libx264 at high quality, and beside it CLIP.truth.json with every frame's model
 parameters (tx_px, ty_px, scale_px, rx_rad, ry_rad, rz_rad, action units) and projected
 model points. Scenarios use the same source with `source: {kind: talking-head}`."""
-
-
-def _size(text: str) -> tuple[int, int]:
-    try:
-        width, height = (int(v) for v in text.lower().split("x"))
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected WxH, got {text!r}") from None
-    if width < 64 or height < 64 or width % 2 or height % 2:
-        raise argparse.ArgumentTypeError(f"expected an even size of at least 64x64, got {text!r}")
-    return width, height
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -40,7 +32,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     synth.add_argument("--out", required=True, metavar="CLIP.mp4", help="clip to write")
     synth.add_argument("--frames", type=int, default=250, help="frames (default 250, 10 s)")
-    synth.add_argument("--size", type=_size, default=(352, 288), help="WxH (default 352x288)")
+    synth.add_argument("--size", type=frame_size, default=(352, 288), help="WxH (default 352x288)")
     synth.add_argument("--fps", type=float, default=25.0, help="frame rate (default 25)")
     synth.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     synth.set_defaults(func=handle_synth)
