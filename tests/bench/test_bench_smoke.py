@@ -1,0 +1,65 @@
+"""The benchmarks run and print the keys CONVENTIONS.md requires (tiny sizes; no timing asserted)."""
+
+import json
+
+from uma.cli import main
+
+
+def test_bench_codec_reports_every_rung(capsys):
+    from uma.video import load_ladder
+
+    assert (
+        main(["bench", "codec", "--frames", "30", "--video", __file__, "--json"]) == 2
+    )  # not a video
+    capsys.readouterr()
+    from uma.bench.codec import run_codec_bench
+
+    result = run_codec_bench(video=None, frames=30)
+    assert len(result["rungs"]) == len(load_ladder().rungs)
+    assert all(-50 < rung["error_pct"] < 50 for rung in result["rungs"])
+
+
+def test_bench_sim_json_keys(capsys):
+    assert main(["bench", "sim", "--frames", "25", "--size", "qcif", "--json"]) == 0
+    result = json.loads(capsys.readouterr().out)
+    for key in ("frames", "video", "sim_s", "codec_s", "metrics_s", "ratio", "realtime_x"):
+        assert key in result
+    assert result["frames"] == 25 and result["video"] == "176x144@25"
+
+
+def test_bench_init_json_keys(capsys):
+    assert (
+        main(
+            [
+                "bench",
+                "init",
+                "--cases",
+                "2",
+                "--cif-frames",
+                "0",
+                "--json",
+                "--faces",
+                "/nonexistent",
+            ]
+        )
+        == 2
+    )
+    capsys.readouterr()
+    from pathlib import Path
+
+    from uma.bench.init import InitBenchConfig, run_init_bench
+
+    result = run_init_bench(
+        InitBenchConfig(cases=2, faces=Path("/nonexistent"), yale=None, cif_frames=0)
+    )
+    assert result["cases"] == 2 and result["image"] == "92x112"
+    for method in ("saabs", "saabs_ic", "gauss_newton", "dual_annealing", "hybrid"):
+        stats = result["methods"][method]
+        for key in (
+            "mde_median_px",
+            "mde_p95_px",
+            "success_rate",
+            "time_median_ms",
+            "evaluations_median",
+        ):
+            assert key in stats and key in stats["large_pose"]
