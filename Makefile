@@ -29,6 +29,7 @@ lint: install
 bench: install
 	$(BIN)/uma bench sim
 	$(BIN)/uma bench init
+	$(BIN)/uma bench codec
 
 clean:
 	rm -rf $(VENV) results
