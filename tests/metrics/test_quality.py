@@ -1,19 +1,54 @@
+import math
+
+import cv2
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from skimage.metrics import structural_similarity
 
-from uma.metrics.quality import PSNR_CAP_DB, psnr_db, ssim
+from uma.metrics import PSNR_CAP_DB, SSIM_DB_CAP, psnr_db, ssim, ssim_db
 
 
-def test_identical_planes():
+def test_identical_planes_hit_the_caps_never_inf():
     plane = np.random.default_rng(0).integers(0, 256, (64, 64), dtype=np.uint8)
-    assert psnr_db(plane, plane) == PSNR_CAP_DB
+    assert psnr_db(plane, plane) == PSNR_CAP_DB == 100.0
     assert ssim(plane, plane) == pytest.approx(1.0)
+    assert ssim_db(ssim(plane, plane)) == SSIM_DB_CAP
 
 
-def test_psnr_of_known_error():
+def test_psnr_of_a_constant_error():
     a = np.full((32, 32), 100, dtype=np.uint8)
-    b = a + np.uint8(5)  # MSE 25
-    assert psnr_db(a, b) == pytest.approx(10 * np.log10(255**2 / 25))
+    assert psnr_db(a, a + np.uint8(5)) == pytest.approx(10 * np.log10(255**2 / 25))
+    assert psnr_db(a + np.uint8(5), a) == psnr_db(a, a + np.uint8(5))  # no uint8 wrap-around
+
+
+@pytest.mark.parametrize("sigma", [1.0, 4.0, 12.0])
+def test_psnr_of_gaussian_noise_of_known_variance(sigma):
+    rng = np.random.default_rng(int(sigma))
+    plane = np.full((288, 352), 128.0)
+    noisy = np.clip(np.round(plane + rng.normal(0, sigma, plane.shape)), 0, 255)
+    # rounding to integers adds the variance of a uniform quantiser, 1/12
+    expected = 10 * np.log10(255**2 / (sigma**2 + 1 / 12))
+    assert psnr_db(plane.astype(np.uint8), noisy.astype(np.uint8)) == pytest.approx(
+        expected, abs=0.05
+    )
+
+
+def test_ssim_of_flat_planes_follows_the_luminance_term():
+    # flat planes have no variance, so SSIM reduces to (2ab + C1) / (a^2 + b^2 + C1)
+    c1 = (0.01 * 255) ** 2
+    for a, b in ((100, 110), (50, 200)):
+        got = ssim(np.full((32, 32), a, np.uint8), np.full((32, 32), b, np.uint8))
+        assert got == pytest.approx((2 * a * b + c1) / (a * a + b * b + c1), rel=1e-5)
+
+
+def test_ssim_matches_scikit_image_in_float64():
+    rng = np.random.default_rng(1)
+    ref = (rng.random((144, 176)) * 200).astype(np.uint8)
+    test = np.clip(ref + rng.normal(0, 8, ref.shape), 0, 255).astype(np.uint8)
+    exact = structural_similarity(ref, test, data_range=255)  # uint8 in, float64 inside
+    assert ssim(ref, test) == pytest.approx(exact, abs=1e-5)
 
 
 def test_ssim_falls_with_noise():
@@ -24,6 +59,46 @@ def test_ssim_falls_with_noise():
     assert 0 < ssim(plane, heavy) < ssim(plane, light) < 1
 
 
-def test_shapes_must_match():
-    with pytest.raises(ValueError):
+def test_downscaled_ssim_is_ssim_of_block_means():
+    rng = np.random.default_rng(2)
+    # a smooth picture (as natural ones are) of odd size: the last row and column are dropped
+    field = cv2.GaussianBlur(rng.random((145, 177)), (0, 0), 3)
+    ref = np.interp(field, (field.min(), field.max()), (20, 235)).astype(np.uint8)
+    test = np.clip(ref + rng.normal(0, 10, ref.shape), 0, 255).astype(np.uint8)
+
+    def block_mean(plane):
+        p = plane[:144, :176].astype(np.float64)
+        return p.reshape(72, 2, 88, 2).mean(axis=(1, 3))
+
+    expected = structural_similarity(block_mean(ref), block_mean(test), data_range=255.0)
+    assert ssim(ref, test, scale=2) == pytest.approx(expected, abs=1e-5)
+    # averaging hides white noise more than smooth detail: downscaled SSIM reads higher
+    assert ssim(ref, test, scale=2) > ssim(ref, test)
+
+
+def test_bad_arguments():
+    with pytest.raises(ValueError, match="different shapes"):
         psnr_db(np.zeros((4, 4)), np.zeros((4, 5)))
+    with pytest.raises(ValueError, match="different shapes"):
+        ssim(np.zeros((16, 16)), np.zeros((16, 15)))
+    with pytest.raises(ValueError, match="scale"):
+        ssim(np.zeros((16, 16)), np.zeros((16, 16)), scale=0)
+    with pytest.raises(ValueError, match="at least 7x7"):
+        ssim(np.zeros((16, 16)), np.zeros((16, 16)), scale=4)
+
+
+def test_ssim_db():
+    assert ssim_db(0.9) == pytest.approx(10.0)
+    assert ssim_db(0.99) == pytest.approx(20.0)
+    assert ssim_db(0.0) == 0.0
+    assert ssim_db(1.0) == SSIM_DB_CAP and ssim_db(1.0 - 1e-12) == SSIM_DB_CAP
+    assert ssim_db(-0.5) < 0
+    assert math.isnan(ssim_db(float("nan")))
+
+
+@settings(max_examples=50, deadline=None)
+@given(st.floats(-1.0, 1.0))
+def test_ssim_db_is_finite_and_increasing(value):
+    db = ssim_db(value)
+    assert math.isfinite(db) and db <= SSIM_DB_CAP
+    assert ssim_db(min(1.0, value + 0.01)) >= db

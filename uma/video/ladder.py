@@ -1,25 +1,82 @@
-"""The H.264 rate ladder: rungs of (rate, size, frame rate), read from `codecs/h264.yaml`.
+"""The H.264 rate ladder: rungs of (rate, size, frame rate) and the encoder settings, read from
+`codecs/h264.yaml`.
 
-Units: rates in kbit/s, sizes in pixels, frame rates in frames/s.
+Units: rates in kbit/s, sizes in pixels, frame rates in frames/s, the VBV buffer in frame
+intervals. A file holds `rungs` (a list, lowest rate first) and optionally `encoder`
+(`preset`, `tune`, `keyint_frames`, `vbv_frames`, see `uma.video.h264`); errors name the file,
+the line and the key path, e.g. `codecs/h264.yaml:9 (rungs[3].fps): expected a positive number,
+got -1`.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from uma.errors import ConfigError
+from uma.video.h264 import PRESETS
 
-__all__ = ["Rung", "Ladder", "load_ladder", "default_ladder_path"]
+if TYPE_CHECKING:  # uma.config's package import pulls in pydantic; load it only when reading
+    from uma.config.yamlfile import KeyLines
+
+__all__ = ["Rung", "EncoderSettings", "Ladder", "load_ladder", "default_ladder_path"]
+
+_RUNG_KEYS = ("rate_kbps", "width", "height", "fps")
+_ENCODER_KEYS = ("preset", "tune", "keyint_frames", "vbv_frames")
+
+
+def _positive(value: Any, where: str, *, integer: bool = False, even: bool = False):
+    ok = isinstance(value, int | float) and not isinstance(value, bool)
+    ok = ok and math.isfinite(value) and value > 0
+    if ok and integer:
+        ok = float(value).is_integer()
+    if not ok:
+        kind = "a positive integer" if integer else "a positive number"
+        raise ConfigError(f"{where}: expected {kind}, got {value!r}")
+    if even and int(value) % 2:
+        raise ConfigError(f"{where}: expected an even number (4:2:0 chroma), got {value!r}")
+    return int(value) if integer else float(value)
 
 
 @dataclass(frozen=True)
 class Rung:
+    """One operating point: libx264's target rate and the picture size and rate it codes."""
+
     rate_kbps: float
     width: int
     height: int
     fps: float
+
+    def __post_init__(self) -> None:
+        _positive(self.rate_kbps, "rung rate_kbps")
+        _positive(self.width, "rung width", integer=True, even=True)
+        _positive(self.height, "rung height", integer=True, even=True)
+        _positive(self.fps, "rung fps")
+
+    @property
+    def label(self) -> str:
+        """`64k 176x144@12.5`, for tables and logs."""
+        return f"{self.rate_kbps:g}k {self.width}x{self.height}@{self.fps:.3g}"
+
+
+@dataclass(frozen=True)
+class EncoderSettings:
+    """libx264 settings shared by every rung (and the sender unless its scenario says otherwise)."""
+
+    preset: str = "ultrafast"
+    tune: str = "zerolatency"
+    keyint_frames: int = 250
+    vbv_frames: float = 4.0
+
+    def __post_init__(self) -> None:
+        _check_encoder(asdict(self), lambda key: f"encoder {key}")
+
+    def kwargs(self) -> dict[str, Any]:
+        """Keyword arguments for `H264Encoder`."""
+        return asdict(self)
 
 
 @dataclass(frozen=True)
@@ -27,17 +84,44 @@ class Ladder:
     """Rungs in strictly ascending rate; `source` names the file for messages."""
 
     rungs: tuple[Rung, ...]
+    encoder: EncoderSettings = field(default_factory=EncoderSettings)
     source: str = "<ladder>"
 
     def __post_init__(self) -> None:
         if not self.rungs:
             raise ConfigError(f"{self.source}: rungs: expected at least one rung")
         for index in range(1, len(self.rungs)):
-            if self.rungs[index].rate_kbps <= self.rungs[index - 1].rate_kbps:
+            below, rung = self.rungs[index - 1].rate_kbps, self.rungs[index].rate_kbps
+            if rung <= below:
                 raise ConfigError(
                     f"{self.source}: rungs[{index}].rate_kbps: expected more than the rung "
-                    f"below ({self.rungs[index - 1].rate_kbps}), got {self.rungs[index].rate_kbps}"
+                    f"below ({below:g}), got {rung:g}"
                 )
+
+    def highest_within(self, rate_kbps: float) -> int:
+        """Index of the highest rung whose rate is at most `rate_kbps` (0 when none is)."""
+        index = 0
+        for i, rung in enumerate(self.rungs):
+            if rung.rate_kbps <= rate_kbps:
+                index = i
+        return index
+
+
+def _check_encoder(values: dict[str, Any], where: Callable[[str], str]) -> None:
+    preset, tune = values.get("preset", "ultrafast"), values.get("tune", "zerolatency")
+    if preset not in PRESETS:
+        raise ConfigError(
+            f"{where('preset')}: expected one of {', '.join(PRESETS)}, got {preset!r}"
+        )
+    if not isinstance(tune, str) or "zerolatency" not in tune.split(","):
+        raise ConfigError(
+            f"{where('tune')}: expected tunes including 'zerolatency' (one frame out per frame "
+            f"in), got {tune!r}"
+        )
+    _positive(values.get("keyint_frames", 1), where("keyint_frames"), integer=True)
+    vbv_frames = values.get("vbv_frames", 1.0)
+    if _positive(vbv_frames, where("vbv_frames")) < 1:
+        raise ConfigError(f"{where('vbv_frames')}: expected at least 1, got {vbv_frames!r}")
 
 
 def default_ladder_path() -> Path:
@@ -46,43 +130,66 @@ def default_ladder_path() -> Path:
     return codecs_dir() / "h264.yaml"
 
 
-def _number(value, where: str, *, integer: bool = False, even: bool = False) -> float:
-    ok = isinstance(value, int | float) and not isinstance(value, bool)
-    if ok and integer:
-        ok = isinstance(value, int) or float(value).is_integer()
-    if not ok or not math.isfinite(value) or value <= 0:
-        kind = "a positive integer" if integer else "a positive number"
-        raise ConfigError(f"{where}: expected {kind}, got {value!r}")
-    if even and int(value) % 2:
-        raise ConfigError(f"{where}: expected an even number (4:2:0), got {value!r}")
-    return int(value) if integer else float(value)
+def _mapping(
+    item: Any, allowed: tuple[str, ...], required: tuple[str, ...], lines: KeyLines, key_path: tuple
+) -> dict:
+    """`item` checked to be a mapping with only `allowed` keys and every `required` one."""
+    expected = f"expected keys {', '.join(allowed)}"
+    if not isinstance(item, dict):
+        raise ConfigError(f"{lines.where(key_path)}: expected a mapping ({expected}), got {item!r}")
+    unknown = [key for key in item if key not in allowed]
+    if unknown:
+        from uma.config.yamlfile import format_key_path
+
+        # the line of the unknown key itself, the key path of its parent
+        line = lines.line_of(key_path + (unknown[0],))
+        where = f"{lines.path}:{line}" if line else str(lines.path)
+        where += f" ({format_key_path(key_path)})" if key_path else ""
+        raise ConfigError(f"{where}: unknown key {unknown[0]!r}; {expected}")
+    missing = [key for key in required if key not in item]
+    if missing:
+        raise ConfigError(f"{lines.where(key_path)}: missing key {missing[0]!r}; {expected}")
+    return item
 
 
 def load_ladder(path: str | Path | None = None) -> Ladder:
     """Read and validate a ladder file (the project's `codecs/h264.yaml` by default)."""
-    from uma.config.yamlfile import load_yaml
+    from uma.config.yamlfile import load_yaml  # imports PyYAML
 
     path = Path(path) if path is not None else default_ladder_path()
     data, lines = load_yaml(path)
-    if not isinstance(data, dict) or set(data) != {"rungs"} or not isinstance(data["rungs"], list):
-        raise ConfigError(f"{lines.where(())}: expected a mapping with one key 'rungs' (a list)")
+    top = _mapping(data, ("rungs", "encoder"), ("rungs",), lines, ())
+    if not isinstance(top["rungs"], list):
+        raise ConfigError(
+            f"{lines.where(('rungs',))}: expected a list of rungs, got {top['rungs']!r}"
+        )
+    if not top["rungs"]:
+        raise ConfigError(f"{lines.where(('rungs',))}: expected at least one rung")
     rungs = []
-    for index, item in enumerate(data["rungs"]):
+    for index, item in enumerate(top["rungs"]):
         key = ("rungs", index)
-        if not isinstance(item, dict) or set(item) != {"rate_kbps", "width", "height", "fps"}:
-            raise ConfigError(
-                f"{lines.where(key)}: expected keys rate_kbps, width, height, fps, got {item!r}"
-            )
+        item = _mapping(item, _RUNG_KEYS, _RUNG_KEYS, lines, key)
         rungs.append(
             Rung(
-                rate_kbps=_number(item["rate_kbps"], lines.where(key + ("rate_kbps",))),
-                width=_number(
+                rate_kbps=_positive(item["rate_kbps"], lines.where(key + ("rate_kbps",))),
+                width=_positive(
                     item["width"], lines.where(key + ("width",)), integer=True, even=True
                 ),
-                height=_number(
+                height=_positive(
                     item["height"], lines.where(key + ("height",)), integer=True, even=True
                 ),
-                fps=_number(item["fps"], lines.where(key + ("fps",))),
+                fps=_positive(item["fps"], lines.where(key + ("fps",))),
             )
         )
-    return Ladder(tuple(rungs), source=str(path))
+    for index in range(1, len(rungs)):
+        if rungs[index].rate_kbps <= rungs[index - 1].rate_kbps:
+            raise ConfigError(
+                f"{lines.where(('rungs', index, 'rate_kbps'))}: expected more than the rung below "
+                f"({rungs[index - 1].rate_kbps:g}), got {rungs[index].rate_kbps:g}"
+            )
+    encoder = EncoderSettings()
+    if "encoder" in top:
+        settings = _mapping(top["encoder"], _ENCODER_KEYS, (), lines, ("encoder",))
+        _check_encoder(settings, lambda key: lines.where(("encoder", key)))
+        encoder = EncoderSettings(**settings)
+    return Ladder(tuple(rungs), encoder=encoder, source=str(path))

@@ -1,0 +1,8 @@
+"""Metrics of a run: picture quality (PSNR, SSIM), delay and freeze accounting, aggregates.
+
+Units are in the names of each module's functions and columns.
+"""
+
+from uma.metrics.quality import PSNR_CAP_DB, SSIM_DB_CAP, psnr_db, ssim, ssim_db
+
+__all__ = ["psnr_db", "ssim", "ssim_db", "PSNR_CAP_DB", "SSIM_DB_CAP"]
