@@ -1,4 +1,6 @@
 import math
+import platform
+import sys
 
 import cv2
 import numpy as np
@@ -7,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from skimage.metrics import structural_similarity
 
-from uma.metrics import PSNR_CAP_DB, SSIM_DB_CAP, psnr_db, ssim, ssim_db
+from uma.metrics import PSNR_CAP_DB, SSIM_DB_CAP, keep_freed_memory, psnr_db, ssim, ssim_db
 
 
 def test_identical_planes_hit_the_caps_never_inf():
@@ -102,3 +104,15 @@ def test_ssim_db_is_finite_and_increasing(value):
     db = ssim_db(value)
     assert math.isfinite(db) and db <= SSIM_DB_CAP
     assert ssim_db(min(1.0, value + 0.01)) >= db
+
+
+def test_keep_freed_memory_changes_speed_not_values():
+    rng = np.random.default_rng(3)
+    ref = (rng.random((288, 352)) * 255).astype(np.uint8)
+    test = np.clip(ref + rng.normal(0, 6, ref.shape), 0, 255).astype(np.uint8)
+    before = ssim(ref, test)
+    applied = keep_freed_memory()
+    assert isinstance(applied, bool)
+    if sys.platform.startswith("linux") and "glibc" in " ".join(platform.libc_ver()):
+        assert applied
+    assert ssim(ref, test) == before

@@ -49,10 +49,11 @@ def peak_queue_kbit(sizes_bits, rate_kbps, fps):
 
 
 # Error of the steady rate against the target on akiyo (300 CIF frames, 12 s), measured with
-# this libx264 (PyAV 18 wheel), VBV of 4 frame intervals: 16k -14.7 %, 24k -10.3 %, 40k -7.0 %,
-# 64k -5.3 %, 128k -5.2 %, 256k -4.3 %, 384k -5.2 %, 768k -4.5 %, 1200k -3.5 %. Never over:
-# with maxrate = target libx264 undershoots, most on a still scene at 5 frames/s where it has
-# nothing to spend bits on. Bounds leave ~4 points for other libx264 builds.
+# this libx264 (PyAV 18 wheel), VBV of 4 frame intervals, at the rungs of codecs/h264.yaml:
+# 16k -14.7 %, 24k -10.3 %, 40k -7.0 %, 64k -6.3 %, 128k -4.5 %, 256k -4.3 %, 384k -5.2 %,
+# 768k -4.5 %, 1200k -3.5 %. Never over: with maxrate = target libx264 undershoots, most on a
+# still scene at 5 frames/s where it has nothing to spend bits on. Bounds leave ~4 points for
+# other libx264 builds.
 def tolerance(rate_kbps):
     return (0.80, 1.02) if rate_kbps < 32 else (0.90, 1.02)
 

@@ -31,10 +31,8 @@ def test_encoder_section_is_read(tmp_path):
     assert ladder.rungs == (Rung(20.0, 128, 96, 5.0),)
 
 
-def test_highest_within():
-    ladder = Ladder((Rung(20, 128, 96, 5), Rung(64, 176, 144, 12.5), Rung(384, 352, 288, 25)))
-    assert [ladder.highest_within(r) for r in (5, 20, 63.9, 64, 1000)] == [0, 0, 0, 1, 2]
-    assert ladder.rungs[1].label == "64k 176x144@12.5"
+def test_rung_label():
+    assert Rung(64, 256, 208, 12.5).label == "64k 256x208@12.5"
 
 
 RUNG = "  - {rate_kbps: 20, width: 176, height: 144, fps: 5}\n"

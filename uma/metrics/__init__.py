@@ -3,6 +3,13 @@
 Units are in the names of each module's functions and columns.
 """
 
-from uma.metrics.quality import PSNR_CAP_DB, SSIM_DB_CAP, psnr_db, ssim, ssim_db
+from uma.metrics.quality import (
+    PSNR_CAP_DB,
+    SSIM_DB_CAP,
+    keep_freed_memory,
+    psnr_db,
+    ssim,
+    ssim_db,
+)
 
-__all__ = ["psnr_db", "ssim", "ssim_db", "PSNR_CAP_DB", "SSIM_DB_CAP"]
+__all__ = ["psnr_db", "ssim", "ssim_db", "keep_freed_memory", "PSNR_CAP_DB", "SSIM_DB_CAP"]

@@ -13,14 +13,14 @@ Settings for conversational video over a bottleneck, and why:
 - Rate control: ABR at the target with VBV `maxrate` = the target and `bufsize` = `vbv_frames`
   frame intervals (default 4, i.e. 160 ms at 25 fps, 800 ms at 5 fps). A link draining at
   exactly the target rate then never queues more than the VBV buffer of this stream, IDRs
-  included (measured peak 0.80-0.93 of it over every ladder rung on akiyo, carphone and
-  foreman); ABR alone lets an IDR reach 2-12 frame budgets and a one-second window +19 to
-  +190 %. With maxrate = target libx264 undershoots, never overshoots, the long-run target;
-  measured steady-state error over the ladder rungs on those three clips, by buffer size:
-  1 frame -21 to -44 %, 2 frames -11 to -28 %, 4 frames -3 to -15 % (worst on the still akiyo
-  at 16-24 kbit/s, 5 frames/s), 6 frames -2 to -12 % but a one-second window then reaches
-  +64 % at 5 frames/s. A single-frame VBV (x264's classic low-latency advice, paired with
-  intra refresh) wastes a quarter or more of the link here, so 4 frames is the default.
+  included (measured peak 0.78-0.95 of it over every ladder rung on akiyo, carphone, foreman
+  and the pattern); ABR alone lets an IDR reach 2-12 frame budgets and a one-second window
+  +19 to +190 %. With maxrate = target libx264 undershoots, never overshoots, the long-run
+  target; measured steady-state error over the ladder rungs on the three clips, by buffer
+  size: 1 frame -21 to -44 %, 2 frames -11 to -28 %, 4 frames -3 to -15 % (worst on the still
+  akiyo at 16-24 kbit/s, 5 frames/s), 6 frames -2 to -12 % but a one-second window then
+  reaches +64 % at 5 frames/s. A single-frame VBV (x264's classic low-latency advice, paired
+  with intra refresh) wastes a quarter or more of the link here, so 4 frames is the default.
 - `repeat-headers`: SPS and PPS in front of every IDR, so a decoder can start at any IDR and a
   rung change (a new encoder at a new size) needs nothing out of band. `forced-idr`: a forced
   key frame is a real IDR (NAL type 5), not a recovery-point I-frame.

@@ -98,14 +98,6 @@ class Ladder:
                     f"below ({below:g}), got {rung:g}"
                 )
 
-    def highest_within(self, rate_kbps: float) -> int:
-        """Index of the highest rung whose rate is at most `rate_kbps` (0 when none is)."""
-        index = 0
-        for i, rung in enumerate(self.rungs):
-            if rung.rate_kbps <= rate_kbps:
-                index = i
-        return index
-
 
 def _check_encoder(values: dict[str, Any], where: Callable[[str], str]) -> None:
     preset, tune = values.get("preset", "ultrafast"), values.get("tune", "zerolatency")
