@@ -14,13 +14,17 @@ from uma.face import (
     make_params,
     project,
     read_points,
+    read_wfm,
+    render,
 )
+from uma.metrics.quality import psnr_db
 from uma.paths import codecs_dir
 
 
-def test_fit_from_points_round_trip_recovers_parameters():
+@pytest.mark.parametrize("seed", [5, 6, 7])
+def test_render_then_fit_from_points_recovers_parameters(seed):
     model = load_model()
-    rng = np.random.default_rng(5)
+    rng = np.random.default_rng(seed)
     shape = rng.normal(0, 0.3, model.n_shapes)
     actions = rng.uniform(0, 0.6, model.n_actions)
     truth = make_params(
@@ -28,18 +32,38 @@ def test_fit_from_points_round_trip_recovers_parameters():
         tx_px=180,
         ty_px=150,
         scale_px=60,
-        rx_rad=0.08,
-        ry_rad=-0.12,
-        rz_rad=0.06,
+        rx_rad=rng.uniform(-0.15, 0.15),
+        ry_rad=rng.uniform(-0.2, 0.2),
+        rz_rad=rng.uniform(-0.1, 0.1),
         actions=actions,
     )
-    clicks = project(model.personalised(shape), truth)
+    person = model.personalised(shape)
+    clicks = project(person, truth)
     points = {name: tuple(clicks[index]) for name, index in model.feature_points.items()}
-    fit = fit_points(model, points)
+    fit = fit_points(model, points, image_shape=(300, 360))
     assert fit
     assert fit.rms_px < 0.1
     assert np.abs(fit.params[:3] - truth[:3]).max() < 0.1  # pixels
     assert np.abs(fit.params[3:6] - truth[3:6]).max() < 0.01  # radians
+    # Every vertex, not only the clicked ones, lands where it was.
+    fitted = project(model.personalised(fit.shape), fit.params)
+    assert np.linalg.norm(fitted - clicks, axis=1).max() < 0.1
+    # And the face rendered with the fitted parameters is the face rendered with the truth.
+    texture = cv2.cvtColor(skimage.data.astronaut(), cv2.COLOR_RGB2GRAY)[:300, :360]
+    source = project(person, make_params(model, tx_px=224, ty_px=118, scale_px=68))
+    want = render(texture, source, clicks, model.triangles, (300, 360))
+    got = render(texture, source, fitted, model.triangles, (300, 360))
+    assert np.array_equal(want.mask, got.mask) or (want.mask != got.mask).sum() < 20
+    both = want.mask & got.mask
+    assert psnr_db(want.image[both], got.image[both]) > 40
+
+
+def test_missing_region_fails_with_reason():
+    model = load_model()
+    points = {"3.5": (10, 10), "3.7": (5, 10), "3.11": (15, 10), "9.3": (20, 30), "8.3": (12, 40)}
+    points |= {"8.4": (28, 40), "2.1": (20, 55)}
+    fit = fit_points(model, points)
+    assert not fit and "right eye" in fit.reason and "3.6" in fit.reason
 
 
 @pytest.mark.parametrize(
@@ -129,3 +153,14 @@ def test_describe_cli_rejects_image_without_face(tmp_path, capsys):
     bad = tmp_path / "x.png"
     bad.write_text("not an image")
     assert main(["describe", str(bad), "--points", "whatever.yaml"]) == 2
+
+
+def test_describe_with_candide3(shared_data, tmp_path):
+    model = read_wfm(shared_data / "faces" / "candide3" / "candide3.wfm")
+    image = cv2.cvtColor(skimage.data.astronaut(), cv2.COLOR_RGB2BGR)
+    description = describe(
+        image, read_points(codecs_dir() / "face" / "astronaut.yaml"), model=model
+    )
+    assert description and description.fit_rms_px < 3.0
+    assert description.model.n_vertices == 113
+    assert description.save(tmp_path / "c.face") == description.size_bytes

@@ -52,12 +52,35 @@ def test_forward_and_inverse_mappings_agree(template):
 def test_batched_warp_matches_single(template):
     gray, model, params = template
     raster = rasterize(project(model, params), model.triangles, gray.shape)
-    batch = np.stack([params, params + np.r_[3.0, 1.0, 0, 0, 0.1, 0, np.zeros(model.n_actions)]])
-    points = project(model, batch)
+    rng = np.random.default_rng(2)
+    batch = np.repeat(params[None], 12, axis=0)
+    batch[:, :6] += rng.normal(0, [3.0, 3.0, 2.0, 0.05, 0.1, 0.05], (12, 6))
+    points = project(model, batch).reshape(3, 4, model.n_vertices, 2)
     together = warp_points(raster, points)
-    assert np.allclose(together[1], warp_points(raster, points[1]), atol=1e-4)
+    assert together.shape == (3, 4, raster.size, 2) and together.dtype == np.float32
+    for i, j in ((0, 0), (2, 3)):
+        alone = warp_points(raster, points[i, j])
+        assert np.allclose(together[i, j], alone, atol=1e-3)
+        # Barycentric interpolation by hand.
+        corners = points[i, j][raster.corners]
+        assert np.allclose(alone, np.einsum("kj,kjd->kd", raster.bary, corners), atol=1e-3)
     values = sample_bilinear(gray, together)
-    assert values.shape == (2, raster.size) and values.dtype == np.float32
+    assert values.shape == (3, 4, raster.size) and values.dtype == np.float32
+    # The strided layout warp_points returns and a plain contiguous copy sample alike.
+    assert np.array_equal(values, sample_bilinear(gray, np.ascontiguousarray(together)))
+    assert np.allclose(values[1, 2], sample_bilinear(gray, together[1, 2]))
+
+
+def test_sample_bilinear_interpolates_and_fills():
+    ramp = np.tile(np.arange(8, dtype=np.float32) * 10, (6, 1))  # value = 10 x
+    xy = np.array([[[2.5, 1.0], [0.25, 3.0], [-5.0, 2.0], [100.0, 2.0]]], dtype=np.float32)
+    assert np.allclose(sample_bilinear(ramp, xy)[0], [25.0, 2.5, 0.0, 70.0], atol=0.2)
+    assert np.allclose(sample_bilinear(ramp, xy, fill=-1.0)[0, 2:], [-1.0, -1.0])
+    colour = np.dstack([ramp, 2 * ramp, 3 * ramp])
+    assert np.allclose(sample_bilinear(colour, xy[0, :1])[0], [25.0, 50.0, 75.0], atol=0.5)
+    # Longer than one cv2 map row.
+    many = np.tile(np.array([[2.5, 1.0]], np.float32), (40_000, 1))
+    assert np.allclose(sample_bilinear(ramp, many), 25.0, atol=0.2)
 
 
 def test_rasterize_covers_without_cracks(template):

@@ -59,7 +59,14 @@ class ContentDescription:
         """The model's vertices on the texture, (N, 2) pixels."""
         return project(self.model, self.params)
 
+    @property
+    def size_bytes(self) -> int:
+        """Bytes the receiver must get before the first animated frame (the saved file)."""
+        return len(self.to_bytes())
+
     def to_bytes(self) -> bytes:
+        """The file `save` writes: a deflated npz of JSON metadata, float32 vertices, float16
+        action units, the parameters and the texture as JPEG."""
         import cv2
 
         ok, jpeg = cv2.imencode(".jpg", self.texture, [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY])

