@@ -164,3 +164,24 @@ def test_describe_with_candide3(shared_data, tmp_path):
     assert description and description.fit_rms_px < 3.0
     assert description.model.n_vertices == 113
     assert description.save(tmp_path / "c.face") == description.size_bytes
+
+
+def _astronaut():
+    image = cv2.cvtColor(skimage.data.astronaut(), cv2.COLOR_RGB2BGR)
+    return image, read_points(codecs_dir() / "face" / "astronaut.yaml")
+
+
+def test_mirrored_points_fail_with_reason():
+    image, points = _astronaut()
+    twin = {"3.5": "3.6", "3.7": "3.8", "3.11": "3.12", "3.1": "3.2", "3.3": "3.4", "8.3": "8.4"}
+    twin |= {v: k for k, v in twin.items()}
+    swapped = {twin.get(k, k): v for k, v in points.items()}
+    result = describe(image, swapped)
+    assert not result and "mirrored" in result.reason and "swapped" in result.reason
+
+
+def test_misplaced_point_fails_naming_it():
+    image, points = _astronaut()
+    points["2.1"] = (points["2.1"][0], 60.0)  # the chin clicked on the forehead
+    result = describe(image, points)
+    assert not result and "2.1" in result.reason and "px" in result.reason

@@ -25,6 +25,38 @@ def test_wireframe_has_what_the_codec_needs():
     assert visible_triangles(model, params).all()
 
 
+def test_units_bend_the_mesh_without_folding_it():
+    model = load_model()
+    frontal = make_params(model, tx_px=0, ty_px=0, scale_px=100)
+    for k in range(model.n_shapes):
+        for value in (-1.0, 1.0):
+            shape = np.zeros(model.n_shapes)
+            shape[k] = value
+            person = model.personalised(shape)
+            assert visible_triangles(person, frontal).all(), model.shape_unit_names[k]
+    for k in range(model.n_actions):
+        for value in np.linspace(0.0, 1.0, 6):
+            actions = np.zeros(model.n_actions)
+            actions[k] = value
+            params = make_params(model, tx_px=0, ty_px=0, scale_px=100, actions=actions)
+            assert visible_triangles(model, params).all(), model.action_unit_names[k]
+    everything = make_params(
+        model, tx_px=0, ty_px=0, scale_px=100, actions=np.ones(model.n_actions)
+    )
+    assert visible_triangles(model, everything).all()
+
+
+def test_wireframe_is_mirror_symmetric():
+    model = load_model()
+    mirrored = model.vertices * np.array([-1.0, 1.0, 1.0])
+    # Each vertex has a mirror twin, and each triangle a mirrored twin.
+    distance = np.linalg.norm(mirrored[:, None] - model.vertices[None], axis=2)
+    twin = distance.argmin(axis=1)
+    assert np.allclose(distance.min(axis=1), 0, atol=1e-6)
+    triangles = {tuple(sorted(t)) for t in model.triangles.tolist()}
+    assert {tuple(sorted(twin[list(t)])) for t in triangles} == triangles
+
+
 def test_turning_away_culls_triangles():
     model = load_model()
     params = make_params(model, tx_px=100, ty_px=100, scale_px=50, ry_rad=1.2)
@@ -55,6 +87,28 @@ def test_candide3_loads(shared_data):
     assert len(model.triangles) == 184
     assert model.n_actions > 10 and model.n_shapes > 10
     assert any("Jaw drop" in name for name in model.action_unit_names)
+    # A unit's name is its first comment line, not the FAP unit on the second.
+    assert "FAP 3 open_jaw" in model.action_unit_names
+    assert not {"MNS", "MW", "ENS", "ES", "IRISD"} & set(model.action_unit_names)
+    assert "Head height" in model.shape_unit_names
+    # Wound counter-clockwise from the front, like uma's own: nothing culled when frontal.
+    assert visible_triangles(model, make_params(model, tx_px=0, ty_px=0, scale_px=100)).all()
+
+
+def test_candide3_feature_points_come_from_its_faps(shared_data):
+    model = read_wfm(shared_data / "faces" / "candide3" / "candide3.wfm")
+    points = model.feature_points
+    v = model.vertices
+    assert len(points) >= 30
+    assert points["2.1"] == int(np.argmin(v[:, 1]))  # bottom of the chin
+    assert points["9.3"] == int(np.argmax(v[:, 2]))  # nose tip, nearest the camera
+    assert v[points["3.7"], 0] > v[points["3.11"], 0] > 0 > v[points["3.12"], 0]  # left is +x
+    assert v[points["8.3"], 0] > 0 > v[points["8.4"], 0]
+    assert v[points["4.1"], 1] > v[points["3.1"], 1] > v[points["3.3"], 1]  # brow, lids
+    override = read_wfm(
+        shared_data / "faces" / "candide3" / "candide3.wfm", feature_points={"3.5": 3}
+    )
+    assert override.feature_points["3.5"] == 3 and override.feature_points["2.1"] == points["2.1"]
 
 
 def test_candide3_loads_through_load_model(shared_data):
@@ -75,6 +129,16 @@ def test_candide3_loads_through_load_model(shared_data):
             "line 8 of .*three vertex",
         ),
         ("nothing here\n", "no '# VERTEX LIST' section"),
+        (
+            "# VERTEX LIST:\n3\n0 0 0\n1 0 0\n0 1 0\n# FACE LIST:\n1\n0 1 2\n"
+            "# ANIMATION UNITS LIST:\n1\n# jaw\n1\n7 0 1 0\n",
+            "line 13 of .*vertex 7 outside 0-2",
+        ),
+        (
+            "# VERTEX LIST:\n3\n0 0 0\n1 0 0\n0 1 0\n# FACE LIST:\n1\n0 1 2\n"
+            "# ANIMATION UNITS LIST:\n0\n",
+            "no '# SHAPE UNITS LIST' section",
+        ),
     ],
 )
 def test_malformed_wfm_names_file_and_line(tmp_path, text, message):

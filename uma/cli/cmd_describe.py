@@ -41,17 +41,27 @@ def handle(args: argparse.Namespace) -> int:
     from uma.face import describe, detect_face, load_model, read_points
 
     image_path = Path(args.image)
-    image = cv2.imread(str(image_path), cv2.IMREAD_COLOR)
+    try:
+        data = np.frombuffer(image_path.read_bytes(), dtype=np.uint8)
+    except FileNotFoundError:
+        raise FaceError(f"{image_path}: no such image file") from None
+    except OSError as err:
+        raise FaceError(f"{image_path}: cannot read ({err.strerror})") from None
+    image = cv2.imdecode(data, cv2.IMREAD_COLOR) if data.size else None
     if image is None:
         raise FaceError(f"{image_path}: not an image OpenCV can read")
     points = read_points(args.points)
+    model = load_model(args.model) if args.model else None
     box = detect_face(cv2.cvtColor(image, cv2.COLOR_BGR2GRAY))
     if not box:
         raise FaceError(f"{image_path}: {box.reason}")
-    model = load_model(args.model) if args.model else None
     result = describe(image, points, model=model)
     if not result:
         raise FaceError(f"{args.points}: {result.reason}")
+    centre = np.mean(list(points.values()), axis=0)
+    on_face = (
+        abs(centre[0] - box.centre[0]) < box.width and abs(centre[1] - box.centre[1]) < box.height
+    )
     out = Path(args.out)
     description_path = out / f"{image_path.stem}.face"
     size_bytes = result.save(description_path)
@@ -82,4 +92,9 @@ def handle(args: argparse.Namespace) -> int:
         f"{result.texture.shape[0]}), points fitted to {result.fit_rms_px:.2f} px rms"
     )
     print(f"{png_path}: fitted wireframe (green), clicked points (red), detected face (blue)")
+    if not on_face:
+        print(
+            f"note: the points lie away from the face the detector found at "
+            f"{box.x},{box.y} {box.width}x{box.height}"
+        )
     return 0

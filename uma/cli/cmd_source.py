@@ -11,9 +11,10 @@ __all__ = ["register"]
 HELP = """\
 Write a synthetic talking-head clip: the astronaut photograph animated by the face model
 (head turns, nods, speech-like jaw and lips, blinks, changing light, sensor noise), encoded
-with libx264 at high quality, and beside it CLIP.truth.json with every frame's model
-parameters (tx_px, ty_px, scale_px, rx_rad, ry_rad, rz_rad, action units) and projected
-model points. Scenarios use the same source with `source: {kind: talking-head}`."""
+with libx264 at high quality (CRF 16), and beside it CLIP.truth.json with every frame's model
+parameters (tx_px, ty_px, scale_px, rx_rad, ry_rad, rz_rad, action units), projected model
+points (pixels) and light (gain; unit direction in camera coordinates, x right, y up, z toward
+the camera). Scenarios use the same source with `source: {kind: talking-head}`."""
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -35,12 +36,14 @@ def register(sub: argparse._SubParsersAction) -> None:
     synth.add_argument("--size", type=frame_size, default=(352, 288), help="WxH (default 352x288)")
     synth.add_argument("--fps", type=float, default=25.0, help="frame rate (default 25)")
     synth.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    synth.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
     synth.set_defaults(func=handle_synth)
     parser.set_defaults(func=lambda args: (parser.print_help(), 2)[1])
 
 
 def handle_synth(args: argparse.Namespace) -> int:
     import json
+    import sys
     from fractions import Fraction
     from pathlib import Path
 
@@ -62,7 +65,12 @@ def handle_synth(args: argparse.Namespace) -> int:
         stream = container.add_stream("libx264", rate=rate)
         stream.width, stream.height, stream.pix_fmt = width, height, "yuv420p"
         stream.options = {"crf": "16", "preset": "medium"}
-        for index, frame in enumerate(source.frames()):
+        frames = source.frames()
+        if not args.quiet and sys.stderr.isatty():
+            from tqdm import tqdm
+
+            frames = tqdm(frames, total=args.frames, unit="frame", file=sys.stderr, leave=False)
+        for index, frame in enumerate(frames):
             picture = av.VideoFrame.from_ndarray(frame, format="yuv420p")
             picture.pts = index
             container.mux(stream.encode(picture))
@@ -74,6 +82,8 @@ def handle_synth(args: argparse.Namespace) -> int:
                     "points_px": [
                         [round(float(x), 3), round(float(y), 3)] for x, y in gt["points"]
                     ],
+                    "light_gain": round(gt["light_gain"], 6),
+                    "light_direction": [round(float(v), 6) for v in gt["light_direction"]],
                 }
             )
         container.mux(stream.encode(None))

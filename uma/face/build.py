@@ -92,6 +92,22 @@ def _unit(
     return unit
 
 
+def _soften(unit: np.ndarray, triangles: np.ndarray, *, share: float = 0.5) -> np.ndarray:
+    """`unit` with each unmoved vertex next to moved ones moved by `share` of their mean."""
+    moved = np.any(unit != 0, axis=1)
+    total = np.zeros_like(unit)
+    count = np.zeros(len(unit))
+    for a, b in np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]):
+        for src, dst in ((a, b), (b, a)):
+            if moved[src] and not moved[dst]:
+                total[dst] += unit[src]
+                count[dst] += 1
+    out = unit.copy()
+    ring = count > 0
+    out[ring] = share * total[ring] / count[ring, None]
+    return out
+
+
 def _group(prefixes: list[str], delta: tuple[float, float, float], names: list[str]) -> dict:
     moves = {}
     for name in names:
@@ -262,16 +278,21 @@ def build_wireframe() -> FaceModel:
         "brow_raise": _unit(
             names, _group(brow, (0, 0.1, 0), names) | {"eyelid_upper": (0, 0.02, 0)}
         ),
+        # Closed (1.0), the upper lid lies just above the lower one, pupil between: the lid comes
+        # down without crossing the edges that span the eye, so no triangle folds over.
         "eye_close": _unit(
             names,
             {
-                "eyelid_upper": (0, -0.12, 0.01),
-                "eyelid_upper_inner": (0, -0.10, 0.01),
-                "eyelid_upper_outer": (0, -0.10, 0.01),
-                "pupil": (0, -0.055, 0),
+                "eyelid_upper": (0, -0.09, 0.01),
+                "eyelid_upper_inner": (0, -0.065, 0.01),
+                "eyelid_upper_outer": (0, -0.065, 0.01),
+                "pupil": (0, -0.04, 0),
             },
         ),
     }
+    # A shape unit also carries the ring of vertices around the ones it names, half as far, so
+    # a strong personal proportion bends the mesh instead of folding triangles over.
+    shape_units = {k: _soften(unit, triangles) for k, unit in shape_units.items()}
     index = {n: i for i, n in enumerate(names)}
     points = {}
     for fp, (base, side) in _MPEG4.items():

@@ -163,6 +163,22 @@ def read_points(path: str | Path) -> dict[str, tuple[float, float]]:
     return points
 
 
+MAX_RMS_FRAC = 0.06  # of scale_px (~6 mm on a face): worse than careless clicking
+
+
+def _implausible(fit: PointFit) -> Failure | None:
+    """Why a least-squares fit is not this face (a mislabelled or misplaced point), or None."""
+    limit_px = MAX_RMS_FRAC * fit.params[2]
+    if fit.rms_px > limit_px:
+        worst = int(np.argmax(np.hypot(*fit.residuals_px.T)))
+        return Failure(
+            f"the points fit the model only to {fit.rms_px:.1f} px rms (limit {limit_px:.1f} px); "
+            f"point {fit.names[worst]} is {np.hypot(*fit.residuals_px[worst]):.1f} px off: "
+            "mislabelled or misplaced?"
+        )
+    return None
+
+
 def describe(
     image: np.ndarray, points: Mapping[str, tuple[float, float]], *, model: FaceModel | None = None
 ) -> ContentDescription | Failure:
@@ -174,6 +190,9 @@ def describe(
     if not fit:
         return fit
     assert isinstance(fit, PointFit)
+    problem = _implausible(fit)
+    if problem is not None:
+        return problem
     personal = model.personalised(fit.shape)
     corners = project(personal, fit.params)
     low, high = corners.min(axis=0), corners.max(axis=0)

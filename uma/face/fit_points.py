@@ -55,7 +55,7 @@ def check_points(
     model: FaceModel, points: Mapping[str, tuple[float, float]], image_shape: tuple[int, int] | None
 ) -> Failure | None:
     """Why `points` cannot be fitted (too few known, a region missing, outside the image,
-    collinear), or None."""
+    collinear, mirrored), or None."""
     known = [n for n in points if n in model.feature_points]
     unknown = [n for n in points if n not in model.feature_points]
     if len(known) < MIN_POINTS:
@@ -84,6 +84,30 @@ def check_points(
     spread = np.linalg.svd(xy - xy.mean(axis=0), compute_uv=False)
     if spread[0] < 1e-9 or spread[1] / spread[0] < 0.05:
         return Failure("feature points are degenerate: they (nearly) lie on one line")
+    return _mirrored(model, points)
+
+
+def _mirrored(model: FaceModel, points: Mapping[str, tuple[float, float]]) -> Failure | None:
+    """A Failure when left eye, right eye and mouth turn the other way round than on the model
+    (a mirror image: left and right swapped); no rotation of a face does that."""
+    picked = []
+    for names in REQUIRED_REGIONS.values():
+        usable = [n for n in names if n in model.feature_points and n in points]
+        if not usable:
+            return None
+        picked.append(usable[0])
+    image = np.array([points[n] for n in picked], dtype=np.float64)
+    frontal = model.vertices[model.feature_indices(picked), :2] * np.array([1.0, -1.0])
+
+    def turn(p: np.ndarray) -> float:
+        (ux, uy), (vx, vy) = p[1] - p[0], p[2] - p[0]
+        return float(ux * vy - uy * vx)
+
+    if turn(image) * turn(frontal) < 0:
+        return Failure(
+            f"feature points {', '.join(picked)} are mirrored: left and right swapped? "
+            "(MPEG-4 left is the subject's left, odd numbers)"
+        )
     return None
 
 

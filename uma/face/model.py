@@ -193,13 +193,16 @@ def load_model(path: str | Path | None = None) -> FaceModel:
     action_names, action_units = _units_from_yaml(
         data.get("action_units", []), n, f"{path}: action_units"
     )
-    return FaceModel(
-        name=str(data.get("name", path.stem)),
-        vertices=vertices,
-        triangles=triangles,
-        shape_units=shape_units,
-        shape_unit_names=shape_names,
-        action_units=action_units,
-        action_unit_names=action_names,
-        feature_points=points,
-    )
+    try:
+        return FaceModel(
+            name=str(data.get("name", path.stem)),
+            vertices=vertices,
+            triangles=triangles,
+            shape_units=shape_units,
+            shape_unit_names=shape_names,
+            action_units=action_units,
+            action_unit_names=action_names,
+            feature_points=points,
+        )
+    except FaceError as err:
+        raise FaceError(f"{path}: {err}") from None

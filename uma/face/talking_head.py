@@ -5,10 +5,13 @@ Units: pixels, radians, seconds; frames are planar YUV 4:2:0 (H * 3 // 2, W) uin
 The default face is scikit-image's astronaut photograph (public domain) with the hand-clicked
 feature points of `codecs/face/astronaut.yaml`. The head turns, nods and tilts, drifts and
 breathes in scale; the jaw and lips move in a speech-like rhythm (syllables at ~4 Hz in
-phrases with pauses); the eyes blink every few seconds; the light changes in gain and in
-direction (a gradient turning across the face); the sensor adds Gaussian noise. All motion is
-deterministic from the seed. `ground_truth(i)` gives the parameters and projected model points
-of frame i, exactly those used to render it.
+phrases with pauses); the eyes blink every few seconds; the light changes in overall gain and in
+direction (a key light swinging around the camera's axis shades the face through the model's
+normals, Lambert's law with some ambient light, relative to the photograph's own frontal light);
+the sensor adds Gaussian noise. The whole frame is one mesh (`uma.face.scene`): hair, ears and
+neck follow the head, the background stays, and no seam shows where the face meets them.
+All motion is deterministic from the seed. `ground_truth(i)` gives the parameters, projected
+model points and light of frame i, exactly those used to render it.
 """
 
 from __future__ import annotations
@@ -19,10 +22,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from uma.face.describe import ContentDescription, read_points
-from uma.face.geometry import N_POSE, project, rotation_matrix, visible_triangles
-from uma.face.render import render
+from uma.face.geometry import N_POSE, project
+from uma.face.render import rasterize, sample_bilinear, warp_points
+from uma.face.scene import SceneMesh
 
-__all__ = ["TalkingHeadSource", "Motion", "astronaut_description"]
+__all__ = ["TalkingHeadSource", "Motion", "astronaut_description", "astronaut_scene"]
+
+AMBIENT = 0.4  # share of the light that does not depend on the surface's direction
 
 
 @dataclass(frozen=True)
@@ -36,13 +42,30 @@ class Motion:
     scale_frac: float = 0.04
     speech: float = 1.0
     blinks: bool = True
-    light_gain: float = 0.15
-    light_gradient: float = 0.25
-    noise_std: float = 2.0
+    light_gain: float = 0.15  # relative swing of the overall brightness
+    light_angle_rad: float = 0.5  # how far the key light swings away from the camera's axis
+    noise_std: float = 2.0  # grey levels
+
+    def __post_init__(self) -> None:
+        for name, value in vars(self).items():
+            if not isinstance(value, bool) and not (np.isfinite(value) and value >= 0):
+                raise ValueError(f"Motion.{name}: expected a finite number >= 0, got {value!r}")
+        if self.light_gain >= 1:
+            raise ValueError(f"Motion.light_gain: expected below 1, got {self.light_gain}")
+
+
+CANVAS_MARGIN_FRAC = 0.2  # of the frame height, photograph kept around the frame on every side
 
 
 def astronaut_description(width: int, height: int) -> ContentDescription:
     """The astronaut, cropped around her face to `width`:`height` and described from its points."""
+    return astronaut_scene(width, height)[0]
+
+
+def astronaut_scene(width: int, height: int) -> tuple[ContentDescription, np.ndarray, int]:
+    """The astronaut's description (texture = the frame), and the photograph around the frame:
+    a canvas with `margin` pixels more on every side, so a head moving toward the frame's edge
+    brings in real picture rather than a repeated border."""
     import cv2
     import skimage.data
 
@@ -57,13 +80,19 @@ def astronaut_description(width: int, height: int) -> ContentDescription:
     crop_w = crop_h * width / height
     x0, y0 = centre[0] - crop_w / 2, centre[1] - crop_h / 2 + 0.06 * crop_h
     scale = height / crop_h
-    warp = np.float32([[scale, 0, -x0 * scale], [0, scale, -y0 * scale]])
-    frame = cv2.warpAffine(
-        image, warp, (width, height), flags=cv2.INTER_AREA, borderMode=cv2.BORDER_REFLECT
+    margin = int(round(CANVAS_MARGIN_FRAC * height))
+    warp = np.float32([[scale, 0, margin - x0 * scale], [0, scale, margin - y0 * scale]])
+    canvas = cv2.warpAffine(
+        image,
+        warp,
+        (width + 2 * margin, height + 2 * margin),
+        flags=cv2.INTER_LINEAR,
+        borderMode=cv2.BORDER_REFLECT,
     )
+    frame = np.ascontiguousarray(canvas[margin : margin + height, margin : margin + width])
     moved = {k: ((x - x0) * scale, (y - y0) * scale) for k, (x, y) in points.items()}
     # The whole frame is the texture: the talking head renders over it.
-    return describe_full(frame, moved)
+    return describe_full(frame, moved), canvas, margin
 
 
 def describe_full(frame: np.ndarray, points) -> ContentDescription:
@@ -104,9 +133,23 @@ class TalkingHeadSource:
         self.frame_count = frame_count
         self.seed = seed
         self.motion = motion or Motion()
-        self.description = description or astronaut_description(width, height)
-        self.model = self.description.model
-        self.template_points = self.description.projected()
+        if description is None:
+            description, self._canvas, self._margin = astronaut_scene(width, height)
+        else:
+            if description.texture.shape[:2] != (height, width):
+                raise ValueError(
+                    f"description texture is {description.texture.shape[1]}x"
+                    f"{description.texture.shape[0]}, frames are {width}x{height}"
+                )
+            self._canvas, self._margin = _bgr(description.texture), 0
+        self.description = description
+        self.model = description.model
+        self.template_points = description.projected()
+        self.scene = SceneMesh.build(self.model, description.params, (height, width))
+        # Where every scene point sits on the canvas at the template pose.
+        self._scene_template = self.scene.points(description.params) + self._margin
+        frontal = self.scene.normals(self.description.params)[:, 2]
+        self._template_shade = AMBIENT + (1 - AMBIENT) * np.clip(frontal, 0, None)
         self._plan = _speech_plan(np.random.default_rng(seed), self.motion)
 
     def params_at(self, index: int) -> np.ndarray:
@@ -135,46 +178,68 @@ class TalkingHeadSource:
             )
         return p
 
+    def light_at(self, index: int) -> tuple[float, np.ndarray]:
+        """Overall gain and the key light's unit direction (camera coordinates) at frame `index`.
+
+        At frame 0 the light is the template's own: gain 1, shining along the camera's axis.
+        """
+        m, t = self.motion, index / self.fps
+        gain = 1.0 + m.light_gain * np.sin(2 * np.pi * 0.04 * t)
+        tilt = m.light_angle_rad * np.sin(np.pi * 0.035 * t) ** 2
+        turn = 2 * np.pi * 0.03 * t
+        direction = np.array(
+            [np.sin(tilt) * np.cos(turn), np.sin(tilt) * np.sin(turn), np.cos(tilt)]
+        )
+        return float(gain), direction
+
     def ground_truth(self, index: int) -> dict:
-        """Parameters and projected model points of frame `index`."""
+        """Parameters, projected model points (N, 2) and light (gain, direction) of frame `index`."""
         params = self.params_at(index)
-        return {"frame": index, "params": params, "points": project(self.model, params)}
+        gain, direction = self.light_at(index)
+        return {
+            "frame": index,
+            "params": params,
+            "points": project(self.model, params),
+            "light_gain": gain,
+            "light_direction": direction,
+        }
 
     def render_bgr(self, index: int, *, rng: np.random.Generator | None = None) -> np.ndarray:
         """Frame `index` as a BGR image (lighting and, with `rng`, noise applied)."""
         params = self.params_at(index)
-        target = project(self.model, params)
-        rotation = rotation_matrix(params[3], params[4], params[5])
-        depth = (self.model.vertices @ rotation.T)[:, 2]
-        texture = self.description.texture
-        frame = render(
-            texture,
-            self.template_points,
+        scene = self.scene
+        target = scene.points(params)
+        raster = rasterize(
             target,
-            self.model.triangles,
-            texture.shape[:2],
-            visible=visible_triangles(self.model, params),
-            depth=depth,
-            background=texture,
-        ).image.astype(np.float32)
-        frame = self._light(frame, index / self.fps, target)
+            scene.triangles,
+            (self.height, self.width),
+            triangle_mask=_front_facing(target, scene.triangles),
+            depth=scene.depth(params),
+        )
+        values = sample_bilinear(self._canvas, warp_points(raster, self._scene_template))
+        gain, direction = self.light_at(index)
+        factor = gain * np.einsum(
+            "kj,kj->k", raster.bary, self._shading(params, direction)[raster.corners]
+        )
+        m = self._margin
+        # A pixel no triangle covers (a strip folded over at an extreme pose) keeps the template.
+        frame = self._canvas[m : m + self.height, m : m + self.width].astype(np.float32) * gain
+        frame[raster.ys, raster.xs] = values * factor.astype(np.float32)[:, None]
         if rng is not None and self.motion.noise_std > 0:
             frame += self.motion.noise_std * rng.standard_normal(frame.shape, dtype=np.float32)
         return np.clip(np.rint(frame), 0, 255).astype(np.uint8)
 
-    def _light(self, frame: np.ndarray, t: float, target: np.ndarray) -> np.ndarray:
-        m = self.motion
-        if m.light_gain == 0 and m.light_gradient == 0:
-            return frame
-        gain = 1.0 + m.light_gain * np.sin(2 * np.pi * 0.04 * t)
-        angle = 2 * np.pi * 0.03 * t
-        centre = target.mean(axis=0)
-        span = max(np.ptp(target[:, 0]), 1.0)
-        yy = np.arange(frame.shape[0], dtype=np.float32)[:, None] - centre[1]
-        xx = np.arange(frame.shape[1], dtype=np.float32)[None, :] - centre[0]
-        ramp = (xx * np.cos(angle) + yy * np.sin(angle)) / span
-        light = gain * (1.0 + m.light_gradient * np.clip(ramp, -1.0, 1.0))
-        return frame * (light[..., None] if frame.ndim == 3 else light)
+    def _shading(self, params: np.ndarray, direction: np.ndarray) -> np.ndarray:
+        """Per scene point: brightness under `direction` relative to the template's lighting."""
+        factors = np.ones(self.scene.n_points)
+        if self.motion.light_angle_rad == 0:
+            return factors
+        lit = AMBIENT + (1 - AMBIENT) * np.clip(self.scene.normals(params) @ direction, 0, None)
+        face = lit / self._template_shade
+        factors[: self.model.n_vertices] = face
+        ring = slice(self.model.n_vertices, self.model.n_vertices + len(self.scene.outline))
+        factors[ring] = face[self.scene.outline]  # hair and ears lit like the face's edge
+        return factors
 
     def frames(self) -> Iterator[np.ndarray]:
         import cv2
@@ -213,3 +278,15 @@ def _blink(plan: dict, t: float) -> float:
     k = np.searchsorted(blinks, t)
     nearest = min((abs(t - blinks[j]) for j in (k - 1, k) if 0 <= j < len(blinks)), default=1.0)
     return float(max(0.0, 1.0 - nearest / 0.08))  # a 160 ms blink
+
+
+def _front_facing(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    a, b, c = (points[triangles[:, k]] for k in range(3))
+    cross = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    return cross < 0  # counter-clockwise from the front turns clockwise with y down
+
+
+def _bgr(image: np.ndarray) -> np.ndarray:
+    import cv2
+
+    return cv2.cvtColor(image, cv2.COLOR_GRAY2BGR) if image.ndim == 2 else image

@@ -10,6 +10,9 @@ FAP acts, and MPEG-4 ties every FAP to one feature point: the first vertex a FAP
 that point (FAP 3 open_jaw -> 2.1 on the chin, FAP 53 stretch_l_cornerlip_o -> 8.3, ...). The
 eye corners (3.7, 3.8, 3.11, 3.12) have no FAP; for Candide-3 itself they are the vertices
 Ahlberg's drawing shows there. `feature_points` adds or overrides names.
+
+Triangles are turned to wind counter-clockwise seen from the front (Candide-3 mostly winds them
+the other way), so back-face culling works as for uma's own wireframe.
 """
 
 from __future__ import annotations
@@ -138,22 +141,41 @@ def read_wfm(path: str | Path, *, feature_points: dict[str, int] | None = None) 
     triangles = np.array(
         [reader.row(3, int, "three vertex numbers") for _ in range(n_faces)]
     ).reshape(-1, 3)
+    triangles = _counter_clockwise(vertices, triangles)
     action_names, action_units, firsts = reader.units("ANIMATION UNITS LIST", n_vertices)
     shape_names, shape_units, _ = reader.units("SHAPE UNITS LIST", n_vertices)
     points = _fap_feature_points(action_names, firsts)
     if reader.lines and reader.lines[0][1].lower().startswith("# candide-3") and n_vertices == 113:
         points |= CANDIDE3_EYE_CORNERS
     points |= dict(feature_points or {})
-    return FaceModel(
-        name=path.stem,
-        vertices=vertices,
-        triangles=triangles,
-        shape_units=shape_units,
-        shape_unit_names=shape_names,
-        action_units=action_units,
-        action_unit_names=action_names,
-        feature_points=points,
-    )
+    try:
+        return FaceModel(
+            name=path.stem,
+            vertices=vertices,
+            triangles=triangles,
+            shape_units=shape_units,
+            shape_unit_names=shape_names,
+            action_units=action_units,
+            action_unit_names=action_names,
+            feature_points=points,
+        )
+    except FaceError as err:
+        raise FaceError(f"{path}: {err}") from None
+
+
+def _counter_clockwise(vertices: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """Triangles wound counter-clockwise seen from the front, as uma's culling expects.
+
+    Candide-3 lists most of its triangles clockwise and a few the other way; a face mask faces
+    the camera everywhere, so each triangle is turned to face +z in the frontal view.
+    """
+    if triangles.size == 0 or triangles.min() < 0 or triangles.max() >= len(vertices):
+        return triangles  # FaceModel reports the bad vertex number
+    a, b, c = (vertices[triangles[:, k], :2] for k in range(3))
+    cross = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    out = triangles.copy()
+    out[cross < 0] = out[cross < 0][:, [0, 2, 1]]
+    return out
 
 
 def _fap_feature_points(names: tuple[str, ...], firsts: list[int | None]) -> dict[str, int]:
