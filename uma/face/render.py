@@ -15,7 +15,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Raster", "RenderResult", "rasterize", "warp_points", "sample_bilinear", "render"]
+__all__ = [
+    "Raster",
+    "RenderResult",
+    "triangle_labels",
+    "barycentric_affine",
+    "rasterize",
+    "warp_points",
+    "sample_bilinear",
+    "render",
+]
 
 _BATCH_MIN = 4  # point sets from which warping goes through one matrix product
 _REMAP_MAX = 32767  # cv2.remap's widest map
@@ -76,18 +85,60 @@ class RenderResult:
     mask: np.ndarray  # bool (H, W): pixels the face covers
 
 
+def barycentric_affine(points_px: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """(T, 3, 3): row j of triangle t gives its j-th barycentric coordinate as c . (x, y, 1).
+
+    A vertex value v (N, C) interpolates over triangle t as `(A[t].T @ v[triangles[t]]).T`, an
+    affine function of the pixel position; degenerate triangles get finite, meaningless rows.
+    """
+    points = np.asarray(points_px, dtype=np.float64)
+    a, b, c = (points[triangles[:, k]] for k in range(3))
+    v0, v1 = b - a, c - a
+    det = v0[:, 0] * v1[:, 1] - v0[:, 1] * v1[:, 0]
+    det = np.where(np.abs(det) < 1e-12, 1e-12, det)
+    # l1 = ((p - a) x v1) / det and l2 = (v0 x (p - a)) / det, written as c_x x + c_y y + c_0.
+    l1 = np.column_stack(
+        [v1[:, 1] / det, -v1[:, 0] / det, (a[:, 1] * v1[:, 0] - a[:, 0] * v1[:, 1]) / det]
+    )
+    l2 = np.column_stack(
+        [-v0[:, 1] / det, v0[:, 0] / det, (a[:, 0] * v0[:, 1] - a[:, 1] * v0[:, 0]) / det]
+    )
+    l0 = np.array([0.0, 0.0, 1.0]) - l1 - l2
+    return np.stack([l0, l1, l2], axis=1)
+
+
 def _barycentric(
     points: np.ndarray, triangles: np.ndarray, tri: np.ndarray, px: np.ndarray
 ) -> np.ndarray:
-    a = points[triangles[tri, 0]]
-    b = points[triangles[tri, 1]]
-    c = points[triangles[tri, 2]]
-    v0, v1, v2 = b - a, c - a, px - a
-    det = v0[:, 0] * v1[:, 1] - v0[:, 1] * v1[:, 0]
-    det = np.where(np.abs(det) < 1e-12, 1e-12, det)
-    l1 = (v2[:, 0] * v1[:, 1] - v2[:, 1] * v1[:, 0]) / det
-    l2 = (v0[:, 0] * v2[:, 1] - v0[:, 1] * v2[:, 0]) / det
-    return np.column_stack([1.0 - l1 - l2, l1, l2])
+    """Barycentric coordinates of pixels `px` (K, 2) in their triangles `tri` (K,): one gather
+    of per-triangle coefficients and a dot product each."""
+    coeffs = barycentric_affine(points, triangles)[tri]  # (K, 3, 3)
+    return coeffs[..., 0] * px[:, 0, None] + coeffs[..., 1] * px[:, 1, None] + coeffs[..., 2]
+
+
+def triangle_labels(
+    points_px: np.ndarray,
+    triangles: np.ndarray,
+    shape: tuple[int, int],
+    *,
+    triangle_mask: np.ndarray | None = None,
+    depth: np.ndarray | None = None,
+) -> np.ndarray:
+    """(H, W) int32: the triangle drawn at each pixel centre, -1 where none (see `rasterize`)."""
+    import cv2
+
+    points = np.asarray(points_px, dtype=np.float64)
+    labels = np.full(shape, -1, dtype=np.int32)
+    order = np.arange(len(triangles))
+    if triangle_mask is not None:
+        order = order[np.asarray(triangle_mask, bool)]
+    if depth is not None:
+        order = order[np.argsort(np.asarray(depth)[triangles[order]].mean(axis=1), kind="stable")]
+    # Fill each triangle's pixel centres with fillPoly, at 4 bits of sub-pixel precision.
+    polygons = np.round(points[triangles] * 16).astype(np.int32)
+    for t in order:
+        cv2.fillPoly(labels, [polygons[t]], int(t), lineType=cv2.LINE_8, shift=4)
+    return labels
 
 
 def rasterize(
@@ -100,20 +151,9 @@ def rasterize(
 ) -> Raster:
     """Every pixel centre of `shape` inside a (masked) triangle; with `depth` (N,) the nearest
     triangle wins where triangles overlap (larger z is nearer), else the later one."""
-    import cv2
-
     height, width = shape
     points = np.asarray(points_px, dtype=np.float64)
-    labels = np.full((height, width), -1, dtype=np.int32)
-    order = np.arange(len(triangles))
-    if triangle_mask is not None:
-        order = order[np.asarray(triangle_mask, bool)]
-    if depth is not None:
-        order = order[np.argsort(np.asarray(depth)[triangles[order]].mean(axis=1), kind="stable")]
-    # Fill each triangle's pixel centres with fillPoly, at 4 bits of sub-pixel precision.
-    for t in order:
-        poly = np.round(points[triangles[t]] * 16).astype(np.int32)
-        cv2.fillPoly(labels, [poly], int(t), lineType=cv2.LINE_8, shift=4)
+    labels = triangle_labels(points, triangles, shape, triangle_mask=triangle_mask, depth=depth)
     ys, xs = np.nonzero(labels >= 0)
     tri = labels[ys, xs]
     px = np.column_stack([xs, ys]).astype(np.float64)

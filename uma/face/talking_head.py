@@ -23,7 +23,7 @@ import numpy as np
 
 from uma.face.describe import ContentDescription, read_points
 from uma.face.geometry import N_POSE, project
-from uma.face.render import rasterize, sample_bilinear, warp_points
+from uma.face.render import barycentric_affine, triangle_labels
 from uma.face.scene import SceneMesh
 
 __all__ = ["TalkingHeadSource", "Motion", "astronaut_description", "astronaut_scene"]
@@ -148,6 +148,8 @@ class TalkingHeadSource:
         self.scene = SceneMesh.build(self.model, description.params, (height, width))
         # Where every scene point sits on the canvas at the template pose.
         self._scene_template = self.scene.points(description.params) + self._margin
+        ys, xs = np.mgrid[0:height, 0:width].astype(np.float32)
+        self._grid = (xs[..., None], ys[..., None])
         frontal = self.scene.normals(self.description.params)[:, 2]
         self._template_shade = AMBIENT + (1 - AMBIENT) * np.clip(frontal, 0, None)
         self._plan = _speech_plan(np.random.default_rng(seed), self.motion)
@@ -205,26 +207,42 @@ class TalkingHeadSource:
         }
 
     def render_bgr(self, index: int, *, rng: np.random.Generator | None = None) -> np.ndarray:
-        """Frame `index` as a BGR image (lighting and, with `rng`, noise applied)."""
+        """Frame `index` as a BGR image (lighting and, with `rng`, noise applied).
+
+        Every pixel takes the affine map of the scene triangle drawn there (nearest triangle
+        first): where on the canvas to sample, and how much the light changes it. One gather of
+        per-triangle coefficients and one cv2.remap make the frame.
+        """
+        import cv2
+
         params = self.params_at(index)
         scene = self.scene
         target = scene.points(params)
-        raster = rasterize(
+        triangles = scene.triangles
+        labels = triangle_labels(
             target,
-            scene.triangles,
+            triangles,
             (self.height, self.width),
-            triangle_mask=_front_facing(target, scene.triangles),
+            triangle_mask=_front_facing(target, triangles),
             depth=scene.depth(params),
         )
-        values = sample_bilinear(self._canvas, warp_points(raster, self._scene_template))
         gain, direction = self.light_at(index)
-        factor = gain * np.einsum(
-            "kj,kj->k", raster.bary, self._shading(params, direction)[raster.corners]
-        )
-        m = self._margin
+        values = np.column_stack([self._scene_template, self._shading(params, direction)])
+        coeffs = np.einsum("tjk,tjc->tck", barycentric_affine(target, triangles), values[triangles])
         # A pixel no triangle covers (a strip folded over at an extreme pose) keeps the template.
-        frame = self._canvas[m : m + self.height, m : m + self.width].astype(np.float32) * gain
-        frame[raster.ys, raster.xs] = values * factor.astype(np.float32)[:, None]
+        m = self._margin
+        still = np.array([[[1.0, 0.0, m], [0.0, 1.0, m], [0.0, 0.0, 1.0]]])
+        per_pixel = np.concatenate([coeffs, still]).astype(np.float32)[labels]  # -1: the last
+        x, y = self._grid
+        maps = per_pixel[..., 0] * x + per_pixel[..., 1] * y + per_pixel[..., 2]
+        frame = cv2.remap(
+            self._canvas,
+            np.ascontiguousarray(maps[..., 0]),
+            np.ascontiguousarray(maps[..., 1]),
+            cv2.INTER_LINEAR,
+            borderMode=cv2.BORDER_REPLICATE,
+        ).astype(np.float32)
+        frame *= (gain * maps[..., 2])[..., None]
         if rng is not None and self.motion.noise_std > 0:
             frame += self.motion.noise_std * rng.standard_normal(frame.shape, dtype=np.float32)
         return np.clip(np.rint(frame), 0, 255).astype(np.uint8)
