@@ -185,3 +185,18 @@ def test_misplaced_point_fails_naming_it():
     points["2.1"] = (points["2.1"][0], 60.0)  # the chin clicked on the forehead
     result = describe(image, points)
     assert not result and "2.1" in result.reason and "px" in result.reason
+
+
+def test_describe_cli_bad_model_and_unwritable_out(tmp_path, capsys):
+    image = tmp_path / "astro.png"
+    cv2.imwrite(str(image), cv2.cvtColor(skimage.data.astronaut(), cv2.COLOR_RGB2BGR))
+    points = str(codecs_dir() / "face" / "astronaut.yaml")
+    model = tmp_path / "m.wfm"
+    model.write_text("# VERTEX LIST:\n3\n0 0 0\n1 0 0\n0 1 x\n")
+    assert main(["describe", str(image), "--points", points, "--model", str(model)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "line 5 of" in err and "m.wfm" in err
+    blocked = tmp_path / "file"
+    blocked.write_text("")
+    assert main(["describe", str(image), "--points", points, "--out", str(blocked / "d")]) == 2
+    assert "cannot write" in capsys.readouterr().err

@@ -159,3 +159,11 @@ def test_source_synth_cli_writes_clip_and_truth(tmp_path):
     # High quality: the clip is the source's frames up to coding noise.
     frames = list(TalkingHeadSource(176, 144, seed=0, frame_count=12).frames())
     assert psnr_db(frames[5][:144].astype(np.float32), decoded[5][:144].astype(np.float32)) > 38
+
+
+def test_source_synth_cli_bad_output(tmp_path, capsys):
+    blocked = tmp_path / "file"
+    blocked.write_text("")
+    assert main(["source", "synth", "--out", str(blocked / "c.mp4"), "--frames", "2"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("uma: error:") and "cannot write" in err and err.count("\n") == 1

@@ -31,6 +31,15 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def handle(args: argparse.Namespace) -> int:
+    from uma.errors import FaceError
+
+    try:
+        return _describe(args)
+    except OSError as err:
+        raise FaceError(f"{err.filename or args.out}: cannot write ({err.strerror})") from None
+
+
+def _describe(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     import cv2

@@ -42,6 +42,15 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def handle_synth(args: argparse.Namespace) -> int:
+    from uma.errors import VideoError
+
+    try:
+        return _synth(args)
+    except OSError as err:
+        raise VideoError(f"{err.filename or args.out}: cannot write ({err.strerror})") from None
+
+
+def _synth(args: argparse.Namespace) -> int:
     import json
     import sys
     from fractions import Fraction
