@@ -34,6 +34,7 @@ class CodecChain:
         self.scenario = scenario
         self.ladder = ladder
         self.fps = fps
+        self.width, self.height = width, height
         self.sender_encoder = H264Encoder(
             width,
             height,
@@ -64,6 +65,11 @@ class CodecChain:
     def engine_decode(self, encoded) -> np.ndarray | None:
         return self._timed(self.engine_decoder.decode, encoded.data)
 
+    def rung_size(self, rung_index: int) -> tuple[int, int]:
+        """The rung's picture size, never larger than the source's (upscaling adds only bits)."""
+        rung = self.ladder.rungs[rung_index]
+        return min(rung.width, self.width), min(rung.height, self.height)
+
     def engine_encode(self, picture: np.ndarray, rung_index: int, *, force_idr: bool):
         return self._timed(self._engine_encode, picture, rung_index, force_idr)
 
@@ -71,20 +77,20 @@ class CodecChain:
         from uma.video import resize_yuv420
 
         rung = self.ladder.rungs[rung_index]
+        width, height = self.rung_size(rung_index)
         if rung_index != self.engine_rung:
             # A new rung is a new stream: new size and rate, starting with an IDR.
             self.engine_encoder = self._encoder_cls(
-                rung.width,
-                rung.height,
+                width,
+                height,
                 min(rung.fps, self.fps),
                 rung.rate_kbps,
-                preset=self.scenario.sender.preset,
+                **self.ladder.encoder.kwargs(),
             )
             self.engine_rung = rung_index
             force_idr = True
-        height = picture.shape[0] * 2 // 3
-        if (picture.shape[1], height) != (rung.width, rung.height):
-            picture = resize_yuv420(picture, rung.width, rung.height)
+        if (picture.shape[1], picture.shape[0] * 2 // 3) != (width, height):
+            picture = resize_yuv420(picture, width, height)
         return self.engine_encoder.encode(picture, force_idr=force_idr)
 
     def receiver_decode(self, unit: EncodedUnit) -> np.ndarray | None:

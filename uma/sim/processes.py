@@ -98,7 +98,7 @@ def engine_process(env: simpy.Environment, world: World):
         log["scheduled"][index] = int(decision.scheduled)
         if not decision.send or picture is None:
             continue
-        rung = world.ladder.rungs[decision.rung]
+        width, height = world.codec.rung_size(decision.rung)
         out = world.codec.engine_encode(picture, decision.rung, force_idr=decision.force_idr)
         yield env.timeout(transcode_s)
         unit = EncodedUnit(
@@ -106,8 +106,8 @@ def engine_process(env: simpy.Environment, world: World):
             frame=index,
             codec="h264",
             rung=decision.rung,
-            width=rung.width,
-            height=rung.height,
+            width=width,
+            height=height,
             keyframe=bool(out.is_keyframe),
             data=out.data,
         )
@@ -118,8 +118,8 @@ def engine_process(env: simpy.Environment, world: World):
         ):
             world.downlink.offer(packet)
         log["codec"][index] = "h264"
-        log["width"][index] = rung.width
-        log["height"][index] = rung.height
+        log["width"][index] = width
+        log["height"][index] = height
         log["sent"][index] = 1
         log["keyframe"][index] = int(unit.keyframe)
         log["size_bits"][index] = 8 * len(unit.data)
