@@ -101,7 +101,12 @@ def test_astronaut_description_round_trips_and_is_small(tmp_path):
     description = describe(image, read_points(codecs_dir() / "face" / "astronaut.yaml"))
     assert description and description.fit_rms_px < 3.0
     size = description.save(tmp_path / "a.face")
-    assert 2_000 < size < 40_000
+    assert 2_000 < size < 40_000 and size == description.size_bytes
+    # Byte-identical from run to run: no time stamps inside.
+    import zipfile
+
+    with zipfile.ZipFile(tmp_path / "a.face") as archive:
+        assert {i.date_time for i in archive.infolist()} == {(1980, 1, 1, 0, 0, 0)}
     back = load_description(tmp_path / "a.face")
     assert np.allclose(back.projected(), description.projected(), atol=0.01)
     assert back.texture.shape == description.texture.shape

@@ -81,10 +81,8 @@ class ContentDescription:
             "fit_rms_px": self.fit_rms_px,
             "origin_px": list(self.origin_px),
         }
-        buffer = io.BytesIO()
-        np.savez_compressed(
-            buffer,
-            meta=np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8),
+        return _npz(
+            meta=np.frombuffer(json.dumps(meta, sort_keys=True).encode(), dtype=np.uint8),
             vertices=self.model.vertices.astype(np.float32),
             triangles=self.model.triangles.astype(np.uint16),
             action_units=self.model.action_units.astype(np.float16),
@@ -92,7 +90,6 @@ class ContentDescription:
             shape=self.shape,
             texture_jpeg=jpeg.ravel(),
         )
-        return buffer.getvalue()
 
     def save(self, path: str | Path) -> int:
         """Write the description (atomically); returns its size in bytes."""
@@ -101,6 +98,22 @@ class ContentDescription:
         data = self.to_bytes()
         atomic_write_bytes(path, data)
         return len(data)
+
+
+def _npz(**arrays: np.ndarray) -> bytes:
+    """A deflated .npz that `np.load` reads, byte-identical for identical arrays (np.savez
+    stamps each member with the current time)."""
+    import zipfile
+
+    buffer = io.BytesIO()
+    with zipfile.ZipFile(buffer, "w", compression=zipfile.ZIP_DEFLATED) as archive:
+        for name, array in arrays.items():
+            member = io.BytesIO()
+            np.lib.format.write_array(member, np.asarray(array), allow_pickle=False)
+            info = zipfile.ZipInfo(f"{name}.npy", date_time=(1980, 1, 1, 0, 0, 0))
+            info.compress_type = zipfile.ZIP_DEFLATED
+            archive.writestr(info, member.getvalue())
+    return buffer.getvalue()
 
 
 def load_description(path: str | Path) -> ContentDescription:
