@@ -25,7 +25,16 @@ from uma.face.render import render
 from uma.fit.cost import FitTemplate
 from uma.fit.fit import DetectorCalibration
 
-__all__ = ["Template", "Case", "load_templates", "make_cases", "IMAGE_SIZE", "is_large_pose"]
+__all__ = [
+    "Template",
+    "Case",
+    "load_templates",
+    "make_cases",
+    "IMAGE_SIZE",
+    "is_large_pose",
+    "rotation_deg",
+    "light_angle_deg",
+]
 
 IMAGE_SIZE = (92, 112)  # width, height
 IMAGE_EXTENSIONS = (".pgm", ".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff")
@@ -37,6 +46,7 @@ class Template:
     fit: FitTemplate
     calibration: DetectorCalibration | None
     lightings: tuple[np.ndarray, ...] = ()  # the same face under other lights, aligned
+    lighting_names: tuple[str, ...] = ()  # e.g. "A-035E+20": light azimuth and elevation, deg
 
 
 @dataclass(frozen=True, eq=False)
@@ -52,9 +62,33 @@ class Case:
     lighting: str
 
 
+LARGE_ROTATION_DEG = 20.0
+LARGE_SHIFT = 0.08  # of the face width
+
+
+def rotation_deg(case: Case) -> float:
+    """Angle of the rotation taking the template's pose to the case's (yaw, pitch, roll together)."""
+    base = rotation_matrix(*case.template.fit.params[3:6])
+    turned = rotation_matrix(*case.truth[3:6])
+    cosine = (np.trace(turned @ base.T) - 1.0) / 2.0
+    return float(np.degrees(np.arccos(np.clip(cosine, -1.0, 1.0))))
+
+
 def is_large_pose(case: Case) -> bool:
-    """Large pose: yaw or pitch beyond 12 degrees, or a shift beyond 7 % of the face width."""
-    return max(abs(case.yaw_deg), abs(case.pitch_deg)) > 12.0 or case.shift_frac > 0.07
+    """Large pose: the head turned by more than 20 degrees from the template's pose (yaw, pitch
+    and roll combined), or shifted by more than 8 % of the face width along x or y."""
+    return rotation_deg(case) > LARGE_ROTATION_DEG or case.shift_frac > LARGE_SHIFT
+
+
+def light_angle_deg(lighting: str) -> float | None:
+    """Angle between a Yale B light ("A+035E-20": azimuth, elevation) and the camera axis."""
+    from uma.bench.init_yale import light_angles_deg
+
+    angles = light_angles_deg(lighting) if lighting != "same" else None
+    if angles is None:
+        return None
+    azimuth, elevation = np.radians(angles)
+    return round(float(np.degrees(np.arccos(np.cos(azimuth) * np.cos(elevation)))), 1)
 
 
 def _read_gray(path: Path) -> np.ndarray | None:
@@ -69,10 +103,18 @@ def _read_gray(path: Path) -> np.ndarray | None:
 def _calibrated(
     name: str, model: FaceModel, gray: np.ndarray, params: np.ndarray, lightings=()
 ) -> Template:
+    """A template and how its detection box relates to its placement; `lightings` are
+    (light name, image) pairs of the same face under other lights, aligned with `gray`."""
     fit = FitTemplate.build(model, gray, params)
     box = detect_face(gray, min_size_px=30, neighbours=3)
     calibration = DetectorCalibration.from_template(fit, box) if box else None
-    return Template(name=name, fit=fit, calibration=calibration, lightings=tuple(lightings))
+    return Template(
+        name=name,
+        fit=fit,
+        calibration=calibration,
+        lightings=tuple(image for _, image in lightings),
+        lighting_names=tuple(name for name, _ in lightings),
+    )
 
 
 def _orl_templates(model: FaceModel, folder: Path, limit: int) -> list[Template]:
@@ -98,38 +140,22 @@ def _orl_templates(model: FaceModel, folder: Path, limit: int) -> list[Template]
 
 
 def _yale_templates(model: FaceModel, folder: Path) -> list[Template]:
+    from uma.bench.init_yale import canvas, placement, read_full, read_registered_lights
+
     out = []
     for person in sorted(p for p in [folder, *folder.iterdir()] if p.is_dir()):
         images = sorted(person.glob("*_P00A*.pgm"))
         frontal = [f for f in images if "A+000E+00" in f.name]
-        if not frontal:
+        reference = read_full(frontal[0]) if frontal else None
+        if reference is None:
             continue
-        gray = _read_gray(frontal[0])
-        lights = []
-        for path in images:
-            azimuth, elevation = _light_angles(path.name)
-            if path != frontal[0] and abs(azimuth) <= 60 and abs(elevation) <= 45:
-                other = _read_gray(path)
-                if other is not None:
-                    lights.append(other)
-        # Yale B crops are tight around the face: the eyes sit near 23 % of the height.
-        params = make_params(model, tx_px=46.0, ty_px=51.0, scale_px=82.0)
-        # The Haar cascade needs the head's outline, which these crops cut away: its boxes on
-        # them are unreliable, so Yale fits start from the template's placement.
-        fit = FitTemplate.build(model, gray, params)
-        out.append(
-            Template(
-                name=f"yale_b/{person.name}", fit=fit, calibration=None, lightings=tuple(lights)
-            )
-        )
+        gray = canvas(reference, IMAGE_SIZE)
+        lights = read_registered_lights(reference, images, IMAGE_SIZE)
+        tx, ty, scale = placement()
+        params = make_params(model, tx_px=tx, ty_px=ty, scale_px=scale)
+        template = _calibrated(f"yale_b/{person.name}", model, gray, params, lights)
+        out.append(template)
     return out
-
-
-def _light_angles(name: str) -> tuple[float, float]:
-    import re
-
-    match = re.search(r"A([+-]\d+)E([+-]\d+)", name)
-    return (float(match.group(1)), float(match.group(2))) if match else (0.0, 0.0)
 
 
 def _astronaut_template(model: FaceModel) -> Template:
@@ -219,7 +245,7 @@ def make_cases(templates: list[Template], count: int, *, rng) -> list[Case]:
         texture, lighting = template.fit.image.astype(np.uint8), "same"
         if template.lightings:
             pick = int(rng.integers(len(template.lightings)))
-            texture, lighting = template.lightings[pick], f"light {pick}"
+            texture, lighting = template.lightings[pick], template.lighting_names[pick]
         cases.append(
             Case(
                 name=f"{template.name}#{index}",

@@ -41,7 +41,8 @@ def handle(args: argparse.Namespace) -> int:
     import sys
     from pathlib import Path
 
-    from uma.bench.init import InitBenchConfig, format_table, run_init_bench
+    from uma.bench.init import InitBenchConfig, run_init_bench
+    from uma.bench.init_table import format_table
     from uma.cli.cmd_bench import emit
     from uma.errors import ConfigError
     from uma.paths import shared_data_dir

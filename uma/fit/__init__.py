@@ -8,9 +8,10 @@ from uma.fit.cost import Cost, FitTemplate
 from uma.fit.fit import fit_face, initial_guess
 from uma.fit.gauss_newton import GaussNewtonConfig, gauss_newton
 from uma.fit.mde import mde_px
+from uma.fit.perturb import Perturbation, point_metric
+from uma.fit.result import FitResult
 from uma.fit.saabs import (
     AnnealingSchedule,
-    FitResult,
     SaabsConfig,
     anneal,
     metropolis_accept,
@@ -25,6 +26,8 @@ __all__ = [
     "SaabsConfig",
     "FitResult",
     "metropolis_accept",
+    "Perturbation",
+    "point_metric",
     "anneal",
     "saabs",
     "GaussNewtonConfig",

@@ -4,7 +4,9 @@ Units: pixels; parameters as in `uma.face.geometry` ([tx_px, ty_px, scale_px, rx
 rz_rad, action units...]). Cost = 1 - normalised correlation coefficient over the template's
 visible pixels (0 for a perfect match, up to 2), optionally after illumination compensation
 (each triangle patch normalised to zero mean and unit variance in both images). Candidates are
-evaluated in batches by compiled kernels; every evaluation is counted.
+evaluated in batches by compiled kernels (`uma.fit.kernels`); every evaluation is counted.
+A cost may look at blurred copies of both images (`blur_px`, the Gaussian's sigma): a smoother
+landscape with a wider basin, for the coarse global search.
 """
 
 from __future__ import annotations
@@ -17,7 +19,17 @@ from uma.face.geometry import project, visible_triangles
 from uma.face.model import FaceModel
 from uma.face.render import Raster, rasterize
 
-__all__ = ["FitTemplate", "Cost", "batch_visible"]
+__all__ = ["FitTemplate", "Cost", "batch_visible", "blurred"]
+
+
+def blurred(image: np.ndarray, sigma_px: float) -> np.ndarray:
+    """`image` as contiguous float32, smoothed by a Gaussian of `sigma_px` when positive."""
+    out = np.ascontiguousarray(image, dtype=np.float32)
+    if sigma_px > 0:
+        import cv2
+
+        out = cv2.GaussianBlur(out, (0, 0), float(sigma_px), borderType=cv2.BORDER_REPLICATE)
+    return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -40,7 +52,8 @@ class FitTemplate:
         )
         # Keep the pixels whose centres lie inside their triangle: at the template's own pose
         # they map exactly onto themselves, so the cost there is exactly zero.
-        raster = raster.take(raster.inside)
+        if raster.inside is not None:
+            raster = raster.take(raster.inside)
         values = image[raster.ys, raster.xs].astype(np.float32)
         return cls(model=model, params=params, image=image, raster=raster, values=values)
 
@@ -51,6 +64,14 @@ class FitTemplate:
         keep = np.arange(0, self.raster.size, step)
         raster = self.raster.take(keep)
         return FitTemplate(self.model, self.params, self.image, raster, self.values[keep])
+
+    def smoothed(self, sigma_px: float) -> FitTemplate:
+        """The same pixels with their values read from the template image blurred by `sigma_px`."""
+        if sigma_px <= 0:
+            return self
+        image = blurred(self.image, sigma_px)
+        values = image[self.raster.ys, self.raster.xs].astype(np.float32)
+        return FitTemplate(self.model, self.params, image, self.raster, values)
 
     @property
     def face_width_px(self) -> float:
@@ -69,43 +90,84 @@ def batch_visible(model: FaceModel, points: np.ndarray) -> np.ndarray:
 
 
 class Cost:
-    """1 - NCC between the template and `image` warped by each candidate; counts evaluations."""
+    """1 - correlation between the template and `image` warped by each candidate; counts
+    evaluations. `illumination` compensates gain and offset per triangle patch (True), or mixes
+    the compensated and plain scores with that weight (a float in [0, 1]); `blur_px` smooths
+    both images first (the template's values are re-read from its blurred image)."""
 
-    def __init__(self, template: FitTemplate, image: np.ndarray, *, illumination: bool = False):
+    def __init__(
+        self,
+        template: FitTemplate,
+        image: np.ndarray,
+        *,
+        illumination: bool | float = False,
+        blur_px: float = 0.0,
+    ):
+        weight = float(illumination)
+        if not 0.0 <= weight <= 1.0:
+            raise ValueError(
+                f"illumination: expected a bool or a weight in [0, 1], got {illumination}"
+            )
+        template = template.smoothed(blur_px)
         self.template = template
-        self.image = np.ascontiguousarray(image, dtype=np.float32)
-        self.illumination = illumination
+        self.image = blurred(image, blur_px)
+        self.illumination = weight
+        self.blur_px = float(blur_px)
         self.evaluations = 0
+        model = template.model
         r = template.raster
+        self._vertices = np.ascontiguousarray(model.vertices, dtype=np.float64)
+        units = model.action_units
+        if units is None or len(units) == 0:
+            units = np.zeros((0,) + model.vertices.shape)
+        self._units = np.ascontiguousarray(units, dtype=np.float64)
+        self._triangles = np.ascontiguousarray(model.triangles, dtype=np.int64)
         self._corners = np.ascontiguousarray(r.corners, dtype=np.int64)
         self._bary = np.ascontiguousarray(r.bary, dtype=np.float32)
         self._tri = np.ascontiguousarray(r.tri, dtype=np.int64)
         self._values = np.ascontiguousarray(template.values, dtype=np.float32)
+        self.n_params = 6 + self._units.shape[0]
+
+    def thinned(self, pixels: int) -> Cost:
+        """This cost on every n-th template pixel, so that at most `pixels` remain."""
+        step = -(-self.template.raster.size // max(pixels, 1))
+        if step <= 1:
+            return self
+        out = Cost.__new__(Cost)
+        out.__dict__.update(self.__dict__)
+        out.template = self.template.subsampled(step)
+        keep = np.arange(0, self.template.raster.size, step)
+        out._corners = np.ascontiguousarray(self._corners[keep])
+        out._bary = np.ascontiguousarray(self._bary[keep])
+        out._tri = np.ascontiguousarray(self._tri[keep])
+        out._values = np.ascontiguousarray(self._values[keep])
+        out.evaluations = 0
+        return out
 
     def __call__(self, params: np.ndarray) -> np.ndarray:
         """Costs of candidates (B, P) -> (B,), or of one (P,) -> a 0-d array."""
-        from uma.fit.kernels import ncc_scores, patch_ncc_scores
+        from uma.fit.kernels import project_batch, scores
 
         params = np.asarray(params, dtype=np.float64)
         single = params.ndim == 1
-        batch = np.atleast_2d(params)
-        points = np.ascontiguousarray(project(self.template.model, batch), dtype=np.float32)
-        visible = batch_visible(self.template.model, points)
-        if self.illumination:
-            scores = patch_ncc_scores(
+        batch = np.ascontiguousarray(np.atleast_2d(params))
+        if batch.shape[-1] != self.n_params:
+            raise ValueError(f"expected {self.n_params} parameters, got {batch.shape[-1]}")
+        self.evaluations += batch.shape[0]
+        costs = np.full(batch.shape[0], 2.0)
+        finite = np.all(np.isfinite(batch), axis=1)
+        if finite.any():
+            chosen = batch if finite.all() else np.ascontiguousarray(batch[finite])
+            points = project_batch(self._vertices, self._units, chosen)
+            score = scores(
                 self.image,
                 self._corners,
                 self._bary,
                 self._tri,
                 self._values,
                 points,
-                visible,
-                len(self.template.model.triangles),
+                self._triangles,
+                self.illumination,
             )
-        else:
-            scores = ncc_scores(
-                self.image, self._corners, self._bary, self._tri, self._values, points, visible
-            )
-        self.evaluations += batch.shape[0]
-        costs = 1.0 - np.nan_to_num(scores, nan=-1.0)
+            costs[finite] = 1.0 - np.nan_to_num(score, nan=-1.0)
         return costs[0] if single else costs

@@ -3,7 +3,9 @@
 Units: pixels, radians. `fit_face` is what the engine calls when it switches to the model-based
 codec: it checks the image, lets the face detector place the search, runs the chosen method
 (SAABs, SAABs with illumination compensation, Gauss-Newton, or the hybrid: SAABs' global pose
-search with illumination compensation, polished by Gauss-Newton) and returns a `FitResult`, or a `Failure` that says why.
+search with illumination compensation, polished by Gauss-Newton with a gain and offset per
+patch) and returns a `FitResult`, or a `Failure` that says why. `saabs_config.illumination` is
+set by the method ("saabs": off, "saabs_ic" and "hybrid": on).
 """
 
 from __future__ import annotations
@@ -16,7 +18,8 @@ from uma.face.detect import Box, detect_face
 from uma.failure import Failure
 from uma.fit.cost import Cost, FitTemplate
 from uma.fit.gauss_newton import GaussNewtonConfig, gauss_newton
-from uma.fit.saabs import FitResult, SaabsConfig, saabs
+from uma.fit.result import FitResult
+from uma.fit.saabs import SaabsConfig, saabs
 from uma.fit.search import SearchBox, search_box
 
 __all__ = ["fit_face", "initial_guess", "DetectorCalibration", "METHODS", "check_image"]
@@ -99,29 +102,41 @@ def fit_face(
         if not guess:
             return guess
         start, box = guess
+    start = np.asarray(start, dtype=np.float64)
+    if start.shape != template.params.shape or not np.all(np.isfinite(start)):
+        return Failure(
+            f"start: expected {template.params.size} finite parameters, got {np.shape(start)}"
+        )
     rng = np.random.default_rng(rng)
     image = np.asarray(image, dtype=np.float32)
     if method == "gauss_newton":
         result = gauss_newton(template, image, start, box, config=gn_config)
+    elif method == "hybrid":
+        # SAABs' global pose search with illumination compensation (a change of light cannot
+        # pull the pose), then Gauss-Newton with a gain and offset per patch polishes the pose
+        # and the action units together.
+        cost = Cost(template, image, illumination=True)
+        found = saabs(
+            cost,
+            start,
+            box,
+            config=replace(saabs_config, illumination=True),
+            rng=rng,
+            actions=False,
+        )
+        polished = gauss_newton(
+            template, image, found.params, box, config=replace(gn_config, patch_photometry=True)
+        )
+        result = FitResult(
+            params=polished.params,
+            cost=float(cost(polished.params)),
+            evaluations=found.evaluations + polished.evaluations + 1,
+            iterations=found.iterations + polished.iterations,
+        )
     else:
-        config = saabs_config
-        # The hybrid's global search compares patches after illumination compensation, so a
-        # change of light cannot pull the pose; Gauss-Newton then solves gain and offset itself.
-        if method in ("saabs_ic", "hybrid"):
-            config = replace(config, illumination=True)
+        config = replace(saabs_config, illumination=method == "saabs_ic")
         cost = Cost(template, image, illumination=config.illumination)
-        if method == "hybrid":
-            # SAABs finds the pose; Gauss-Newton then polishes pose and action units together.
-            found = saabs(cost, start, box, config=config, rng=rng, actions=False)
-            polished = gauss_newton(template, image, found.params, box, config=gn_config)
-            result = FitResult(
-                params=polished.params,
-                cost=float(cost(polished.params)),
-                evaluations=found.evaluations + polished.evaluations + 1,
-                iterations=found.iterations + polished.iterations,
-            )
-        else:
-            result = saabs(cost, start, box, config=config, rng=rng)
+        result = saabs(cost, start, box, config=config, rng=rng)
     if not np.all(np.isfinite(result.params)):
         return Failure("the fit diverged")
     if 1.0 - result.cost < MIN_CORRELATION:

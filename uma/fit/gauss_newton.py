@@ -3,10 +3,12 @@
 Units: parameters as in `uma.face.geometry`; intensities in grey levels.
 
 Linearise the warp: each template pixel x_k lands at W(x_k; p) (barycentric in the projected
-vertices), so r_k(p) = g * I(W(x_k; p)) + o - T(x_k) with the image gain g and offset o solved
-in closed form each iteration (the photometric part, so light changes do not pull the pose).
-The Jacobian is the image gradient at W times dW/dp, where dW/dp comes from finite
-differences of the projected vertices (cheap: N vertices, not K pixels). The update solves
+vertices), so r_k(p) = g * I(W(x_k; p)) + o - T(x_k), with the image gain g and offset o solved
+in closed form at each evaluation (the photometric part, so a change of light does not pull the
+pose); with `patch_photometry` a gain and offset per triangle patch, the counterpart of SAABs'
+illumination compensation. The Jacobian is the image gradient at W times dW/dp, where dW/dp is
+barycentric in the derivatives of the projected vertices (forward differences: N vertices, not
+K pixels); a compiled kernel accumulates J^T J and J^T r in one pass. The update solves
 (J^T J + lambda diag(J^T J)) dp = -J^T r (Levenberg-Marquardt damping: lambda shrinks after a
 step that lowers the error and grows after one that does not). Only pixels of triangles facing
 the camera count. Each evaluation of the residual is one cost evaluation.
@@ -18,10 +20,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from uma.face.geometry import project
-from uma.fit.cost import FitTemplate, batch_visible
-from uma.fit.kernels import sample_at
-from uma.fit.saabs import FitResult
+from uma.fit.cost import FitTemplate, batch_visible, blurred
+from uma.fit.result import FitResult
 from uma.fit.search import SearchBox
 
 __all__ = ["GaussNewtonConfig", "gauss_newton"]
@@ -39,12 +39,20 @@ class GaussNewtonConfig:
     # changes across the face (the counterpart of SAABs' illumination compensation).
     patch_photometry: bool = False
 
+    def __post_init__(self) -> None:
+        if self.iterations < 1 or self.max_pixels < 16:
+            raise ValueError(
+                f"Gauss-Newton: iterations >= 1 and max_pixels >= 16 expected, got "
+                f"{self.iterations} and {self.max_pixels}"
+            )
+        if not (self.damping > 0 and self.blur_sigma_px >= 0 and self.tolerance_px >= 0):
+            raise ValueError("Gauss-Newton: damping > 0, blur and tolerance >= 0 expected")
+
 
 def _patch_photometry(samples, template, tri, visible, gain, offset, n_tri):
     """Per-triangle least-squares gain and offset; small or flat patches keep the global ones."""
-    keep = visible
-    idx = tri[keep]
-    s, t = samples[keep], template[keep]
+    idx = tri[visible]
+    s, t = samples[visible], template[visible]
     n = np.bincount(idx, minlength=n_tri).astype(np.float64)
     ss = np.bincount(idx, s, n_tri)
     st = np.bincount(idx, t, n_tri)
@@ -63,28 +71,88 @@ def _patch_photometry(samples, template, tri, visible, gain, offset, n_tri):
     return g, o
 
 
-class _Images:
-    def __init__(self, image: np.ndarray, sigma: float):
+@dataclass(frozen=True, eq=False)
+class _State:
+    params: np.ndarray
+    points: np.ndarray  # (1, N, 2) float32
+    residual: np.ndarray  # (K,)
+    visible: np.ndarray  # (K,) bool
+    gain: np.ndarray  # (K,)
+    error: float
+
+
+class _Problem:
+    """The residual and normal equations of one fit, with everything precomputed."""
+
+    def __init__(self, template: FitTemplate, image: np.ndarray, config: GaussNewtonConfig):
         import cv2
 
-        smooth = np.ascontiguousarray(image, dtype=np.float32)
-        if sigma > 0:
-            smooth = cv2.GaussianBlur(smooth, (0, 0), sigma)
+        step = -(-template.raster.size // max(config.max_pixels, 1))
+        template = template.subsampled(step)
+        smooth = blurred(image, config.blur_sigma_px)
         self.image = smooth
-        self.gx = np.ascontiguousarray(cv2.Sobel(smooth, cv2.CV_32F, 1, 0, ksize=3) / 8.0)
-        self.gy = np.ascontiguousarray(cv2.Sobel(smooth, cv2.CV_32F, 0, 1, ksize=3) / 8.0)
+        self.grad_x = np.ascontiguousarray(cv2.Sobel(smooth, cv2.CV_32F, 1, 0, ksize=3) / 8.0)
+        self.grad_y = np.ascontiguousarray(cv2.Sobel(smooth, cv2.CV_32F, 0, 1, ksize=3) / 8.0)
+        model = template.model
+        self.model = model
+        self.config = config
+        r = template.raster
+        self.tri = np.ascontiguousarray(r.tri, dtype=np.int64)
+        self.corners = np.ascontiguousarray(r.corners, dtype=np.int64)
+        self.bary = np.ascontiguousarray(r.bary, dtype=np.float32)
+        self.values = template.values.astype(np.float64)
+        self.vertices = np.ascontiguousarray(model.vertices, dtype=np.float64)
+        units = model.action_units if model.n_actions else np.zeros((0,) + model.vertices.shape)
+        self.units = np.ascontiguousarray(units, dtype=np.float64)
+        self.evaluations = 0
 
+    def project(self, params: np.ndarray) -> np.ndarray:
+        from uma.fit.kernels import project_batch
 
-def _warp_matrix(template: FitTemplate):
-    """The sparse (K, N) matrix of barycentric weights: pixel positions = W @ vertex positions."""
-    from scipy.sparse import csr_matrix
+        return project_batch(self.vertices, self.units, np.ascontiguousarray(params))
 
-    r = template.raster
-    rows = np.repeat(np.arange(r.size), 3)
-    return csr_matrix(
-        (r.bary.ravel().astype(np.float64), (rows, r.corners.ravel())),
-        shape=(r.size, template.model.n_vertices),
-    )
+    def state(self, params: np.ndarray) -> _State | None:
+        from uma.fit.kernels import sample_at
+
+        self.evaluations += 1
+        points = self.project(params[None])
+        samples = sample_at(self.image, self.corners, self.bary, points)[0].astype(np.float64)
+        visible = batch_visible(self.model, points)[0][self.tri]
+        s, t = samples[visible], self.values[visible]
+        if s.size < 16 or s.std() < 1e-6 or t.std() < 1e-6:
+            return None
+        g = float(np.mean((s - s.mean()) * (t - t.mean())) / s.var())
+        gain = np.full(samples.shape, g)
+        offset = np.full(samples.shape, t.mean() - g * s.mean())
+        if self.config.patch_photometry:
+            gain, offset = _patch_photometry(
+                samples, self.values, self.tri, visible, gain, offset, len(self.model.triangles)
+            )
+        residual = gain * samples + offset - self.values
+        error = float(np.mean(residual[visible] ** 2))
+        if not np.isfinite(error):
+            return None
+        return _State(params, points, residual, visible, gain, error)
+
+    def normal_equations(self, state: _State, n_params: int):
+        from uma.fit.kernels import normal_equations
+
+        p = state.params
+        h = np.maximum(1e-4, 1e-3 * np.abs(p[:n_params]))
+        shifted = np.repeat(p[None], n_params, axis=0)
+        shifted[np.arange(n_params), np.arange(n_params)] += h
+        d_points = (self.project(shifted).astype(np.float64) - state.points) / h[:, None, None]
+        return normal_equations(
+            self.grad_x,
+            self.grad_y,
+            self.corners,
+            self.bary,
+            state.points,
+            d_points,
+            state.gain,
+            state.residual,
+            state.visible,
+        )
 
 
 def gauss_newton(
@@ -94,61 +162,22 @@ def gauss_newton(
     box: SearchBox,
     *,
     config: GaussNewtonConfig = GaussNewtonConfig(),
+    history: bool = False,
 ) -> FitResult:
-    """Fit by damped Gauss-Newton from `start`, staying inside `box`."""
-    model = template.model
-    step = -(-template.raster.size // max(config.max_pixels, 1))
-    template = template.subsampled(step)
-    images = _Images(image, config.blur_sigma_px)
-    t_values = template.values.astype(np.float64)
-    r = template.raster
-    corners = np.ascontiguousarray(r.corners, dtype=np.int64)
-    bary = np.ascontiguousarray(r.bary, dtype=np.float32)
-    n_params = start.size if config.fit_actions else 6
+    """Fit by damped Gauss-Newton from `start`, staying inside `box`. A start where nothing
+    can be compared (flat image, face off the picture) returns the start with infinite cost."""
+    problem = _Problem(template, image, config)
     params = box.clip(np.asarray(start, dtype=np.float64))
-    n_tri = len(model.triangles)
-    warp = _warp_matrix(template)
-    evaluations = 0
-
-    def residual(p: np.ndarray):
-        nonlocal evaluations
-        evaluations += 1
-        points = project(model, p)[None].astype(np.float32)
-        samples = sample_at(images.image, corners, bary, points)[0].astype(np.float64)
-        visible = batch_visible(model, points)[0][r.tri]
-        s, t = samples[visible], t_values[visible]
-        if s.size < 16 or s.std() < 1e-6:
-            return None
-        gain = np.full(samples.shape, np.cov(s, t, bias=True)[0, 1] / s.var())
-        offset = np.full(samples.shape, t.mean() - gain[0] * s.mean())
-        if config.patch_photometry:
-            gain, offset = _patch_photometry(samples, t_values, r.tri, visible, gain, offset, n_tri)
-        return gain * samples + offset - t_values, visible, gain, points[0]
-
-    state = residual(params)
+    n_params = params.size if config.fit_actions else 6
+    state = problem.state(params)
     if state is None:
-        return FitResult(params=params, cost=float("inf"), evaluations=evaluations, iterations=0)
-    res, visible, gain, points = state
-    error = float(np.mean(res[visible] ** 2))
+        return FitResult(params=params, cost=float("inf"), evaluations=1, iterations=0)
     damping = config.damping
-    history = [error]
+    trace = [state.error]
     iteration = 0
     for iteration in range(1, config.iterations + 1):  # noqa: B007 - reported after the loop
-        # dW/dp by forward differences of the projected vertices.
-        steps = np.maximum(1e-4, 1e-3 * np.abs(params[:n_params]))
-        shifted = np.repeat(params[None], n_params, axis=0)
-        shifted[np.arange(n_params), np.arange(n_params)] += steps
-        d_points = (project(model, shifted) - points[None]) / steps[:, None, None]  # (P, N, 2)
-        n_vertices = d_points.shape[1]
-        flat = d_points.transpose(1, 0, 2).reshape(n_vertices, 2 * n_params)
-        d_warp = (warp @ flat).reshape(-1, n_params, 2).transpose(1, 0, 2)  # (P, K, 2)
-        gx = sample_at(images.gx, corners, bary, points[None].astype(np.float32))[0]
-        gy = sample_at(images.gy, corners, bary, points[None].astype(np.float32))[0]
-        jac = gain[None] * (gx[None] * d_warp[..., 0] + gy[None] * d_warp[..., 1])  # (P, K)
-        jac = jac[:, visible].T
-        hessian = jac.T @ jac
-        gradient = jac.T @ res[visible]
-        improved = False
+        hessian, gradient = problem.normal_equations(state, n_params)
+        improved, move = False, 0.0
         for _ in range(6):
             lhs = hessian + damping * np.diag(np.diag(hessian) + 1e-9)
             try:
@@ -156,27 +185,27 @@ def gauss_newton(
             except np.linalg.LinAlgError:
                 damping *= 10
                 continue
-            candidate = params.copy()
+            candidate = state.params.copy()
             candidate[:n_params] += delta
             candidate = box.clip(candidate)
-            trial = residual(candidate)
-            if trial is not None:
-                trial_error = float(np.mean(trial[0][trial[1]] ** 2))
-                if trial_error < error:
-                    move = np.abs(project(model, candidate) - points).max()
-                    params, (res, visible, gain, points), error = candidate, trial, trial_error
-                    damping = max(damping / 3, 1e-7)
-                    improved = True
-                    break
+            trial = problem.state(candidate) if np.all(np.isfinite(candidate)) else None
+            if trial is not None and trial.error < state.error:
+                move = float(np.abs(trial.points - state.points).max())
+                state = trial
+                damping = max(damping / 3, 1e-7)
+                improved = True
+                break
             damping *= 10
-        history.append(error)
+        trace.append(state.error)
         if not improved or move < config.tolerance_px:
             break
-    score = 1.0 - np.corrcoef(res[visible] + t_values[visible], t_values[visible])[0, 1]
+    v = state.visible
+    fitted = state.residual[v] + problem.values[v]
+    score = float(np.corrcoef(fitted, problem.values[v])[0, 1])
     return FitResult(
-        params=params,
-        cost=float(score),
-        evaluations=evaluations,
+        params=state.params,
+        cost=1.0 - score if np.isfinite(score) else float("inf"),
+        evaluations=problem.evaluations,
         iterations=iteration,
-        history=tuple(history),
+        history=tuple(trace) if history else (),
     )

@@ -2,7 +2,8 @@
 
 Units: pixels, radians, unitless action units. The face detector's box (or, failing that, the
 template's own placement) gives the centre and size; the search may shift the face by a
-quarter of its width, scale it by -25 % to +30 %, turn and nod it by up to 0.45 rad (26 deg),
+quarter of its width, scale it by -30 % to +45 % (the detector's box size errs by up to
+about 20 % on ORL faces), turn and nod it by up to 0.45 rad (26 deg),
 roll it by up to 0.35 rad, and move each action unit within [-1, 1.5].
 """
 
@@ -42,7 +43,7 @@ def search_box(start: np.ndarray, face_width_px: float, *, shift: float = 0.25) 
             [
                 start[0] - shift * face_width_px,
                 start[1] - shift * face_width_px,
-                0.75 * start[2],
+                0.7 * start[2],
                 -0.45,
                 -0.45,
                 -0.35,
@@ -55,7 +56,7 @@ def search_box(start: np.ndarray, face_width_px: float, *, shift: float = 0.25) 
             [
                 start[0] + shift * face_width_px,
                 start[1] + shift * face_width_px,
-                1.3 * start[2],
+                1.45 * start[2],
                 0.45,
                 0.45,
                 0.35,
