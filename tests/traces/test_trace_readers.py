@@ -1,153 +1,148 @@
-import math
+"""Every reader on the real files in ../shared/data/traces (skipped when that folder is absent)."""
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
 
-from uma.errors import TraceError
-from uma.traces import Trace, read_trace, sniff_format, write_uma_csv
+from uma.traces import read_mahimahi, read_trace, sniff_format, write_uma_csv
 
 
+@pytest.fixture(scope="module")
 def traces(shared_data):
     return shared_data / "traces"
 
 
-def test_labelled_csv_keeps_technologies_and_gprs_outage(shared_data):
-    trace = read_trace(traces(shared_data) / "ucc-5g-raca2020" / "B_2019.12.02_09.39.35.csv")
-    assert {"3G", "GPRS", "LTE"} <= set(trace.technologies)
-    gprs = np.array([tech == "GPRS" for tech in trace.technologies])
-    widths = np.diff(np.append(trace.times_s, trace.duration_s))
-    gprs_s = widths[gprs].sum()
-    assert 70 <= gprs_s <= 90
-    assert trace.rates_kbps[gprs].max() == 0.0  # the 80 s of GPRS at 0 kbit/s
-
-
-def test_hsdpa_log_stops_at_counter_reset(shared_data):
-    trace = read_trace(traces(shared_data) / "riiser-hsdpa-raw" / "report.2010-09-28_1407CEST.log")
-    assert len(trace.times_s) == 457
-    assert 400 < trace.duration_s < 520
-    assert 500 < trace.mean_rate_kbps < 6000
-
-
-def test_mahimahi_rates(shared_data):
-    trace = read_trace(traces(shared_data) / "mahimahi" / "TMobile-UMTS-driving.down")
-    assert (
-        sniff_format(traces(shared_data) / "mahimahi" / "TMobile-UMTS-driving.down") == "mahimahi"
-    )
-    assert 100 < trace.mean_rate_kbps < 10_000
-    assert (trace.rates_kbps < 100).mean() > 0.05  # long stretches below 100 kbit/s
-    # Each opportunity carries 12,000 bits; 500 ms bins quantise rates to 24 kbit/s.
-    assert np.allclose(np.mod(trace.rates_kbps, 24.0), 0.0)
-
-
 @pytest.mark.parametrize(
-    "relative, fmt",
+    "relative, fmt, steps, duration_s",
     [
-        ("pensieve-cooked/norway_car_7", "pensieve"),
-        ("pensieve-cooked/bus.ljansbakken-oslo-report.2010-09-28_1407CEST.log", "pensieve"),
-        ("mp-traces-wifi-cellular/8_5_wifi.csv", "bytes-per-sec"),
-        ("mp-traces-wifi-cellular/8_5_cellular.csv", "bytes-per-sec"),
-        ("nyu-mets/QTrain.csv", "nyu-mets"),
-        ("mahimahi/Verizon-EVDO-driving.down", "mahimahi"),
-        ("ucc-5g-raca2020/B_2019.12.16_11.49.59.csv", "labelled-csv"),
+        ("mahimahi/TMobile-UMTS-driving.down", "mahimahi", 9285, 928.424),
+        ("mahimahi/Verizon-EVDO-driving.up", "mahimahi", 10648, 1064.718),
+        ("pensieve-cooked/norway_car_7", "pensieve", 141, None),
+        ("pensieve-cooked/trace_10730_http---www.facebook.com", "pensieve", 336, 1680.0),
+        ("riiser-hsdpa-raw/report.2010-09-28_1407CEST.log", "hsdpa-log", 457, None),
+        ("ucc-5g-raca2020/B_2019.12.16_11.49.59.csv", "labelled-csv", 342, 394.0),
+        ("mp-traces-wifi-cellular/8_5_wifi.csv", "bytes-per-sec", 100, 100.0),
+        ("mp-traces-wifi-cellular/7_2_cellular.csv", "bytes-per-sec", 100, 100.0),
+        ("nyu-mets/QTrain.csv", "nyu-mets", 2404, 2404.0),
+        ("nyu-mets/bus62.csv", "nyu-mets", 3293, 3293.0),
     ],
 )
-def test_every_format_reads_real_files(shared_data, relative, fmt):
-    path = traces(shared_data) / relative
+def test_every_format_sniffed_and_read(traces, relative, fmt, steps, duration_s):
+    path = traces / relative
     assert sniff_format(path) == fmt
-    trace = read_trace(path, format=fmt)
-    assert trace.duration_s > 30
+    trace = read_trace(path)
+    assert trace == read_trace(path, format=fmt)
+    assert len(trace) == steps
+    if duration_s is not None:
+        assert trace.duration_s == pytest.approx(duration_s)
     assert np.all(np.isfinite(trace.rates_kbps)) and trace.rates_kbps.min() >= 0
-    assert trace.mean_rate_kbps > 0
+    assert trace.source == path.name
 
 
-def test_qtrain_outages_are_zero(shared_data):
-    trace = read_trace(traces(shared_data) / "nyu-mets" / "QTrain.csv")
-    assert (trace.rates_kbps == 0).sum() >= 100  # 101 one-second samples at 0 in the subway
-
-
-def test_wifi_fades_out_in_8_5(shared_data):
-    trace = read_trace(traces(shared_data) / "mp-traces-wifi-cellular" / "8_5_wifi.csv")
-    first, last = trace.rates_kbps[:20].mean(), trace.rates_kbps[-20:].mean()
-    assert last < first
-
-
-@pytest.mark.parametrize(
-    "text, message",
-    [
-        ("time_s,rate_kbps,technology\n0,100,3G\n1,nan,3G\n", "line 3 of .*rate"),
-        ("time_s,rate_kbps,technology\n0,100,3G\n1,-5,3G\n", "line 3 of .*>= 0"),
-        ("time_s,rate_kbps,technology\n0,100,3G\n1,abc,3G\n", "line 3 of .*'abc'"),
-        ("time_s,rate_kbps,technology\n0,100,3G\n2,100,3G\n1,50,3G\n", "line 4 of .*after"),
-        ("time_s,rate_kbps,technology\n", "no samples"),
-        ("", "no samples"),
-        ("time_s,kbps\n0,1\n", "line 1 of .*expected 'time_s,rate_kbps,technology'"),
-        ("time_s,rate_kbps,technology\n0,1,3G,extra\n", "line 2 of"),
-        ("1.0\t2.0\n0.5\t2.0\n", "line 2 of .*after"),
-        ("10,Gbits/sec\n", "line 1 of .*unit"),
-    ],
-)
-def test_bad_traces_name_the_line(tmp_path, text, message):
-    path = tmp_path / "trace.csv"
-    path.write_text(text)
-    with pytest.raises(TraceError, match=message):
-        read_trace(path)
-
-
-def test_binary_and_missing_files(tmp_path):
-    path = tmp_path / "x.bin"
-    path.write_bytes(b"\xff\xfe\x00\x81" * 10)
-    with pytest.raises(TraceError, match="not a text file"):
-        read_trace(path)
-    with pytest.raises(TraceError, match="no such trace file"):
-        read_trace(tmp_path / "none.csv")
-    with pytest.raises(TraceError, match="unknown trace format 'csv'"):
-        read_trace(path, format="csv")
-
-
-rates = st.lists(
-    st.floats(min_value=0, max_value=1e6, allow_nan=False, allow_infinity=False),
-    min_size=1,
-    max_size=30,
-)
-
-
-@given(rates=rates, data=st.data())
-@settings(max_examples=60, deadline=None)
-def test_uma_csv_round_trip(tmp_path_factory, rates, data):
-    widths = data.draw(
-        st.lists(st.floats(min_value=0.01, max_value=100), min_size=len(rates), max_size=len(rates))
-    )
-    techs = data.draw(
-        st.lists(
-            st.sampled_from(["", "3G", "GPRS", "GSM", "WLAN"]),
-            min_size=len(rates),
-            max_size=len(rates),
-        )
-    )
-    times = np.concatenate(([0.0], np.cumsum(widths)[:-1]))
-    if np.any(np.diff(times) <= 0):
-        return
-    trace = Trace(times, np.array(rates), tuple(techs), float(times[-1] + widths[-1]), "t")
-    path = tmp_path_factory.mktemp("rt") / "t.csv"
-    write_uma_csv(trace, path)
-    back = read_trace(path)
-    assert np.array_equal(back.times_s, trace.times_s)
-    assert np.array_equal(back.rates_kbps, trace.rates_kbps)
-    assert back.technologies == trace.technologies
-    assert back.duration_s == trace.duration_s
-
-
-@given(line=st.text(max_size=40))
-@settings(max_examples=150, deadline=None)
-def test_any_garbage_line_is_a_trace_error_or_a_valid_trace(tmp_path_factory, line):
-    path = tmp_path_factory.mktemp("g") / "t.csv"
-    path.write_text("time_s,rate_kbps,technology\n0,10,3G\n" + line.replace("\r", "") + "\n")
-    try:
+def test_mahimahi_keeps_every_opportunity(traces):
+    for name, mean_kbps in (
+        ("TMobile-UMTS-driving.down", 2019.7),
+        ("Verizon-EVDO-driving.down", 520.5),
+        ("Verizon-LTE-short.down", 5027.6),
+    ):
+        path = traces / "mahimahi" / name
+        lines = path.read_text().split()
         trace = read_trace(path)
-    except TraceError as err:
-        assert "t.csv" in str(err)
-    else:
-        assert np.all(np.isfinite(trace.rates_kbps)) and trace.rates_kbps.min() >= 0
-        assert math.isfinite(trace.duration_s)
+        # every 1500-byte opportunity is in the trace, over the file's period (its last stamp)
+        assert trace.duration_s == float(lines[-1]) / 1000
+        bits = trace.mean_rate_kbps * trace.duration_s * 1000
+        assert bits == pytest.approx(len(lines) * 12000, rel=1e-9)
+        assert trace.mean_rate_kbps == pytest.approx(mean_kbps, abs=0.1)
+
+
+def test_mahimahi_bins(traces):
+    path = traces / "mahimahi" / "TMobile-UMTS-driving.down"
+    trace = read_trace(path)
+    assert np.allclose(np.diff(trace.times_s), 0.1)
+    full = trace.rates_kbps[:-1]
+    assert np.allclose(np.mod(full, 120.0), 0.0)  # one packet in 100 ms = 120 kbit/s
+    # The last bin is cut at the period (928,424 ms): 24 ms wide, its rate over those 24 ms.
+    assert trace.widths_s[-1] == pytest.approx(0.024)
+    assert trace.rates_kbps[-1] * 0.024 * 1000 % 12000 == pytest.approx(0.0, abs=1e-6)
+    assert (trace.rates_kbps < 100).mean() > 0.05  # long stretches below 100 kbit/s
+    coarse = read_trace(path, bin_ms=500)
+    assert len(coarse) == 1857
+    assert coarse.mean_rate_kbps == pytest.approx(trace.mean_rate_kbps)
+    assert read_mahimahi(path, bin_ms=500) == coarse
+
+
+def test_hsdpa_log_stops_where_the_log_starts_over(traces):
+    path = traces / "riiser-hsdpa-raw" / "report.2010-09-28_1407CEST.log"
+    lines = path.read_text().splitlines()
+    assert len(lines) == 4 * 457 and lines[457] == lines[0]  # the shared copy repeats it 4x
+    trace = read_trace(path)
+    assert len(trace) == 457
+    last = lines[456].split()
+    first = lines[0].split()
+    # from the start of the first interval to the last stamp
+    assert trace.duration_s == pytest.approx((int(last[1]) - int(first[1]) + int(first[5])) / 1000)
+    assert trace.rates_kbps[0] == pytest.approx(int(first[4]) * 8 / int(first[5]))
+    assert 1000 < trace.mean_rate_kbps < 5000
+
+
+def test_raw_hsdpa_log_and_its_pensieve_copy_line_up(traces):
+    raw = read_trace(traces / "riiser-hsdpa-raw" / "report.2010-09-28_1407CEST.log")
+    cooked = read_trace(
+        traces / "pensieve-cooked" / "bus.ljansbakken-oslo-report.2010-09-28_1407CEST.log"
+    )
+    # Pensieve kept the first 135 samples as they were, then dropped the low ones.
+    assert np.allclose(raw.rates_kbps[:135], cooked.rates_kbps[:135], rtol=1e-6)
+    assert np.allclose(raw.times_s[:135], cooked.times_s[:135], atol=0.005)
+    assert raw.rates_kbps.min() < 100 < cooked.rates_kbps.min()
+
+
+def test_labelled_csv_gprs_outage_and_handovers(traces):
+    path = traces / "ucc-5g-raca2020" / "B_2019.12.02_09.39.35.csv"
+    trace = read_trace(path)
+    assert set(trace.technologies) == {"3G", "GPRS", "LTE"}
+    gprs = np.array([tech == "GPRS" for tech in trace.technologies])
+    assert trace.widths_s[gprs].sum() == pytest.approx(80.0)  # 78 rows over 80 s
+    assert trace.rates_kbps[gprs].max() == 0.0
+    assert len(trace) == 972  # 1019 rows, 47 of them sharing a second with the row before
+    assert trace.duration_s == 1086.0  # 09:39:35 to 09:57:40, plus the last second
+    assert trace.technology_at(0) == "LTE"
+    split = read_trace(path, duplicates="split")
+    assert len(split) == 1019
+    assert split.mean_rate_kbps == pytest.approx(trace.mean_rate_kbps)
+
+
+def test_labelled_csv_5g_file(traces):
+    trace = read_trace(traces / "ucc-5g-raca2020" / "B_2020.02.13_13.03.24.csv")
+    assert set(trace.technologies) == {"3G", "LTE", "5G"}
+    changes = sum(a != b for a, b in zip(trace.technologies, trace.technologies[1:], strict=False))
+    assert changes >= 5  # 5G <-> LTE <-> 3G handovers kept
+
+
+def test_nyu_mets_units_and_subway_outage(traces):
+    scale = {"Mbits/sec": 1000, "Kbits/sec": 1, "bits/sec": 0.001}
+    units = set()
+    for name in ("QTrain.csv", "bus62.csv"):
+        path = traces / "nyu-mets" / name
+        rows = [line.split(",") for line in path.read_text().split()]
+        expected = [float(value) * scale[unit] for value, unit in rows]
+        assert np.allclose(read_trace(path).rates_kbps, expected, rtol=1e-12)
+        units |= {unit for _, unit in rows}
+    assert units == set(scale)  # all three units occur in these two files
+    qtrain = read_trace(traces / "nyu-mets" / "QTrain.csv")
+    assert (qtrain.rates_kbps == 0).sum() >= 100  # 101 one-second samples at 0 underground
+
+
+def test_wifi_fades_out_while_cellular_stays(traces):
+    wifi = read_trace(traces / "mp-traces-wifi-cellular" / "8_5_wifi.csv")
+    cell = read_trace(traces / "mp-traces-wifi-cellular" / "8_5_cellular.csv")
+    assert wifi.rates_kbps[-20:].mean() < 0.5 * wifi.rates_kbps[:20].mean()
+    assert cell.rates_kbps[-20:].mean() > 1000
+    assert wifi.rates_kbps[0] == pytest.approx(3207630 * 8 / 1000)  # row "1,3207630"
+
+
+def test_every_real_file_converts_to_uma_csv_exactly(traces, tmp_path):
+    for path in sorted(traces.glob("*/*")):
+        if path.suffix in (".md", ".txt", ".gz") or path.name == "README":
+            continue
+        trace = read_trace(path)
+        write_uma_csv(trace, tmp_path / "t.csv")
+        assert read_trace(tmp_path / "t.csv") == trace, path.name

@@ -1,317 +1,200 @@
-"""Readers for the bandwidth-trace formats users already have, and uma's own CSV.
+"""Readers for the measured-trace formats that carry no technology labels.
 
-Units: every reader returns a `Trace` in seconds and kbit/s. Errors are `TraceError`s naming the
-file and the 1-based line, with what was expected and what was found.
+Units: every reader returns a `Trace` in seconds and kbit/s, re-based to start at 0. Errors are
+`TraceError`s naming the file and the 1-based line (see `uma.traces.parsing`).
 
-| format         | lines                                   | note                                  |
-|----------------|-----------------------------------------|---------------------------------------|
-| uma-csv        | `time_s,rate_kbps,technology` header    | `# duration_s=X` comment sets the end  |
-| mahimahi       | one ms timestamp per 1500-byte delivery | binned into `bin_ms` steps             |
-| pensieve       | `time_s<TAB>Mbit/s`                     | times re-based to the first            |
-| hsdpa-log      | `unix_s ms lat lon bytes interval_ms`   | stops where the ms counter resets      |
-| labelled-csv   | header with `NetworkMode`, `DL_bitrate` | kbit/s, 1 row/s; duplicate stamps meaned |
-| bytes-per-sec  | `sec,bytes_per_sec`                     |                                        |
-| nyu-mets       | `value,unit` (Mbits/sec, Kbits/sec, ...) | one sample per second                 |
+When a sample is a count over the interval that ends at its time stamp (the raw HSDPA log:
+"bytes since the last data point"; Pensieve's cooked copies of it; `sec,bytes_per_sec`, whose
+first row is `1`), its rate is placed on that interval, so the same ride read from the raw log
+and from its cooked copy lines up. NYU-METS samples are iPerf's per-second reports, in order.
 """
 
 from __future__ import annotations
 
 import math
 import os
-from collections.abc import Callable
-from datetime import datetime
-from pathlib import Path
+from collections.abc import Sequence
 
 import numpy as np
 
-from uma.atomic import atomic_write_text
 from uma.errors import TraceError
-from uma.traces.technology import normalise_technology
+from uma.traces.parsing import TraceText
 from uma.traces.trace import Trace
 
-__all__ = ["read_trace", "write_uma_csv", "FORMATS", "sniff_format"]
+__all__ = [
+    "read_mahimahi",
+    "read_pensieve",
+    "read_hsdpa_log",
+    "read_bytes_per_sec",
+    "read_nyu_mets",
+    "MAHIMAHI_PACKET_BITS",
+    "DEFAULT_BIN_MS",
+]
 
 MAHIMAHI_PACKET_BITS = 1500 * 8
 
+# 100 ms bins: a packet delivered in a bin is placed, at worst, one bin away from its real
+# opportunity. Measured on the shared Mahimahi traces (TMobile-UMTS, Verizon-EVDO/LTE), the
+# delivery-time error is at most 91 ms with 100 ms bins (95th percentile 15-41 ms, under one
+# 25 fps frame), against 450 ms (p95 52-136 ms) with 500 ms bins: too coarse for the 95th
+# percentile delays that Salsify reports on these traces. Finer bins cost little more but make
+# each step's rate meaningless (20 ms bins: a rate is 0 or a multiple of 600 kbit/s).
+DEFAULT_BIN_MS = 100.0
 
-def _lines(path: Path) -> list[tuple[int, str]]:
-    """Numbered non-blank lines, without `#` comments; a missing or binary file is a TraceError."""
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise TraceError(f"{path}: no such trace file") from None
-    except UnicodeDecodeError:
-        raise TraceError(f"{path}: not a text file (expected a bandwidth trace)") from None
-    except OSError as err:
-        raise TraceError(f"{path}: cannot read ({err.strerror})") from None
-    out = [(n, line.strip()) for n, line in enumerate(text.splitlines(), 1)]
-    out = [(n, line) for n, line in out if line and not line.startswith("#")]
-    if not out:
-        raise TraceError(f"{path}: no samples")
-    return out
+Source = str | os.PathLike | TraceText
 
 
-def _number(path: Path, lineno: int, text: str, what: str, *, minimum: float = 0.0) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise TraceError(f"line {lineno} of {path}: expected {what}, got {text!r}") from None
-    if not math.isfinite(value) or value < minimum:
-        raise TraceError(f"line {lineno} of {path}: expected {what} >= {minimum:g}, got {text!r}")
-    return value
+def _text(source: Source) -> TraceText:
+    return source if isinstance(source, TraceText) else TraceText(source)
 
 
-def _from_samples(
-    path: Path,
-    times: list[float],
-    rates: list[float],
-    techs: list[str],
-    lines: list[int],
-    *,
-    last_step_s: float | None = None,
+def _intervals_ending_at(
+    text: TraceText,
+    stamps_s: Sequence[float],
+    rates_kbps: Sequence[float],
+    numbers: Sequence[int],
+    first_width_s: float,
 ) -> Trace:
-    """Re-base to the first time, check order, and close the last step."""
-    if not times:
-        raise TraceError(f"{path}: no samples")
-    t = np.asarray(times, dtype=np.float64) - times[0]
-    steps = np.diff(t)
-    if np.any(steps <= 0):
-        bad = int(np.flatnonzero(steps <= 0)[0]) + 1
-        raise TraceError(
-            f"line {lines[bad]} of {path}: expected a time after {times[bad - 1]:g}, "
-            f"got {times[bad]:g}"
-        )
-    if last_step_s is None:
-        last_step_s = float(np.median(steps)) if steps.size else 1.0
-    return Trace(t, np.asarray(rates), tuple(techs), float(t[-1] + last_step_s), path.name)
+    """Sample i describes the interval (stamps[i-1], stamps[i]]; the first one lasts `first_width_s`."""
+    text.check_increasing(stamps_s, numbers, "s")
+    stamps = np.asarray(stamps_s, dtype=np.float64)
+    origin = stamps[0] - first_width_s
+    starts = np.concatenate(([0.0], stamps[:-1] - origin))
+    return Trace(
+        starts, rates_kbps, ("",) * len(starts), float(stamps[-1] - origin), text.path.name
+    )
 
 
-def read_uma_csv(path: Path) -> Trace:
-    lines = _lines(path)
-    header_n, header = lines[0]
-    columns = [c.strip() for c in header.split(",")]
-    if columns not in (["time_s", "rate_kbps"], ["time_s", "rate_kbps", "technology"]):
-        raise TraceError(
-            f"line {header_n} of {path}: expected 'time_s,rate_kbps,technology', got {header!r}"
-        )
-    duration_s = None
-    for raw in path.read_text(encoding="utf-8").splitlines():
-        if raw.strip().startswith("# duration_s="):
-            duration_s = _number(path, 0, raw.split("=", 1)[1].strip(), "a duration in s")
-    times, rates, techs, numbers = [], [], [], []
-    for n, line in lines[1:]:
-        fields = [f.strip() for f in line.split(",")]
-        if len(fields) not in (2, 3) or len(fields) > len(columns):
-            raise TraceError(
-                f"line {n} of {path}: expected 'time_s,rate_kbps,technology', got {line!r}"
-            )
-        times.append(_number(path, n, fields[0], "a time in s"))
-        rates.append(_number(path, n, fields[1], "a rate in kbit/s"))
-        techs.append(normalise_technology(fields[2]) if len(fields) == 3 else "")
-        numbers.append(n)
-    if times and times[0] != 0:
-        raise TraceError(
-            f"line {numbers[0]} of {path}: expected the first step at time 0, got {times[0]:g}"
-        )
-    last = None if duration_s is None or not times else duration_s - times[-1]
-    if last is not None and last <= 0:
-        raise TraceError(f"{path}: duration_s={duration_s:g} does not cover the last step")
-    return _from_samples(path, times, rates, techs, numbers, last_step_s=last)
+def read_mahimahi(source: Source, *, bin_ms: float = DEFAULT_BIN_MS) -> Trace:
+    """Mahimahi: each line is the ms at which one 1500-byte packet may leave; lines repeat a ms
+    when several packets may. Opportunities are counted in `bin_ms` bins (see DEFAULT_BIN_MS).
 
-
-def write_uma_csv(trace: Trace, path: str | os.PathLike) -> None:
-    """Write `trace` in uma's CSV (atomically); `read_trace` gives it back exactly."""
-    rows = ["time_s,rate_kbps,technology", f"# duration_s={trace.duration_s!r}"]
-    for t, r, tech in zip(
-        trace.times_s.tolist(), trace.rates_kbps.tolist(), trace.technologies, strict=True
-    ):
-        rows.append(f"{t!r},{r!r},{tech}")
-    atomic_write_text(path, "\n".join(rows) + "\n")
-
-
-def read_mahimahi(path: Path, *, bin_ms: float = 500.0) -> Trace:
-    """Mahimahi: each line is the ms at which one 1500-byte packet may be delivered.
-
-    Opportunities are counted in `bin_ms` bins (default 500 ms: fine enough to follow fades,
-    coarse enough that one opportunity more or less moves a 100 kbit/s link by only 24 %).
+    The trace lasts until its last time stamp T, the period at which mm-link repeats the file:
+    an opportunity at exactly T is the first of the next period, so it counts in the first bin,
+    and the last bin is cut at T (its rate is its count over its true width). So the trace's
+    mean rate is exactly lines x 12,000 bit / T.
     """
-    stamps, numbers = [], []
-    for n, line in _lines(path):
-        stamps.append(_number(path, n, line, "a delivery time in ms"))
-        numbers.append(n)
-    ms = np.asarray(stamps)
-    if np.any(np.diff(ms) < 0):
-        bad = int(np.flatnonzero(np.diff(ms) < 0)[0]) + 1
-        raise TraceError(
-            f"line {numbers[bad]} of {path}: expected a time not before {stamps[bad - 1]:g} ms, got {stamps[bad]:g}"
+    if not (math.isfinite(bin_ms) and bin_ms > 0):
+        raise TraceError(f"mahimahi bin_ms: expected a duration > 0 ms, got {bin_ms!r}")
+    text = _text(source)
+    lines = [line for _, line in text.lines]
+    if all(line.isascii() and line.isdigit() for line in lines):
+        ms = np.array([int(line) for line in lines], dtype=np.float64)
+    else:
+        ms = np.array(
+            [text.number(n, line, "delivery time in ms", integer=True) for n, line in text.lines]
         )
-    bins = int(ms[-1] // bin_ms) + 1
-    counts = np.bincount((ms // bin_ms).astype(np.int64), minlength=bins)
-    rates = counts * MAHIMAHI_PACKET_BITS / bin_ms  # bits per ms = kbit/s
-    times = np.arange(bins) * bin_ms / 1000.0
-    return Trace(times, rates, ("",) * bins, bins * bin_ms / 1000.0, path.name)
+    drops = np.flatnonzero(np.diff(ms) < 0)
+    if drops.size:
+        i = int(drops[0]) + 1
+        raise text.error(
+            text.lines[i][0],
+            f"expected a delivery time not before {ms[i - 1]:.0f} ms, got {ms[i]:.0f} ms",
+        )
+    period_ms = float(ms[-1])
+    if period_ms <= 0:
+        raise text.error(
+            text.lines[-1][0], "expected the last delivery time (the period) > 0 ms, got 0"
+        )
+    bins = math.ceil(period_ms / bin_ms)
+    index = np.minimum((np.mod(ms, period_ms) // bin_ms).astype(np.int64), bins - 1)
+    counts = np.bincount(index, minlength=bins)
+    starts_ms = np.arange(bins) * bin_ms
+    widths_ms = np.minimum(bin_ms, period_ms - starts_ms)
+    rates = counts * MAHIMAHI_PACKET_BITS / widths_ms  # bits per ms = kbit/s
+    return Trace(starts_ms / 1000.0, rates, ("",) * bins, period_ms / 1000.0, text.path.name)
 
 
-def read_pensieve(path: Path) -> Trace:
-    times, rates, numbers = [], [], []
-    for n, line in _lines(path):
-        fields = line.split()
-        if len(fields) != 2:
-            raise TraceError(f"line {n} of {path}: expected 'time_s<TAB>Mbit/s', got {line!r}")
-        times.append(_number(path, n, fields[0], "a time in s"))
-        rates.append(1000.0 * _number(path, n, fields[1], "a rate in Mbit/s"))
+def read_pensieve(source: Source) -> Trace:
+    """Pensieve-cooked `time_s<TAB>Mbit/s` (any blanks separate). Each rate covers the interval
+    that ends at its time, as in the raw log it was cooked from and in Pensieve's simulator; the
+    first interval is taken as long as the second (1 s for a one-line file).
+
+    The cooked Norway traces dropped the raw log's low-rate samples and closed the gaps, so their
+    times run shorter than the ride; read the raw log (`hsdpa-log`) to keep the outages.
+    """
+    text = _text(source)
+    stamps, rates, numbers = [], [], []
+    for n, line in text.lines:
+        time_field, rate_field = text.fields(n, line, separator=None, layout="time_s<TAB>Mbit/s")
+        stamps.append(text.number(n, time_field, "time in s"))
+        rates.append(1000.0 * text.number(n, rate_field, "rate in Mbit/s"))
         numbers.append(n)
-    return _from_samples(path, times, rates, [""] * len(times), numbers)
+    text.check_increasing(stamps, numbers, "s")
+    first = stamps[1] - stamps[0] if len(stamps) > 1 else 1.0
+    return _intervals_ending_at(text, stamps, rates, numbers, first)
 
 
-def read_hsdpa_log(path: Path) -> Trace:
-    """Riiser et al.'s raw log; a copy that repeats the log stops where the ms counter resets."""
-    times, rates, numbers = [], [], []
-    last_interval_s = 1.0
-    for n, line in _lines(path):
-        fields = line.split()
-        if len(fields) != 6:
-            raise TraceError(
-                f"line {n} of {path}: expected 'unix_s ms_since_start lat lon bytes interval_ms', got {line!r}"
+def read_hsdpa_log(source: Source) -> Trace:
+    """Riiser et al.'s raw HSDPA log: `unix_s ms_since_start lat lon bytes interval_ms`, where
+    `bytes` arrived in the `interval_ms` before `ms_since_start`.
+
+    A log that starts over (the ms counter goes back and the line repeats the first data line,
+    as in the shared copy, which holds the 457-line log four times) ends there: the rest is
+    ignored. A counter that goes back any other way is a TraceError.
+    """
+    text = _text(source)
+    layout = "unix_s ms_since_start lat lon bytes interval_ms"
+    first_fields: list[str] | None = None
+    stamps, rates, numbers = [], [], []
+    first_width_s = 1.0
+    for n, line in text.lines:
+        fields = text.fields(n, line, separator=None, layout=layout)
+        if first_fields is None:
+            first_fields = fields
+        elif fields == first_fields:
+            break  # the log starts over
+        text.number(n, fields[0], "unix time in s")
+        ms = text.number(n, fields[1], "ms since start")
+        text.number(n, fields[2], "latitude", minimum=-90.0)
+        text.number(n, fields[3], "longitude", minimum=-180.0)
+        size_bytes = text.number(n, fields[4], "byte count")
+        interval_ms = text.number(n, fields[5], "interval in ms", positive=True)
+        if stamps and not ms / 1000.0 > stamps[-1]:
+            raise text.error(
+                n,
+                f"expected ms_since_start after {stamps[-1] * 1000.0:g} (the counter went back "
+                f"without the log starting over at line {text.lines[0][0]}), got {fields[1]}",
             )
-        ms = _number(path, n, fields[1], "milliseconds since start")
-        if times and ms / 1000.0 <= times[-1]:
-            break  # the counter reset: the log repeats from here
-        size_bytes = _number(path, n, fields[4], "a byte count")
-        interval_ms = _number(path, n, fields[5], "an interval in ms", minimum=1e-9)
-        times.append(ms / 1000.0)
+        if not stamps:
+            first_width_s = interval_ms / 1000.0
+        stamps.append(ms / 1000.0)
         rates.append(size_bytes * 8.0 / interval_ms)  # bits per ms = kbit/s
         numbers.append(n)
-        last_interval_s = interval_ms / 1000.0
-    return _from_samples(
-        path, times, rates, [""] * len(times), numbers, last_step_s=last_interval_s
-    )
+    return _intervals_ending_at(text, stamps, rates, numbers, first_width_s)
 
 
-def read_labelled_csv(path: Path) -> Trace:
-    """Raca et al.'s CSV: `Timestamp` (YYYY.MM.DD_HH.MM.SS), `NetworkMode`, `DL_bitrate` in kbit/s."""
-    lines = _lines(path)
-    header_n, header = lines[0]
-    columns = [c.strip() for c in header.split(",")]
-    try:
-        i_time, i_mode, i_rate = (
-            columns.index(c) for c in ("Timestamp", "NetworkMode", "DL_bitrate")
-        )
-    except ValueError:
-        raise TraceError(
-            f"line {header_n} of {path}: expected a header with Timestamp, NetworkMode and DL_bitrate"
-        ) from None
-    seconds: list[float] = []
-    sums: list[float] = []
-    counts: list[int] = []
-    techs: list[str] = []
-    numbers: list[int] = []
-    for n, line in lines[1:]:
-        fields = line.split(",")
-        if len(fields) != len(columns):
-            raise TraceError(
-                f"line {n} of {path}: expected {len(columns)} fields, got {len(fields)}"
+def read_bytes_per_sec(source: Source) -> Trace:
+    """`sec,bytes_per_sec` (MP-traces): row `sec` counts the bytes of the second ending at
+    `sec`, so rows 1, 2, ... become steps starting at 0, 1, ... A gap between rows holds the
+    later row's rate over the whole gap."""
+    text = _text(source)
+    stamps, rates, numbers = [], [], []
+    for n, line in text.lines:
+        sec, per_sec = text.fields(n, line, separator=",", layout="sec,bytes_per_sec")
+        stamps.append(text.number(n, sec, "time in s"))
+        rates.append(text.number(n, per_sec, "bytes per second") * 8.0 / 1000.0)
+        numbers.append(n)
+    return _intervals_ending_at(text, stamps, rates, numbers, 1.0)
+
+
+NYU_UNITS_KBPS = {"gbits/sec": 1e6, "mbits/sec": 1e3, "kbits/sec": 1.0, "bits/sec": 1e-3}
+
+
+def read_nyu_mets(source: Source) -> Trace:
+    """NYU-METS `value,unit`: one iPerf report a second (unit Gbits/sec, Mbits/sec, Kbits/sec or
+    bits/sec, any case); row k covers [k, k + 1) s."""
+    text = _text(source)
+    rates = []
+    for n, line in text.lines:
+        value, unit = text.fields(n, line, separator=",", layout="value,unit")
+        scale = NYU_UNITS_KBPS.get(unit.lower())
+        if scale is None:
+            raise text.error(
+                n, f"expected a unit among Gbits/sec, Mbits/sec, Kbits/sec, bits/sec, got {unit!r}"
             )
-        try:
-            stamp = datetime.strptime(fields[i_time].strip(), "%Y.%m.%d_%H.%M.%S").timestamp()
-        except ValueError:
-            raise TraceError(
-                f"line {n} of {path}: expected Timestamp like 2019.12.02_09.39.35, got {fields[i_time]!r}"
-            ) from None
-        rate = _number(path, n, fields[i_rate].strip(), "DL_bitrate in kbit/s")
-        if seconds and stamp == seconds[-1]:
-            sums[-1] += rate
-            counts[-1] += 1
-            continue
-        seconds.append(stamp)
-        sums.append(rate)
-        counts.append(1)
-        techs.append(normalise_technology(fields[i_mode].strip()))
-        numbers.append(n)
-    rates = [s / c for s, c in zip(sums, counts, strict=True)]
-    return _from_samples(path, seconds, rates, techs, numbers, last_step_s=1.0)
-
-
-def read_bytes_per_sec(path: Path) -> Trace:
-    times, rates, numbers = [], [], []
-    for n, line in _lines(path):
-        fields = line.split(",")
-        if len(fields) != 2:
-            raise TraceError(f"line {n} of {path}: expected 'sec,bytes_per_sec', got {line!r}")
-        times.append(_number(path, n, fields[0], "a time in s"))
-        rates.append(_number(path, n, fields[1], "bytes per second") * 8.0 / 1000.0)
-        numbers.append(n)
-    return _from_samples(path, times, rates, [""] * len(times), numbers, last_step_s=1.0)
-
-
-NYU_UNITS_KBPS = {"mbits/sec": 1000.0, "kbits/sec": 1.0, "bits/sec": 0.001}
-
-
-def read_nyu_mets(path: Path) -> Trace:
-    rates, numbers = [], []
-    for n, line in _lines(path):
-        fields = [f.strip() for f in line.split(",")]
-        if len(fields) != 2 or fields[1].lower() not in NYU_UNITS_KBPS:
-            raise TraceError(
-                f"line {n} of {path}: expected 'value,unit' with unit Mbits/sec, Kbits/sec or bits/sec, got {line!r}"
-            )
-        rates.append(_number(path, n, fields[0], "a rate") * NYU_UNITS_KBPS[fields[1].lower()])
-        numbers.append(n)
-    return _from_samples(
-        path,
-        [float(i) for i in range(len(rates))],
-        rates,
-        [""] * len(rates),
-        numbers,
-        last_step_s=1.0,
+        rates.append(text.number(n, value, "rate") * scale)
+    steps = len(rates)
+    return Trace(
+        np.arange(steps, dtype=np.float64), rates, ("",) * steps, float(steps), text.path.name
     )
-
-
-FORMATS: dict[str, Callable[[Path], Trace]] = {
-    "uma-csv": read_uma_csv,
-    "mahimahi": read_mahimahi,
-    "pensieve": read_pensieve,
-    "hsdpa-log": read_hsdpa_log,
-    "labelled-csv": read_labelled_csv,
-    "bytes-per-sec": read_bytes_per_sec,
-    "nyu-mets": read_nyu_mets,
-}
-
-
-def sniff_format(path: Path) -> str:
-    """Guess a trace's format from its first data line (see the table above)."""
-    lines = _lines(path)
-    first = lines[0][1]
-    if first.replace(" ", "").startswith("time_s"):
-        return "uma-csv"
-    if "NetworkMode" in first and "DL_bitrate" in first:
-        return "labelled-csv"
-    comma = first.split(",")
-    blank = first.split()
-    if len(blank) == 1 and len(comma) == 1 and first.isdigit():
-        return "mahimahi"
-    if len(comma) == 2 and any(c.isalpha() for c in comma[1]):
-        return "nyu-mets"
-    if len(comma) == 2:
-        return "bytes-per-sec"
-    if len(blank) == 2:
-        return "pensieve"
-    if len(blank) == 6:
-        return "hsdpa-log"
-    raise TraceError(
-        f"line {lines[0][0]} of {path}: cannot tell the trace format from {first[:60]!r}; "
-        f"give one of {', '.join(FORMATS)}"
-    )
-
-
-def read_trace(path: str | os.PathLike, *, format: str = "auto") -> Trace:
-    """Read a trace in `format` (one of `FORMATS`), or guess it with `format="auto"`."""
-    path = Path(path)
-    if format == "auto":
-        format = sniff_format(path)
-    reader = FORMATS.get(format)
-    if reader is None:
-        raise TraceError(
-            f"{path}: unknown trace format {format!r}; expected auto or one of {', '.join(FORMATS)}"
-        )
-    return reader(path)

@@ -1,119 +1,166 @@
-"""Radio access technologies: their names, link defaults, and a rate model to generate traces.
+"""Radio access technologies: link defaults (delay, loss) and a rate model that generates traces.
 
-Units: rates in kbit/s, delays in ms (one way, engine to handset, core network included),
-loss as a fraction of packets, times in seconds.
+Units: rates in kbit/s, delays in ms (one way, engine to handset, core network included), loss as
+a fraction of packets, times in seconds.
 
-Typical figures (downlink, a moving user, late 2000s to today): GSM circuit-switched data 9.6
-kbit/s with ~200 ms one way; GPRS (CS-2, 3-4 slots) 20-50 kbit/s, RTT 400-1000 ms (we take the
-better end, 200 ms one way: early networks were slower still); EDGE 100-200 kbit/s, RTT
-~300 ms; 3G (UMTS/HSDPA) a few hundred kbit/s to 2 Mbit/s, RTT 100-200 ms; LTE tens of Mbit/s,
-RTT ~50 ms; WLAN (802.11g/n at range) a few Mbit/s to 20, a few ms. These set
-defaults only: a scenario overrides delay and loss per technology, and real traces give rates.
+Typical figures behind the defaults (downlink, a moving user; one-way delay is half a measured
+round trip time, RTT):
+- GSM circuit-switched data: 9.6 kbit/s (TCH/F9.6; 14.4 where TCH/F14.4 is offered). The BTS alone
+  adds up to 160-175 ms of RTT on a full-rate data channel (GSM 11.20 budget, Ericsson CME 20
+  R6.1 manual); with interleaving, RLP and the interworking modem an end-to-end RTT of ~500 ms.
+- GPRS: CS-2 gives 13.4 kbit/s a slot, 3-4 downlink slots give 20-54 kbit/s; Chakravorty,
+  Cartwright and Pratt, "Practical experience with TCP over GPRS" (Globecom 2002): RTTs around
+  and above 1000 ms, highly variable, losses rare. We take ~700 ms RTT (an unloaded cell).
+- EDGE (EGPRS): MCS-5..9 give 22-59 kbit/s a slot, 100-200 kbit/s in practice on 4 slots
+  (236.8 kbit/s at most); RTT 300-500 ms.
+- 3G (UMTS R99 to HSPA): a few hundred kbit/s to 2 Mbit/s for a moving user; RTT 100-200 ms
+  (Mohan, Kapoor, Mohanty, "Latency in HSPA data networks", Qualcomm 2011; Serrano et al.,
+  "Latency in broad-band mobile networks", Vodafone).
+- LTE: a few to tens of Mbit/s; RTT ~50 ms.
+- 5G (NSA): tens to hundreds of Mbit/s; RTT 20-30 ms (Rohde & Schwarz public-network
+  measurements, 2022).
+- WLAN (802.11g/n at range): 1.5-20 Mbit/s; a few ms.
+Random loss after link-layer retransmission (RLC acknowledged mode, 802.11 MAC retries) stays
+well under 1 %. These are defaults only: a scenario overrides delay and loss per technology,
+and measured traces give rates.
+
+The rate model: log-rate follows an AR(1) process around log(mean_kbps) with stationary standard
+deviation `sigma_log` and correlation `correlation_per_s` over one second (shadowing as the user
+moves), clipped to [min_kbps, max_kbps]; on top, short outages to 0 kbit/s (cell edges,
+tunnels) start at `fades_per_min` and last `fade_min_s` to `fade_max_s`.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from uma.errors import TraceError
+from uma.traces.labels import LABELS, normalise_technology, technology_label
+from uma.traces.trace import Trace
 
-__all__ = ["Technology", "TECHNOLOGIES", "technology_defaults", "normalise_technology", "generate"]
+__all__ = [
+    "RateModel",
+    "Technology",
+    "TECHNOLOGIES",
+    "technology_defaults",
+    "normalise_technology",
+    "generate",
+]
+
+
+def _check(name: str, value: float, low: float, high: float = math.inf) -> None:
+    if not (math.isfinite(value) and low <= value <= high):
+        raise TraceError(f"{name}: expected a number in [{low:g}, {high:g}], got {value!r}")
+
+
+@dataclass(frozen=True)
+class RateModel:
+    """Log-normal AR(1) rate with clipping and short outages (see the module docstring)."""
+
+    mean_kbps: float
+    min_kbps: float
+    max_kbps: float
+    sigma_log: float
+    correlation_per_s: float
+    fades_per_min: float = 0.0
+    fade_min_s: float = 1.0
+    fade_max_s: float = 3.0
+
+    def __post_init__(self) -> None:
+        _check("mean_kbps", self.mean_kbps, 1e-9)
+        _check("min_kbps", self.min_kbps, 0.0, self.mean_kbps)
+        _check("max_kbps", self.max_kbps, self.mean_kbps)
+        _check("sigma_log", self.sigma_log, 0.0)
+        _check("correlation_per_s", self.correlation_per_s, 0.0, 1.0 - 1e-9)
+        _check("fades_per_min", self.fades_per_min, 0.0)
+        _check("fade_min_s", self.fade_min_s, 0.0)
+        _check("fade_max_s", self.fade_max_s, self.fade_min_s)
 
 
 @dataclass(frozen=True)
 class Technology:
-    """Link defaults and a log-normal AR(1) rate model, clipped to [min_kbps, max_kbps]."""
+    """A technology's link defaults and rate model."""
 
     name: str
     delay_ms: float
     loss_rate: float
-    mean_kbps: float
-    min_kbps: float
-    max_kbps: float
-    sigma_log: float  # standard deviation of log-rate
-    correlation: float  # AR(1) coefficient per second
-    fades_per_min: float = 0.0  # short drops to zero (1-3 s): cell edges, tunnels
+    rate: RateModel
+
+    def __post_init__(self) -> None:
+        _check(f"{self.name or 'unknown'} delay_ms", self.delay_ms, 0.0)
+        _check(f"{self.name or 'unknown'} loss_rate", self.loss_rate, 0.0, 1.0)
 
 
 TECHNOLOGIES: dict[str, Technology] = {
     t.name: t
     for t in (
-        Technology("GSM", 200.0, 0.005, 9.6, 4.8, 9.6, 0.15, 0.9, fades_per_min=0.5),
-        Technology("GPRS", 200.0, 0.01, 35.0, 8.0, 53.6, 0.35, 0.85, fades_per_min=1.0),
-        Technology("EDGE", 150.0, 0.01, 150.0, 40.0, 236.0, 0.35, 0.85, fades_per_min=0.5),
-        Technology("3G", 60.0, 0.005, 800.0, 150.0, 2000.0, 0.5, 0.8, fades_per_min=0.2),
-        Technology("LTE", 25.0, 0.002, 15000.0, 1000.0, 50000.0, 0.6, 0.8),
-        Technology("5G", 15.0, 0.001, 80000.0, 5000.0, 300000.0, 0.6, 0.8),
-        Technology("WLAN", 5.0, 0.002, 8000.0, 1500.0, 20000.0, 0.4, 0.8),
+        Technology("GSM", 250.0, 0.005, RateModel(9.6, 4.8, 9.6, 0.15, 0.9, fades_per_min=0.5)),
+        Technology("GPRS", 350.0, 0.005, RateModel(35.0, 8.0, 53.6, 0.35, 0.85, fades_per_min=1.0)),
+        Technology(
+            "EDGE", 200.0, 0.005, RateModel(150.0, 40.0, 236.8, 0.35, 0.85, fades_per_min=0.5)
+        ),
+        Technology("3G", 60.0, 0.005, RateModel(800.0, 150.0, 2000.0, 0.5, 0.8, fades_per_min=0.2)),
+        Technology("LTE", 25.0, 0.002, RateModel(15000.0, 1000.0, 50000.0, 0.6, 0.8)),
+        Technology("5G", 15.0, 0.001, RateModel(80000.0, 5000.0, 300000.0, 0.6, 0.8)),
+        Technology("WLAN", 5.0, 0.002, RateModel(8000.0, 1500.0, 20000.0, 0.4, 0.8)),
     )
 }
 
-_UNKNOWN = Technology("", 50.0, 0.0, 1000.0, 1.0, 1e6, 0.0, 0.0)
-
-_ALIASES = {
-    "HSPA+": "3G",
-    "HSPA": "3G",
-    "HSDPA": "3G",
-    "HSUPA": "3G",
-    "UMTS": "3G",
-    "WCDMA": "3G",
-    "EVDO": "3G",
-    "WIFI": "WLAN",
-    "WI-FI": "WLAN",
-    "NR": "5G",
-}
-
-
-def normalise_technology(label: str) -> str:
-    """A technology label as uma names it: HSPA+/HSDPA/HSUPA/UMTS -> 3G, WiFi -> WLAN, ..."""
-    text = label.strip()
-    if not text or text == "-":
-        return ""
-    upper = text.upper()
-    if upper in TECHNOLOGIES:
-        return upper
-    return _ALIASES.get(upper, text)
+# For steps a trace leaves unlabelled: a neutral, lossless 50 ms link (no rate model is used).
+_UNKNOWN = Technology("", 50.0, 0.0, RateModel(1000.0, 0.0, 1000.0, 0.0, 0.0))
 
 
 def technology_defaults(name: str) -> Technology:
-    """The defaults of `name`; unknown or empty labels get a neutral 50 ms, lossless link."""
-    return TECHNOLOGIES.get(normalise_technology(name), _UNKNOWN)
+    """The defaults of `name` (aliases such as HSPA+ accepted); "" or "-" get a neutral link.
+
+    A name that is no technology at all is a `TraceError`, so a typo never passes as "unknown".
+    """
+    label = technology_label(name)
+    if label is None:
+        raise TraceError(f"expected a technology among {', '.join(LABELS)} or '', got {name!r}")
+    return TECHNOLOGIES.get(label, _UNKNOWN)
 
 
-def generate(technology: str, duration_s: float, *, rng, step_s: float = 1.0):
-    """A synthetic trace of `technology` from its rate model, reproducible from `rng`."""
-    from uma.traces.trace import Trace
+def generate(technology: str, duration_s: float, *, rng, step_s: float = 1.0) -> Trace:
+    """A synthetic trace of `technology` from its rate model, reproducible from `rng`.
 
-    tech = TECHNOLOGIES.get(normalise_technology(technology))
-    if tech is None:
+    `rng` is anything `np.random.default_rng` takes; a Generator is used (and advanced) in
+    place, so a route drawing several segments from one Generator stays reproducible. Steps last
+    `step_s`, the last one whatever remains of `duration_s`.
+    """
+    label = technology_label(technology)
+    if not label:
         raise TraceError(
             f"cannot generate rates for technology {technology!r}; expected one of "
-            f"{', '.join(TECHNOLOGIES)}"
+            f"{', '.join(LABELS)}"
         )
-    if not duration_s > 0 or not step_s > 0:
+    if not (math.isfinite(duration_s) and duration_s > 0 and math.isfinite(step_s) and step_s > 0):
         raise TraceError(
-            f"generate {technology}: expected positive durations, got {duration_s}, {step_s}"
+            f"generate {label}: expected positive durations, got duration_s={duration_s!r}, "
+            f"step_s={step_s!r}"
         )
+    model = TECHNOLOGIES[label].rate
     rng = np.random.default_rng(rng)
-    steps = max(1, int(np.ceil(duration_s / step_s)))
-    phi = tech.correlation**step_s
-    innovation = tech.sigma_log * np.sqrt(1.0 - phi**2)
-    log_mean = np.log(tech.mean_kbps)
+    steps = max(1, math.ceil(duration_s / step_s - 1e-9))
+    phi = model.correlation_per_s**step_s
+    innovation = model.sigma_log * math.sqrt(1.0 - phi**2)
+    log_mean = math.log(model.mean_kbps)
     log_rate = np.empty(steps)
-    log_rate[0] = log_mean + tech.sigma_log * rng.standard_normal()
+    log_rate[0] = log_mean + model.sigma_log * rng.standard_normal()
     noise = rng.standard_normal(steps)
     for i in range(1, steps):
         log_rate[i] = log_mean + phi * (log_rate[i - 1] - log_mean) + innovation * noise[i]
-    rates = np.clip(np.exp(log_rate), tech.min_kbps, tech.max_kbps)
-    fade_prob = tech.fades_per_min / 60.0 * step_s
+    rates = np.clip(np.exp(log_rate), model.min_kbps, model.max_kbps)
+    fade_probability = model.fades_per_min / 60.0 * step_s
     i = 0
     while i < steps:
-        if rng.random() < fade_prob:
-            length = max(1, int(round(rng.uniform(1.0, 3.0) / step_s)))
+        if rng.random() < fade_probability:
+            length = max(1, round(rng.uniform(model.fade_min_s, model.fade_max_s) / step_s))
             rates[i : i + length] = 0.0
-            i += length
+            i += length  # at least one faded step, then one step of signal before the next fade
         i += 1
     times = np.arange(steps) * step_s
-    return Trace(times, rates, (tech.name,) * steps, float(duration_s), f"generated {tech.name}")
+    return Trace(times, rates, (label,) * steps, float(duration_s), f"generated {label}")

@@ -1,0 +1,119 @@
+"""Reading trace files line by line, with errors that name the file and the line.
+
+No units of its own: the readers say what each number means. Every problem with a file's text
+becomes a `TraceError` worded `line 12 of foo.csv: expected ..., got ...`; nothing else escapes.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+from collections.abc import Sequence
+from pathlib import Path
+
+from uma.errors import TraceError
+
+__all__ = ["TraceText", "shown"]
+
+# Plain decimal numbers only: float() would also take "1_000", "nan", "infinity" and spaces.
+_NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
+_INTEGER = re.compile(r"\+?\d+")
+_NOT_FINITE = re.compile(r"[+-]?(?:nan|inf|infinity)", re.IGNORECASE)
+
+
+def shown(text: str, limit: int = 60) -> str:
+    """`text` quoted for a message, cut to `limit` characters."""
+    return repr(text if len(text) <= limit else text[:limit] + "...")
+
+
+class TraceText:
+    """A trace file's numbered lines: blank lines skipped, `#` comments kept apart if allowed."""
+
+    def __init__(self, path: str | os.PathLike, *, comments: bool = False) -> None:
+        self.path = Path(path)
+        self.name = str(path)
+        try:
+            data = self.path.read_bytes()
+        except FileNotFoundError:
+            raise TraceError(f"{self.name}: no such trace file") from None
+        except IsADirectoryError:
+            raise TraceError(f"{self.name}: expected a trace file, got a folder") from None
+        except OSError as err:
+            raise TraceError(f"{self.name}: cannot read ({err.strerror})") from None
+        try:
+            if b"\0" in data:
+                raise UnicodeDecodeError("utf-8", data, data.index(b"\0"), 1, "NUL byte")
+            text = data.decode("utf-8-sig")
+        except UnicodeDecodeError as err:
+            line = data.count(b"\n", 0, err.start) + 1
+            raise TraceError(
+                f"line {line} of {self.name}: expected UTF-8 text, got binary data "
+                f"(byte {data[err.start : err.start + 1]!r})"
+            ) from None
+        self.lines: list[tuple[int, str]] = []
+        self.comments: list[tuple[int, str]] = []
+        # split("\n"), not splitlines(): line numbers must match what an editor shows, and
+        # splitlines() also breaks at form feeds, \x1c-\x1e, U+2028 and friends.
+        for number, raw in enumerate(text.split("\n"), 1):
+            line = raw.strip()
+            if not line:
+                continue
+            if comments and line.startswith("#"):
+                self.comments.append((number, line))
+            else:
+                self.lines.append((number, line))
+        if not self.lines:
+            what = "empty file" if not data.strip() else "no data lines"
+            raise TraceError(f"{self.name}: no samples ({what})")
+
+    def error(self, number: int, message: str) -> TraceError:
+        return TraceError(f"line {number} of {self.name}: {message}")
+
+    def number(
+        self,
+        number: int,
+        text: str,
+        what: str,
+        *,
+        minimum: float = 0.0,
+        positive: bool = False,
+        integer: bool = False,
+    ) -> float:
+        """`text` as a finite number >= `minimum` (> 0 with `positive`), or a TraceError."""
+        text = text.strip()
+        pattern = _INTEGER if integer else _NUMBER
+        if not pattern.fullmatch(text):
+            if _NOT_FINITE.fullmatch(text):
+                raise self.error(number, f"expected a finite {what}, got {shown(text)}")
+            kind = "a whole number: " if integer else ""
+            raise self.error(number, f"expected {kind}{what}, got {shown(text)}")
+        value = float(text)
+        if not math.isfinite(value):
+            raise self.error(number, f"expected a finite {what}, got {shown(text)}")
+        if positive and not value > 0:
+            raise self.error(number, f"expected {what} > 0, got {shown(text)}")
+        if value < minimum:
+            raise self.error(number, f"expected {what} >= {minimum:g}, got {shown(text)}")
+        return value + 0.0
+
+    def fields(self, number: int, line: str, *, separator: str | None, layout: str) -> list[str]:
+        """`line` split at `separator` (None: any run of blanks) into as many fields as `layout`
+        names (written like `time_s,rate_kbps` or `time_s<TAB>Mbit/s`), each stripped."""
+        count = len(re.split(r",|<TAB>| ", layout))
+        parts = line.split(separator)
+        if len(parts) != count:
+            raise self.error(
+                number, f"expected {count} fields '{layout}', got {len(parts)}: {shown(line)}"
+            )
+        return [part.strip() for part in parts]
+
+    def check_increasing(self, times: Sequence[float], numbers: Sequence[int], unit: str) -> None:
+        """A TraceError at the first line whose time is not after the one before."""
+        for i in range(1, len(times)):
+            if not times[i] > times[i - 1]:
+                raise self.error(
+                    numbers[i],
+                    f"expected a time after {times[i - 1]:g} {unit} (times must increase), "
+                    f"got {times[i]:g} {unit}",
+                )

@@ -1,0 +1,125 @@
+"""One entry point for every trace format: `read_trace(path, format="auto")`.
+
+Units: the `Trace` returned is in seconds and kbit/s whatever the file's units.
+
+| format         | lines                                        | reader                          |
+|----------------|----------------------------------------------|---------------------------------|
+| uma-csv        | `time_s,rate_kbps,technology` header, `#`    | `uma.traces.uma_csv`            |
+| mahimahi       | one ms time stamp per 1500-byte opportunity  | binned, `bin_ms` (100 ms)       |
+| pensieve       | `time_s<TAB>Mbit/s`                          |                                 |
+| hsdpa-log      | `unix_s ms_since_start lat lon bytes interval_ms` | stops where the log restarts |
+| labelled-csv   | header with `NetworkMode`, `DL_bitrate` kbit/s | `duplicates` ("mean", "split") |
+| bytes-per-sec  | `sec,bytes_per_sec`                          |                                 |
+| nyu-mets       | `value,unit` (Mbits/sec, Kbits/sec, bits/sec) | one row a second               |
+
+`format="auto"` looks at the first data lines (all of the first five must agree), and falls back
+on the file name (`*.down`, `*.up`: Mahimahi) so a broken Mahimahi file gets the Mahimahi
+reader's exact complaint.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+
+from uma.errors import TraceError
+from uma.traces.labelled import read_labelled_csv
+from uma.traces.parsing import TraceText, shown
+from uma.traces.readers import (
+    read_bytes_per_sec,
+    read_hsdpa_log,
+    read_mahimahi,
+    read_nyu_mets,
+    read_pensieve,
+)
+from uma.traces.trace import Trace
+from uma.traces.uma_csv import read_uma_csv
+
+__all__ = ["FORMATS", "read_trace", "sniff_format"]
+
+FORMATS: dict[str, Callable[..., Trace]] = {
+    "mahimahi": read_mahimahi,
+    "pensieve": read_pensieve,
+    "hsdpa-log": read_hsdpa_log,
+    "labelled-csv": read_labelled_csv,
+    "bytes-per-sec": read_bytes_per_sec,
+    "nyu-mets": read_nyu_mets,
+    "uma-csv": read_uma_csv,
+}
+_OPTIONS = {"mahimahi": {"bin_ms"}, "labelled-csv": {"duplicates"}}
+_NAME_HINTS = {".down": "mahimahi", ".up": "mahimahi"}
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def _shape(line: str) -> str | None:
+    """The format one data line looks like, or None."""
+    if line.isascii() and line.isdigit():
+        return "mahimahi"
+    commas = [field.strip() for field in line.split(",")]
+    if len(commas) == 2 and _is_number(commas[0]):
+        if _is_number(commas[1]):
+            return "bytes-per-sec"
+        if commas[1].lower().endswith("bits/sec"):
+            return "nyu-mets"
+        return None
+    blanks = line.split()
+    if all(_is_number(field) for field in blanks):
+        return {2: "pensieve", 6: "hsdpa-log"}.get(len(blanks))
+    return None
+
+
+def _sniff(text: TraceText) -> str:
+    first_number, first = text.lines[0]
+    columns = [name.strip() for name in first.split(",")]
+    if columns[:2] == ["time_s", "rate_kbps"]:
+        return "uma-csv"
+    if "NetworkMode" in columns and "DL_bitrate" in columns:
+        return "labelled-csv"
+    shapes = {_shape(line) for _, line in text.lines[:5]}
+    if len(shapes) == 1 and None not in shapes:
+        return shapes.pop()
+    hint = _NAME_HINTS.get(text.path.suffix.lower())
+    if hint is not None:
+        return hint
+    raise TraceError(
+        f"line {first_number} of {text.name}: cannot tell the trace format from "
+        f"{shown(first)}; expected one of the formats {', '.join(FORMATS)} "
+        f"(or give format=)"
+    )
+
+
+def sniff_format(path: str | os.PathLike) -> str:
+    """The name of the format `path` is written in (a key of `FORMATS`), or a TraceError."""
+    return _sniff(TraceText(path, comments=True))
+
+
+def read_trace(path: str | os.PathLike, *, format: str = "auto", **options: object) -> Trace:
+    """Read a trace in `format` (a key of `FORMATS`, or "auto" to sniff it).
+
+    `options` go to the reader: `bin_ms` for mahimahi, `duplicates` for labelled-csv.
+    """
+    if format != "auto" and format not in FORMATS:
+        raise TraceError(
+            f"{path}: unknown trace format {format!r}; expected auto or one of {', '.join(FORMATS)}"
+        )
+    text = TraceText(path, comments=True)
+    if format == "auto":
+        format = _sniff(text)
+    unknown = set(options) - _OPTIONS.get(format, set())
+    if unknown:
+        allowed = ", ".join(sorted(_OPTIONS.get(format, ()))) or "none"
+        raise TraceError(
+            f"{path}: format {format} takes no option {', '.join(sorted(unknown))} "
+            f"(its options: {allowed})"
+        )
+    if format != "uma-csv":
+        # Only uma's own format has comments: elsewhere a '#' line is a malformed line.
+        text = TraceText(path) if text.comments else text
+    return FORMATS[format](text, **options)
