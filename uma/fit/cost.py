@@ -89,6 +89,55 @@ def batch_visible(model: FaceModel, points: np.ndarray) -> np.ndarray:
     return cross < 0
 
 
+def _barycentric_maps(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """(T, 3, 3): for each triangle, [x; y; 1] in the template -> its barycentric weights.
+    Degenerate triangles (no pixels) get zeros."""
+    corners = points[triangles]  # (T, 3, 2)
+    matrix = np.concatenate([corners.transpose(0, 2, 1), np.ones((len(triangles), 1, 3))], axis=1)
+    det = np.linalg.det(matrix)
+    ok = np.abs(det) > 1e-9
+    out = np.zeros_like(matrix)
+    out[ok] = np.linalg.inv(matrix[ok])
+    return np.ascontiguousarray(out, dtype=np.float64)
+
+
+@dataclass(frozen=True, eq=False)
+class _Layout:
+    """The template's pixels as the kernel reads them: grouped by triangle, with each
+    triangle's map from template position to barycentric weights."""
+
+    order: np.ndarray  # (K,) raster index of each kernel pixel
+    pixels: np.ndarray  # (K, 2) float64 template x, y
+    runs: np.ndarray  # (R, 3) triangle, first, end
+    inverse: np.ndarray  # (T, 3, 3)
+
+    @classmethod
+    def of(cls, template: FitTemplate, step: int = 1) -> _Layout:
+        """Cached on the raster (immutable), per placement and thinning step."""
+        r = template.raster
+        cache = r.__dict__.setdefault("_fit_layouts", {})
+        key = (template.params.tobytes(), step)
+        if key not in cache:
+            # Every n-th pixel in the raster's own (row) order, so each patch keeps its share.
+            rows = np.arange(0, r.size, step)
+            order = rows[np.argsort(r.tri[rows], kind="stable")]
+            tri = r.tri[order].astype(np.int64)
+            if tri.size:
+                starts = np.flatnonzero(np.r_[True, tri[1:] != tri[:-1]])
+                ends = np.r_[starts[1:], tri.size]
+                runs = np.stack([tri[starts], starts, ends], axis=1)
+            else:
+                runs = np.zeros((0, 3), dtype=np.int64)
+            points = project(template.model, template.params)
+            cache[key] = cls(
+                order=order,
+                pixels=np.ascontiguousarray(np.stack([r.xs, r.ys], axis=1)[order], np.float64),
+                runs=np.ascontiguousarray(runs, dtype=np.int64),
+                inverse=_barycentric_maps(points, template.model.triangles),
+            )
+        return cache[key]
+
+
 class Cost:
     """1 - correlation between the template and `image` warped by each candidate; counts
     evaluations. `illumination` compensates gain and offset per triangle patch (True), or mixes
@@ -108,25 +157,22 @@ class Cost:
             raise ValueError(
                 f"illumination: expected a bool or a weight in [0, 1], got {illumination}"
             )
-        template = template.smoothed(blur_px)
-        self.template = template
+        self.template = template.smoothed(blur_px)
         self.image = blurred(image, blur_px)
         self.illumination = weight
         self.blur_px = float(blur_px)
         self.evaluations = 0
         model = template.model
-        r = template.raster
         self._vertices = np.ascontiguousarray(model.vertices, dtype=np.float64)
         units = model.action_units
         if units is None or len(units) == 0:
             units = np.zeros((0,) + model.vertices.shape)
         self._units = np.ascontiguousarray(units, dtype=np.float64)
         self._triangles = np.ascontiguousarray(model.triangles, dtype=np.int64)
-        self._corners = np.ascontiguousarray(r.corners, dtype=np.int64)
-        self._bary = np.ascontiguousarray(r.bary, dtype=np.float32)
-        self._tri = np.ascontiguousarray(r.tri, dtype=np.int64)
-        self._values = np.ascontiguousarray(template.values, dtype=np.float32)
+        self._layout = _Layout.of(template)
+        self._values = np.ascontiguousarray(self.template.values[self._layout.order], np.float32)
         self.n_params = 6 + self._units.shape[0]
+        self.pixels = int(self._layout.order.size)
 
     def thinned(self, pixels: int) -> Cost:
         """This cost on every n-th template pixel, so that at most `pixels` remain."""
@@ -135,12 +181,9 @@ class Cost:
             return self
         out = Cost.__new__(Cost)
         out.__dict__.update(self.__dict__)
-        out.template = self.template.subsampled(step)
-        keep = np.arange(0, self.template.raster.size, step)
-        out._corners = np.ascontiguousarray(self._corners[keep])
-        out._bary = np.ascontiguousarray(self._bary[keep])
-        out._tri = np.ascontiguousarray(self._tri[keep])
-        out._values = np.ascontiguousarray(self._values[keep])
+        out._layout = _Layout.of(self.template, step)
+        out._values = np.ascontiguousarray(self.template.values[out._layout.order], np.float32)
+        out.pixels = int(out._layout.order.size)
         out.evaluations = 0
         return out
 
@@ -159,15 +202,18 @@ class Cost:
         if finite.any():
             chosen = batch if finite.all() else np.ascontiguousarray(batch[finite])
             points = project_batch(self._vertices, self._units, chosen)
+            layout = self._layout
             score = scores(
                 self.image,
-                self._corners,
-                self._bary,
-                self._tri,
+                layout.pixels,
+                layout.inverse,
+                layout.runs,
                 self._values,
                 points,
                 self._triangles,
                 self.illumination,
             )
-            costs[finite] = 1.0 - np.nan_to_num(score, nan=-1.0)
+            if not np.all(np.isfinite(score)):
+                score = np.where(np.isfinite(score), score, -1.0)
+            costs[finite] = 1.0 - score
         return costs[0] if single else costs

@@ -8,7 +8,7 @@ in closed form at each evaluation (the photometric part, so a change of light do
 pose); with `patch_photometry` a gain and offset per triangle patch, the counterpart of SAABs'
 illumination compensation. The Jacobian is the image gradient at W times dW/dp, where dW/dp is
 barycentric in the derivatives of the projected vertices (forward differences: N vertices, not
-K pixels); a compiled kernel accumulates J^T J and J^T r in one pass. The update solves
+K pixels); a compiled kernel builds J and BLAS forms J^T J and J^T r. The update solves
 (J^T J + lambda diag(J^T J)) dp = -J^T r (Levenberg-Marquardt damping: lambda shrinks after a
 step that lowers the error and grows after one that does not). Only pixels of triangles facing
 the camera count. Each evaluation of the residual is one cost evaluation.
@@ -135,24 +135,18 @@ class _Problem:
         return _State(params, points, residual, visible, gain, error)
 
     def normal_equations(self, state: _State, n_params: int):
-        from uma.fit.kernels import normal_equations
+        """J^T J (P, P) and J^T r (P,) over the visible pixels."""
+        from uma.fit.kernels import warp_jacobian
 
         p = state.params
         h = np.maximum(1e-4, 1e-3 * np.abs(p[:n_params]))
         shifted = np.repeat(p[None], n_params, axis=0)
         shifted[np.arange(n_params), np.arange(n_params)] += h
         d_points = (self.project(shifted).astype(np.float64) - state.points) / h[:, None, None]
-        return normal_equations(
-            self.grad_x,
-            self.grad_y,
-            self.corners,
-            self.bary,
-            state.points,
-            d_points,
-            state.gain,
-            state.residual,
-            state.visible,
-        )
+        jac = warp_jacobian(
+            self.grad_x, self.grad_y, self.corners, self.bary, state.points, d_points, state.gain
+        )[state.visible]
+        return jac.T @ jac, jac.T @ state.residual[state.visible]
 
 
 def gauss_newton(

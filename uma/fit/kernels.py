@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["project_batch", "scores", "sample_at", "normal_equations", "MIN_PIXELS"]
+__all__ = ["project_batch", "scores", "sample_at", "warp_jacobian", "MIN_PIXELS"]
 
 MIN_PIXELS = 16  # a candidate seeing fewer template pixels scores -1
 MIN_PATCH_PIXELS = 4  # smaller patches are left out of the illumination-compensated score
@@ -74,6 +74,29 @@ def _bilinear(image, x, y):
 
 
 @njit(cache=True, fastmath=True, inline="always")
+def _bilinear_inside(image, x, y):
+    """`_bilinear` where x in [0, width - 1) and y in [0, height - 1): no clamping."""
+    x0 = int(x)
+    y0 = int(y)
+    fx = x - x0
+    fy = y - y0
+    top = image[y0, x0] * (1.0 - fx) + image[y0, x0 + 1] * fx
+    bottom = image[y0 + 1, x0] * (1.0 - fx) + image[y0 + 1, x0 + 1] * fx
+    return top * (1.0 - fy) + bottom * fy
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def _inside(points, triangles, b, t, width, height):
+    """Whether candidate b's triangle t lies where bilinear sampling needs no clamping."""
+    for c in range(3):
+        x = points[b, triangles[t, c], 0]
+        y = points[b, triangles[t, c], 1]
+        if not (0.0 <= x < width - 1.001 and 0.0 <= y < height - 1.001):
+            return False
+    return True
+
+
+@njit(cache=True, fastmath=True, inline="always")
 def _warped_sample(image, corners, bary, points, b, k):
     """The image at template pixel k moved by candidate b's vertices."""
     i, j, m = corners[k, 0], corners[k, 1], corners[k, 2]
@@ -106,39 +129,42 @@ def sample_at(image, corners, bary, points):
     return out
 
 
+@njit(cache=True, fastmath=True, inline="always")
+def _affine(points, triangles, inverse, b, t, out):
+    """The affine map (2, 3) taking template pixel (x, y, 1) of triangle t to candidate b."""
+    i, j, m = triangles[t, 0], triangles[t, 1], triangles[t, 2]
+    for row in range(2):
+        p0, p1, p2 = points[b, i, row], points[b, j, row], points[b, m, row]
+        for col in range(3):
+            out[row, col] = (
+                p0 * inverse[t, 0, col] + p1 * inverse[t, 1, col] + p2 * inverse[t, 2, col]
+            )
+
+
 @njit(cache=True, fastmath=True)
-def scores(image, corners, bary, tri, template, points, triangles, patch_weight):
+def scores(image, pixels, inverse, runs, template, points, triangles, patch_weight):
     """Correlation of the template with the image warped by each candidate (B,) in [-1, 1].
 
-    Only pixels of triangles facing the camera count. The plain score is the normalised
-    correlation coefficient over those pixels. The illumination-compensated score normalises
-    each triangle patch to zero mean and unit variance in both images and takes the
-    pixel-weighted mean of the per-patch correlations, so a gain and offset per patch changes
-    nothing; patches under MIN_PATCH_PIXELS pixels or flat are left out. The result is
-    (1 - patch_weight) * plain + patch_weight * compensated (0: plain, 1: compensated). A
+    The template pixels (x, y) are grouped by triangle: run r covers pixels runs[r, 1] to
+    runs[r, 2] of triangle runs[r, 0] (each triangle in one run). Within a triangle the warp is
+    affine: `inverse[t]` (3, 3) takes the triangle's template vertices [x; y; 1] to barycentric
+    weights, so the candidate's vertices give the map once per triangle, not per pixel. Only
+    triangles facing the camera count.
+    The plain score is the normalised correlation coefficient over their pixels. The
+    illumination-compensated score normalises each triangle patch to zero mean and unit
+    variance in both images and takes the pixel-weighted mean of the per-patch correlations, so
+    a gain and offset per patch changes nothing; patches under MIN_PATCH_PIXELS pixels or flat
+    are left out. The result is (1 - patch_weight) * plain + patch_weight * compensated. A
     candidate seeing fewer than MIN_PIXELS pixels, or a flat image, scores -1.
     """
     batch = points.shape[0]
-    count = corners.shape[0]
     n_tri = triangles.shape[0]
     out = np.empty(batch, dtype=np.float64)
     visible = np.empty(n_tri, dtype=np.bool_)
-    acc = np.zeros((n_tri, 6), dtype=np.float64)
+    warp = np.empty((2, 3), dtype=np.float64)
+    height, width = image.shape
     for b in range(batch):
         _front_facing(points, triangles, b, visible)
-        acc[:, :] = 0.0
-        for k in range(count):
-            j = tri[k]
-            if not visible[j]:
-                continue
-            s = _warped_sample(image, corners, bary, points, b, k)
-            t = template[k]
-            acc[j, 0] += 1.0
-            acc[j, 1] += s
-            acc[j, 2] += t
-            acc[j, 3] += s * s
-            acc[j, 4] += t * t
-            acc[j, 5] += s * t
         n = 0.0
         s_s = 0.0
         s_t = 0.0
@@ -147,21 +173,41 @@ def scores(image, corners, bary, tri, template, points, triangles, patch_weight)
         s_st = 0.0
         total = 0.0
         weight = 0.0
-        for j in range(n_tri):
-            m = acc[j, 0]
-            if m == 0.0:
+        for r in range(runs.shape[0]):
+            if not visible[runs[r, 0]]:
                 continue
+            _affine(points, triangles, inverse, b, runs[r, 0], warp)
+            a00, a01, a02 = warp[0, 0], warp[0, 1], warp[0, 2]
+            a10, a11, a12 = warp[1, 0], warp[1, 1], warp[1, 2]
+            p_s = 0.0
+            p_t = 0.0
+            p_ss = 0.0
+            p_tt = 0.0
+            p_st = 0.0
+            inside = _inside(points, triangles, b, runs[r, 0], width, height)
+            for k in range(runs[r, 1], runs[r, 2]):
+                u, v = pixels[k, 0], pixels[k, 1]
+                x = a00 * u + a01 * v + a02
+                y = a10 * u + a11 * v + a12
+                s = _bilinear_inside(image, x, y) if inside else _bilinear(image, x, y)
+                t = template[k]
+                p_s += s
+                p_t += t
+                p_ss += s * s
+                p_tt += t * t
+                p_st += s * t
+            m = float(runs[r, 2] - runs[r, 1])
             n += m
-            s_s += acc[j, 1]
-            s_t += acc[j, 2]
-            s_ss += acc[j, 3]
-            s_tt += acc[j, 4]
-            s_st += acc[j, 5]
+            s_s += p_s
+            s_t += p_t
+            s_ss += p_ss
+            s_tt += p_tt
+            s_st += p_st
             if patch_weight <= 0.0 or m < MIN_PATCH_PIXELS:
                 continue
-            cov = acc[j, 5] - acc[j, 1] * acc[j, 2] / m
-            var_s = acc[j, 3] - acc[j, 1] * acc[j, 1] / m
-            var_t = acc[j, 4] - acc[j, 2] * acc[j, 2] / m
+            cov = p_st - p_s * p_t / m
+            var_s = p_ss - p_s * p_s / m
+            var_t = p_tt - p_t * p_t / m
             if var_s <= 1e-6 * m or var_t <= 1e-6 * m:
                 continue
             total += m * cov / np.sqrt(var_s * var_t)
@@ -184,20 +230,18 @@ def scores(image, corners, bary, tri, template, points, triangles, patch_weight)
 
 
 @njit(cache=True, fastmath=True)
-def normal_equations(grad_x, grad_y, corners, bary, points, d_points, gain, residual, use):
-    """J^T J (P, P) and J^T r (P,) of the linearised warp over the pixels where `use` is true.
+def warp_jacobian(grad_x, grad_y, corners, bary, points, d_points, gain):
+    """The Jacobian (K, P) of the gain-scaled warped image with respect to the parameters.
 
     J[k, p] = gain[k] * (grad_x(W_k) * dW_k/dp_x + grad_y(W_k) * dW_k/dp_y), with W_k the warped
-    position of template pixel k (barycentric in `points` (1, N, 2)) and dW_k/dp barycentric in the
-    vertex derivatives `d_points` (P, N, 2); the gradient images are sampled bilinearly at W_k.
+    position of template pixel k (barycentric in `points` (1, N, 2)) and dW_k/dp barycentric in
+    the vertex derivatives `d_points` (P, N, 2); the gradient images are sampled bilinearly at
+    W_k. J^T J and J^T r then go through BLAS.
     """
     n_params = d_points.shape[0]
-    hessian = np.zeros((n_params, n_params), dtype=np.float64)
-    gradient = np.zeros(n_params, dtype=np.float64)
-    row = np.empty(n_params, dtype=np.float64)
-    for k in range(corners.shape[0]):
-        if not use[k]:
-            continue
+    count = corners.shape[0]
+    out = np.empty((count, n_params), dtype=np.float64)
+    for k in range(count):
         gx = _warped_sample(grad_x, corners, bary, points, 0, k) * gain[k]
         gy = _warped_sample(grad_y, corners, bary, points, 0, k) * gain[k]
         i, j, m = corners[k, 0], corners[k, 1], corners[k, 2]
@@ -205,13 +249,5 @@ def normal_equations(grad_x, grad_y, corners, bary, points, d_points, gain, resi
         for p in range(n_params):
             dx = wi * d_points[p, i, 0] + wj * d_points[p, j, 0] + wm * d_points[p, m, 0]
             dy = wi * d_points[p, i, 1] + wj * d_points[p, j, 1] + wm * d_points[p, m, 1]
-            row[p] = gx * dx + gy * dy
-        r = residual[k]
-        for p in range(n_params):
-            gradient[p] += row[p] * r
-            for q in range(p + 1):
-                hessian[p, q] += row[p] * row[q]
-    for p in range(n_params):
-        for q in range(p):
-            hessian[q, p] = hessian[p, q]
-    return hessian, gradient
+            out[k, p] = gx * dx + gy * dy
+    return out
