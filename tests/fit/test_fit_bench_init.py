@@ -70,3 +70,20 @@ def test_yale_lights_are_registered_to_the_template(shared_data):
     for _, image in lights:
         (dx, dy), _ = cv2.phaseCorrelate(base, band(image), window)
         assert abs(dx) < 0.4 and abs(dy) < 0.4  # unregistered, these lights sit ~0.8 px off
+
+
+def test_a_faces_folder_without_faces_is_an_error(tmp_path):
+    from uma.bench.init_cases import load_templates
+    from uma.errors import FaceError
+    from uma.face import load_model
+
+    (tmp_path / "s1").mkdir()
+    noise = np.random.default_rng(0).integers(0, 255, (112, 92), dtype=np.uint8)
+    import cv2
+
+    cv2.imwrite(str(tmp_path / "s1" / "1.png"), noise)
+    with pytest.raises(FaceError, match="no face found"):
+        load_templates(load_model(), faces=tmp_path, yale=None)
+    with pytest.raises(FaceError, match="no Yale B images"):
+        load_templates(load_model(), faces=None, yale=tmp_path)
+    assert [t.name for t in load_templates(load_model(), faces=None, yale=None)] == ["astronaut"]

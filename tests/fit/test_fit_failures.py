@@ -73,3 +73,20 @@ def test_unusable_start_or_method_is_a_failure(template, cases):
     start[2] = np.nan
     assert "finite" in fit_face(template.fit, image, start=start, box=box).reason
     assert "unknown method" in fit_face(template.fit, image, method="magic").reason
+
+
+def test_large_images_are_detected_at_reduced_size(template):
+    import cv2
+
+    from uma.fit.fit import detect
+
+    face = template.fit.image
+    small = detect(face)
+    assert small  # the astronaut's 92x112 crop, searched as it is
+    big = cv2.resize(face, None, fx=3, fy=3, interpolation=cv2.INTER_CUBIC)
+    found = detect(big)
+    assert found
+    # The same face, in the big picture's pixels.
+    assert found.width == pytest.approx(3 * small.width, rel=0.25)
+    assert found.centre[0] == pytest.approx(3 * small.centre[0] + 1, abs=0.1 * found.width)
+    assert found.centre[1] == pytest.approx(3 * small.centre[1] + 1, abs=0.1 * found.width)

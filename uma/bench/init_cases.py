@@ -23,7 +23,7 @@ from uma.face.geometry import make_params, project, rotation_matrix, visible_tri
 from uma.face.model import FaceModel
 from uma.face.render import render
 from uma.fit.cost import FitTemplate
-from uma.fit.fit import DetectorCalibration
+from uma.fit.fit import DetectorCalibration, detect
 
 __all__ = [
     "Template",
@@ -106,7 +106,7 @@ def _calibrated(
     """A template and how its detection box relates to its placement; `lightings` are
     (light name, image) pairs of the same face under other lights, aligned with `gray`."""
     fit = FitTemplate.build(model, gray, params)
-    box = detect_face(gray, min_size_px=30, neighbours=3)
+    box = detect(gray)
     calibration = DetectorCalibration.from_template(fit, box) if box else None
     return Template(
         name=name,
@@ -181,9 +181,22 @@ def _astronaut_template(model: FaceModel) -> Template:
 def load_templates(
     model: FaceModel, *, faces: Path | None, yale: Path | None, limit: int = 20
 ) -> list[Template]:
-    """Templates from an ORL-layout folder and a Yale B folder; the astronaut when neither exists."""
+    """Templates from an ORL-layout folder and a Yale B folder; the astronaut when neither exists.
+    A folder that exists but yields no template is an error (FaceError) naming it."""
+    from uma.errors import FaceError
+
     orl = _orl_templates(model, faces, limit) if faces is not None and faces.is_dir() else []
     lit = _yale_templates(model, yale) if yale is not None and yale.is_dir() else []
+    if faces is not None and faces.is_dir() and not orl:
+        raise FaceError(
+            f"{faces}: no face found; expected one folder per person with PGM, PNG or JPEG "
+            "images, the first of each showing a frontal face"
+        )
+    if yale is not None and yale.is_dir() and not lit:
+        raise FaceError(
+            f"{yale}: no Yale B images; expected *_P00A+000E+00.pgm (frontal light) and other "
+            "*_P00A...E....pgm images of the same person, in the folder or its sub-folders"
+        )
     if not orl and not lit:
         return [_astronaut_template(model)]
     # Interleave so every few cases include a change of light (Yale) among the ORL faces.

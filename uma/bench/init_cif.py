@@ -22,16 +22,15 @@ def run_cif_bench(frames: int, *, seed: int = 0) -> dict[str, Any]:
     """Fit `frames` talking-head frames with SAABs and the hybrid; times and MDE."""
     import cv2
 
-    from uma.face.detect import detect_face
     from uma.face.talking_head import TalkingHeadSource
     from uma.fit.cost import FitTemplate
-    from uma.fit.fit import DetectorCalibration, fit_face, initial_guess
+    from uma.fit.fit import DetectorCalibration, detect, fit_face, initial_guess
     from uma.fit.mde import mde_px
 
     source = TalkingHeadSource(352, 288, seed=seed)
     description = source.description
     template = FitTemplate.build(description.model, description.gray, description.params)
-    box = detect_face(description.gray)
+    box = detect(description.gray)
     calibration = DetectorCalibration.from_template(template, box) if box else None
     rng = np.random.default_rng(seed)
     indices = np.sort(rng.choice(np.arange(25, 25 * 60), size=frames, replace=False))

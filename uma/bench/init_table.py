@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from uma.bench.init import METHOD_NAMES, SUCCESS_PX
+from uma.bench.init import METHOD_NAMES, PAPER_SPLIT, SUCCESS_PX
 
 __all__ = ["format_table"]
 
@@ -82,6 +82,15 @@ def format_table(result: dict[str, Any], *, max_rows: int = 60) -> str:
             count = stats[0]["cases"]
             cells = "".join(f"{_fmt(s[key]):>{_WIDTH}}" for s in stats)
             lines.append(f"{label + ', ' + scope + f' ({count})':<52}{cells}")
+    paper = result.get(PAPER_SPLIT)
+    if paper:
+        lines += [
+            "",
+            f"SAABs with the paper's split (400 global + 100 local loops, {paper['evaluations_median']} "
+            f"evaluations): median {_fmt(paper['time_median_ms'])} ms, MDE median "
+            f"{_fmt(paper['mde_median_px'])} px, p95 {_fmt(paper['mde_p95_px'])} px, success "
+            f"{_fmt(paper['success_rate'])}",
+        ]
     cif = result.get("cif")
     if cif:
         lines += [

@@ -26,7 +26,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--yale", metavar="DIR", help="Yale B folder (default ../shared/data/faces/yale_b)"
     )
-    parser.add_argument("--cases", type=int, default=40, help="number of cases (default 40)")
+    parser.add_argument("--cases", type=int, default=80, help="number of cases (default 80)")
     parser.add_argument(
         "--cif-frames",
         type=int,
@@ -47,6 +47,8 @@ def handle(args: argparse.Namespace) -> int:
     from uma.errors import ConfigError
     from uma.paths import shared_data_dir
 
+    if args.seed < 0:
+        raise ConfigError(f"--seed: expected a non-negative integer, got {args.seed}")
     if args.cases <= 0:
         raise ConfigError(f"--cases: expected a positive integer, got {args.cases}")
     faces = Path(args.faces) if args.faces else shared_data_dir() / "faces" / "orl"

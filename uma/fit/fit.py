@@ -22,7 +22,14 @@ from uma.fit.result import FitResult
 from uma.fit.saabs import SaabsConfig, saabs
 from uma.fit.search import SearchBox, search_box
 
-__all__ = ["fit_face", "initial_guess", "DetectorCalibration", "METHODS", "check_image"]
+__all__ = [
+    "fit_face",
+    "initial_guess",
+    "detect",
+    "DetectorCalibration",
+    "METHODS",
+    "check_image",
+]
 
 METHODS = ("saabs", "saabs_ic", "gauss_newton", "hybrid")
 # A fit whose correlation with the template stays below this found no face.
@@ -58,6 +65,28 @@ def check_image(image: np.ndarray) -> Failure | None:
     return None
 
 
+DETECTOR_SIDE_PX = 144  # the detector looks at the image scaled so its shorter side is this
+
+
+def detect(image: np.ndarray) -> Box | Failure:
+    """The face detector's box on `image` (pixels of `image`). Large images are searched at a
+    shorter side of DETECTOR_SIDE_PX: faces filling a fifth of the picture or more stay over
+    the cascade's 24-px minimum, and a CIF frame costs ~4 ms instead of ~17."""
+    import cv2
+
+    gray = np.clip(np.nan_to_num(image), 0, 255).astype(np.uint8)
+    factor = min(1.0, DETECTOR_SIDE_PX / min(gray.shape))
+    small = gray
+    if factor < 1.0:
+        size = (round(gray.shape[1] * factor), round(gray.shape[0] * factor))
+        small = cv2.resize(gray, size, interpolation=cv2.INTER_AREA)
+    box = detect_face(small, min_size_px=max(24, min(small.shape) // 5), neighbours=3)
+    if not box or factor == 1.0:
+        return box
+    sx, sy = gray.shape[1] / small.shape[1], gray.shape[0] / small.shape[0]
+    return Box(round(box.x * sx), round(box.y * sy), round(box.width * sx), round(box.height * sy))
+
+
 def initial_guess(
     template: FitTemplate, image: np.ndarray, calibration: DetectorCalibration | None
 ) -> tuple[np.ndarray, SearchBox] | Failure:
@@ -66,8 +95,7 @@ def initial_guess(
     start = template.params.copy()
     width = template.face_width_px
     if calibration is not None:
-        gray = np.clip(image, 0, 255).astype(np.uint8)
-        box = detect_face(gray, min_size_px=max(24, min(gray.shape) // 5), neighbours=3)
+        box = detect(image)
         if not box:
             return Failure(f"no face found ({box.reason})")
         cx, cy = box.centre
