@@ -68,6 +68,11 @@ BAD = [
     ("mahimahi", "0\n-5\n", r"line 2 of .*: expected a whole number"),
     ("mahimahi", "0\n0\n", r"line 2 of .*: expected the last delivery time \(the period\) > 0"),
     ("mahimahi", "0\n\n# note\n", r"line 3 of .*got '# note'"),
+    (
+        "mahimahi",
+        "0\n2233720368547\n",
+        r"line 2 of .*at most 10,000,000 bins of 100 ms, got 2233720368547 ms",
+    ),
     ("pensieve", "0\t1\n1\tnan\n", r"line 2 of .*: expected a finite rate in Mbit/s, got 'nan'"),
     ("pensieve", "0\t1\n1\t-2\n", r"line 2 of .*: expected rate in Mbit/s >= 0, got '-2'"),
     ("pensieve", "0\t1\n1\tinf\n", r"line 2 of .*finite"),

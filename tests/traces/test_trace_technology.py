@@ -89,6 +89,8 @@ def test_generate_errors():
         generate("", 10, rng=0)
     with pytest.raises(TraceError, match="expected positive durations"):
         generate("3G", 0, rng=0)
+    with pytest.raises(TraceError, match="at most 10,000,000 steps"):
+        generate("3G", 1e12, rng=0)
     with pytest.raises(TraceError, match="sigma_log"):
         RateModel(10.0, 1.0, 20.0, -0.1, 0.5)
     with pytest.raises(TraceError, match="min_kbps"):

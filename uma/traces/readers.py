@@ -19,7 +19,7 @@ import numpy as np
 
 from uma.errors import TraceError
 from uma.traces.parsing import TraceText
-from uma.traces.trace import Trace
+from uma.traces.trace import MAX_STEPS, Trace
 
 __all__ = [
     "read_mahimahi",
@@ -97,6 +97,12 @@ def read_mahimahi(source: Source, *, bin_ms: float = DEFAULT_BIN_MS) -> Trace:
             text.lines[-1][0], "expected the last delivery time (the period) > 0 ms, got 0"
         )
     bins = math.ceil(period_ms / bin_ms)
+    if bins > MAX_STEPS:
+        raise text.error(
+            text.lines[-1][0],
+            f"expected a period of at most {MAX_STEPS:,} bins of {bin_ms:g} ms, got "
+            f"{period_ms:.0f} ms ({bins:,} bins; give a larger bin_ms)",
+        )
     index = np.minimum((np.mod(ms, period_ms) // bin_ms).astype(np.int64), bins - 1)
     counts = np.bincount(index, minlength=bins)
     starts_ms = np.arange(bins) * bin_ms

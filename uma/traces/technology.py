@@ -39,7 +39,7 @@ import numpy as np
 
 from uma.errors import TraceError
 from uma.traces.labels import LABELS, normalise_technology, technology_label
-from uma.traces.trace import Trace
+from uma.traces.trace import MAX_STEPS, Trace
 
 __all__ = [
     "RateModel",
@@ -145,6 +145,11 @@ def generate(technology: str, duration_s: float, *, rng, step_s: float = 1.0) ->
     model = TECHNOLOGIES[label].rate
     rng = np.random.default_rng(rng)
     steps = max(1, math.ceil(duration_s / step_s - 1e-9))
+    if steps > MAX_STEPS:
+        raise TraceError(
+            f"generate {label}: expected at most {MAX_STEPS:,} steps, got {steps:,} "
+            f"({duration_s:g} s in steps of {step_s:g} s)"
+        )
     phi = model.correlation_per_s**step_s
     innovation = model.sigma_log * math.sqrt(1.0 - phi**2)
     log_mean = math.log(model.mean_kbps)

@@ -20,7 +20,11 @@ import numpy as np
 from uma.errors import TraceError
 from uma.traces.labels import LABELS, technology_label
 
-__all__ = ["Trace", "concatenate"]
+__all__ = ["Trace", "concatenate", "MAX_STEPS"]
+
+# Ten million steps (80 MB an array; 11.6 days of 100 ms bins): readers and the generator refuse
+# to build more, as a file or a duration asking for that is a mistake, not a commute.
+MAX_STEPS = 10_000_000
 
 _ALLOWED = frozenset(LABELS) | {""}
 
