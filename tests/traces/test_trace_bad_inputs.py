@@ -216,6 +216,11 @@ def test_sniffing_failures_list_the_formats(tmp_path):
         read_trace(write(tmp_path, "0\n1.5\n", name="x.down"))
 
 
+def test_a_misspelt_uma_header_gets_the_uma_reader(tmp_path):
+    with pytest.raises(TraceError, match=r"line 1 of .*expected 'time_s,rate_kbps,technology'"):
+        read_trace(write(tmp_path, "time_s,kbps\n0,1\n"))
+
+
 def test_mixed_lines_are_not_guessed(tmp_path):
     # The first lines disagree on the format: auto refuses rather than picking one.
     with pytest.raises(TraceError, match="cannot tell the trace format"):

@@ -78,7 +78,7 @@ def _shape(line: str) -> str | None:
 def _sniff(text: TraceText) -> str:
     first_number, first = text.lines[0]
     columns = [name.strip() for name in first.split(",")]
-    if columns[:2] == ["time_s", "rate_kbps"]:
+    if columns[0] == "time_s":  # uma's header, maybe misspelt: its reader says how
         return "uma-csv"
     if "NetworkMode" in columns and "DL_bitrate" in columns:
         return "labelled-csv"

@@ -94,20 +94,46 @@ class Technology:
         _check(f"{self.name or 'unknown'} loss_rate", self.loss_rate, 0.0, 1.0)
 
 
+def _technology(name: str, delay_ms: float, loss_rate: float, **rate: float) -> Technology:
+    return Technology(name, delay_ms=delay_ms, loss_rate=loss_rate, rate=RateModel(**rate))
+
+
+# Rates: GSM is a 9.6 kbit/s circuit that RLP retransmissions only slow down; GPRS up to CS-2 on
+# 4 slots (53.6); EDGE up to MCS-9 on 4 slots (236.8); 3G from a loaded R99 cell to HSDPA for a
+# moving user; LTE, 5G and WLAN wide and fast-fading. See the module docstring for the delays.
 TECHNOLOGIES: dict[str, Technology] = {
     t.name: t
     for t in (
-        Technology("GSM", 250.0, 0.005, RateModel(9.6, 4.8, 9.6, 0.15, 0.9, fades_per_min=0.5)),
-        Technology("GPRS", 350.0, 0.005, RateModel(35.0, 8.0, 53.6, 0.35, 0.85, fades_per_min=1.0)),
-        Technology(
-            "EDGE", 200.0, 0.005, RateModel(150.0, 40.0, 236.8, 0.35, 0.85, fades_per_min=0.5)
+        _technology(
+            "GSM", 250.0, 0.005, mean_kbps=9.6, min_kbps=4.8, max_kbps=9.6,
+            sigma_log=0.15, correlation_per_s=0.9, fades_per_min=0.5,
         ),
-        Technology("3G", 60.0, 0.005, RateModel(800.0, 150.0, 2000.0, 0.5, 0.8, fades_per_min=0.2)),
-        Technology("LTE", 25.0, 0.002, RateModel(15000.0, 1000.0, 50000.0, 0.6, 0.8)),
-        Technology("5G", 15.0, 0.001, RateModel(80000.0, 5000.0, 300000.0, 0.6, 0.8)),
-        Technology("WLAN", 5.0, 0.002, RateModel(8000.0, 1500.0, 20000.0, 0.4, 0.8)),
+        _technology(
+            "GPRS", 350.0, 0.005, mean_kbps=35.0, min_kbps=8.0, max_kbps=53.6,
+            sigma_log=0.35, correlation_per_s=0.85, fades_per_min=1.0,
+        ),
+        _technology(
+            "EDGE", 200.0, 0.005, mean_kbps=150.0, min_kbps=40.0, max_kbps=236.8,
+            sigma_log=0.35, correlation_per_s=0.85, fades_per_min=0.5,
+        ),
+        _technology(
+            "3G", 60.0, 0.005, mean_kbps=800.0, min_kbps=150.0, max_kbps=2000.0,
+            sigma_log=0.5, correlation_per_s=0.8, fades_per_min=0.2,
+        ),
+        _technology(
+            "LTE", 25.0, 0.002, mean_kbps=15000.0, min_kbps=1000.0, max_kbps=50000.0,
+            sigma_log=0.6, correlation_per_s=0.8,
+        ),
+        _technology(
+            "5G", 15.0, 0.001, mean_kbps=80000.0, min_kbps=5000.0, max_kbps=300000.0,
+            sigma_log=0.6, correlation_per_s=0.8,
+        ),
+        _technology(
+            "WLAN", 5.0, 0.002, mean_kbps=8000.0, min_kbps=1500.0, max_kbps=20000.0,
+            sigma_log=0.4, correlation_per_s=0.8,
+        ),
     )
-}
+}  # fmt: skip
 
 # For steps a trace leaves unlabelled: a neutral, lossless 50 ms link (no rate model is used).
 _UNKNOWN = Technology("", 50.0, 0.0, RateModel(1000.0, 0.0, 1000.0, 0.0, 0.0))
