@@ -17,7 +17,7 @@ import numpy as np
 
 from uma.face.geometry import project, visible_triangles
 from uma.face.model import FaceModel
-from uma.face.render import Raster, rasterize
+from uma.face.render import Raster, barycentric_affine, rasterize
 
 __all__ = ["FitTemplate", "Cost", "batch_visible", "blurred"]
 
@@ -89,18 +89,6 @@ def batch_visible(model: FaceModel, points: np.ndarray) -> np.ndarray:
     return cross < 0
 
 
-def _barycentric_maps(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
-    """(T, 3, 3): for each triangle, [x; y; 1] in the template -> its barycentric weights.
-    Degenerate triangles (no pixels) get zeros."""
-    corners = points[triangles]  # (T, 3, 2)
-    matrix = np.concatenate([corners.transpose(0, 2, 1), np.ones((len(triangles), 1, 3))], axis=1)
-    det = np.linalg.det(matrix)
-    ok = np.abs(det) > 1e-9
-    out = np.zeros_like(matrix)
-    out[ok] = np.linalg.inv(matrix[ok])
-    return np.ascontiguousarray(out, dtype=np.float64)
-
-
 @dataclass(frozen=True, eq=False)
 class _Layout:
     """The template's pixels as the kernel reads them: grouped by triangle, with each
@@ -133,7 +121,9 @@ class _Layout:
                 order=order,
                 pixels=np.ascontiguousarray(np.stack([r.xs, r.ys], axis=1)[order], np.float64),
                 runs=np.ascontiguousarray(runs, dtype=np.int64),
-                inverse=_barycentric_maps(points, template.model.triangles),
+                inverse=np.ascontiguousarray(
+                    barycentric_affine(points, template.model.triangles), dtype=np.float64
+                ),
             )
         return cache[key]
 
