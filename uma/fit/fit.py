@@ -152,9 +152,9 @@ def fit_face(
             rng=rng,
             actions=False,
         )
-        polished = gauss_newton(
-            template, image, found.params, box, config=replace(gn_config, patch_photometry=True)
-        )
+        # SAABs has found the pose: the polish moves pose and units together from the start.
+        polish = replace(gn_config, patch_photometry=True, pose_first=False)
+        polished = gauss_newton(template, image, found.params, box, config=polish)
         result = FitResult(
             params=polished.params,
             cost=float(cost(polished.params)),
