@@ -13,7 +13,7 @@ def test_normal_equations_are_the_linearised_cost(template, cases):
     image = cases[0].image.astype(np.float32)
     problem = _Problem(fit, image, GaussNewtonConfig(blur_sigma_px=1.0))
     params = cases[0].truth.copy()
-    state = problem.state(params)
+    state = problem.with_prior(problem.state(params))
     n = params.size
     hessian, gradient = problem.normal_equations(state, n)
     # The same Jacobian in numpy: image gradient at the warped pixels times dW/dp.
