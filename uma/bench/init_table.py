@@ -60,14 +60,15 @@ def format_table(result: dict[str, Any], *, max_rows: int = 60) -> str:
     names = list(METHOD_NAMES)
     lines = [
         f"uma bench init: {result['cases']} cases at {result['image']} from "
-        f"{len(result['templates'])} templates, seed {result['seed']}; "
-        f"{result['large_pose_cases']} large-pose (*: {result['large_pose_definition']}); "
-        f"detector found {result['detector_found']} (median {_fmt(result['detector_median_ms'])} ms, "
-        "not in the times below); SAABs budget "
-        f"{result['evaluation_budget']} evaluations",
-        "MDE (px, RMS per model point) against the known pose; start = the detector's proposal; "
-        "! = the fit returned a failure (counted with its start's error); light = Yale B light "
-        "azimuth and elevation (deg); 'light <= 25 deg': the light's angle from the camera axis",
+        f"{len(result['templates'])} templates, seed {result['seed']}; SAABs budget "
+        f"{result['evaluation_budget']} cost evaluations (dual_annealing gets the same)",
+        f"large pose (*, {result['large_pose_cases']} cases): {result['large_pose_definition']}",
+        f"face detector found {result['detector_found']} of {result['cases']} (median "
+        f"{_fmt(result['detector_median_ms'])} ms, not in the times below)",
+        "MDE: px, RMS over the model points, against the known pose; start: the detector's "
+        "proposal; !: the fit returned a failure (counted with its start's error)",
+        "light: Yale B light azimuth and elevation (deg); 'light <= 25 deg': its angle from the "
+        "camera axis",
         "",
         *_case_rows(result, max_rows),
         "",
