@@ -36,8 +36,10 @@ def _fmt(value) -> str:
     return f"{value:.3f}" if isinstance(value, float) else str(value)
 
 
-def _case_rows(result: dict[str, Any], max_rows: int) -> list[str]:
+def _case_rows(result: dict[str, Any], max_rows: int | None) -> list[str]:
     names = list(METHOD_NAMES)
+    if max_rows is None:
+        max_rows = len(result["rows"])
     header = f"{'case':<22}{'yaw':>6}{'pitch':>6}{'roll':>6}{'light':>11}{'start':>8}  "
     lines = [header + "".join(f"{n:>{_WIDTH}}" for n in names)]
     for row in result["rows"][:max_rows]:
@@ -55,8 +57,9 @@ def _case_rows(result: dict[str, Any], max_rows: int) -> list[str]:
     return lines
 
 
-def format_table(result: dict[str, Any], *, max_rows: int = 60) -> str:
-    """Table I style: one row per case (MDE of each method), then the summary by subset."""
+def format_table(result: dict[str, Any], *, max_rows: int | None = None) -> str:
+    """Table I style: one row per case (MDE of each method; all of them unless `max_rows`),
+    then the summary by subset."""
     names = list(METHOD_NAMES)
     lines = [
         f"uma bench init: {result['cases']} cases at {result['image']} from "
