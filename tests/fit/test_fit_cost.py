@@ -94,3 +94,30 @@ def test_blur_and_thinning_keep_the_minimum(template):
     moved = fit.params.copy()
     moved[0] += 1.0
     assert float(coarse(moved)) > 0.0
+
+
+def _shaded(image: np.ndarray, strength: float) -> np.ndarray:
+    """`image` lit from the side: a gain rising smoothly from left to right (1 - s to 1 + s)."""
+    ramp = np.linspace(1.0 - strength, 1.0 + strength, image.shape[1], dtype=np.float32)
+    return image * ramp[None, :]
+
+
+def test_band_pass_of_the_log_image_keeps_the_minimum_and_cancels_shading(template):
+    from uma.fit.cost import prepared
+
+    fit = template.fit
+    band = Cost(fit, fit.image, blur_px=1.5, band_px=4.0)
+    assert float(band(fit.params)) == pytest.approx(0.0, abs=1e-5)
+    moved = fit.params.copy()
+    moved[0] += 1.5
+    assert float(band(moved)) > 0.01
+    # A smooth side light (gain 0.3 to 1.7 across the picture) moves the plain cost at the true
+    # pose far more than the band-passed one, where it becomes a near-constant offset.
+    lit = _shaded(fit.image, 0.7)
+    plain = float(Cost(fit, lit, blur_px=1.5)(fit.params))
+    banded = float(Cost(fit, lit, blur_px=1.5, band_px=4.0)(fit.params))
+    assert banded < 0.25 * plain
+    with pytest.raises(ValueError):
+        prepared(fit.image, 2.0, 1.0)  # the band must be wider than the blur
+    flat = prepared(np.full((40, 40), 7.0, np.float32), 1.0, 3.0)
+    assert np.allclose(flat, 0.0, atol=1e-4)

@@ -16,7 +16,7 @@ from uma.fit import (
     saabs,
     search_box,
 )
-from uma.fit.saabs import stages
+from uma.fit.saabs import Stage, stages
 
 
 def test_metropolis_rule():
@@ -51,7 +51,10 @@ def test_schedule_cools_from_initial_to_final():
     with pytest.raises(ValueError):
         SaabsConfig(perturbation="nope")
     with pytest.raises(ValueError):
-        SaabsConfig(global_blur=())
+        SaabsConfig(global_stages=())
+    for bad in ({"blur": 1.0}, {"blur": 0.05, "band": 0.02}, {"blur": 0.0, "illumination": 2}):
+        with pytest.raises(ValueError):
+            Stage(**bad)
 
 
 def test_stages_cool_as_the_whole_schedule():

@@ -7,12 +7,14 @@ Pure numpy and compiled kernels (numba); no SimPy. Fits return a `FitResult` or 
 from uma.fit.cost import Cost, FitTemplate
 from uma.fit.fit import fit_face, initial_guess
 from uma.fit.gauss_newton import GaussNewtonConfig, gauss_newton
+from uma.fit.hybrid import HybridConfig, hybrid
 from uma.fit.mde import mde_px
 from uma.fit.perturb import Perturbation, point_metric
 from uma.fit.result import FitResult
 from uma.fit.saabs import (
     AnnealingSchedule,
     SaabsConfig,
+    Stage,
     anneal,
     metropolis_accept,
     saabs,
@@ -24,6 +26,9 @@ __all__ = [
     "Cost",
     "AnnealingSchedule",
     "SaabsConfig",
+    "Stage",
+    "HybridConfig",
+    "hybrid",
     "FitResult",
     "metropolis_accept",
     "Perturbation",

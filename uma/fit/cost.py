@@ -6,7 +6,11 @@ visible pixels (0 for a perfect match, up to 2), optionally after illumination c
 (each triangle patch normalised to zero mean and unit variance in both images). Candidates are
 evaluated in batches by compiled kernels (`uma.fit.kernels`); every evaluation is counted.
 A cost may look at blurred copies of both images (`blur_px`, the Gaussian's sigma): a smoother
-landscape with a wider basin, for the coarse global search.
+landscape with a wider basin, for the coarse global search. With `band_px` it looks at the
+band-pass of the log intensity instead (the Gaussian of `blur_px` minus that of `band_px`): light
+multiplies the albedo, so in the log image a change of light that varies slowly over the face
+becomes a slowly varying offset, which the band-pass removes; the eyes, brows, nose and mouth
+remain. It is what lets the global search through harsh side light.
 """
 
 from __future__ import annotations
@@ -19,7 +23,11 @@ from uma.face.geometry import project, visible_triangles
 from uma.face.model import FaceModel
 from uma.face.render import Raster, barycentric_affine, rasterize
 
-__all__ = ["FitTemplate", "Cost", "batch_visible", "blurred"]
+__all__ = ["FitTemplate", "Cost", "batch_visible", "blurred", "prepared"]
+
+# Log-intensity band-pass values are scaled by this so they span tens of units, like grey levels
+# (the kernels' flatness checks are absolute).
+_LOG_SCALE = 100.0
 
 
 def blurred(image: np.ndarray, sigma_px: float) -> np.ndarray:
@@ -30,6 +38,17 @@ def blurred(image: np.ndarray, sigma_px: float) -> np.ndarray:
 
         out = cv2.GaussianBlur(out, (0, 0), float(sigma_px), borderType=cv2.BORDER_REPLICATE)
     return out
+
+
+def prepared(image: np.ndarray, blur_px: float = 0.0, band_px: float = 0.0) -> np.ndarray:
+    """`image` as a cost sees it (float32): blurred by `blur_px`, or with `band_px` > `blur_px`,
+    the band-pass of log(1 + intensity) between the two Gaussians."""
+    if band_px <= 0:
+        return blurred(image, blur_px)
+    if band_px <= blur_px:
+        raise ValueError(f"band-pass: band_px must exceed blur_px, got {band_px} <= {blur_px}")
+    log = np.log1p(np.maximum(np.asarray(image, dtype=np.float32), 0.0))
+    return _LOG_SCALE * (blurred(log, blur_px) - blurred(log, band_px))
 
 
 @dataclass(frozen=True, eq=False)
@@ -65,11 +84,11 @@ class FitTemplate:
         raster = self.raster.take(keep)
         return FitTemplate(self.model, self.params, self.image, raster, self.values[keep])
 
-    def smoothed(self, sigma_px: float) -> FitTemplate:
-        """The same pixels with their values read from the template image blurred by `sigma_px`."""
-        if sigma_px <= 0:
+    def smoothed(self, sigma_px: float, band_px: float = 0.0) -> FitTemplate:
+        """The same pixels with their values read from the template image as `prepared` makes it."""
+        if sigma_px <= 0 and band_px <= 0:
             return self
-        image = blurred(self.image, sigma_px)
+        image = prepared(self.image, sigma_px, band_px)
         values = image[self.raster.ys, self.raster.xs].astype(np.float32)
         return FitTemplate(self.model, self.params, image, self.raster, values)
 
@@ -132,7 +151,8 @@ class Cost:
     """1 - correlation between the template and `image` warped by each candidate; counts
     evaluations. `illumination` compensates gain and offset per triangle patch (True), or mixes
     the compensated and plain scores with that weight (a float in [0, 1]); `blur_px` smooths
-    both images first (the template's values are re-read from its blurred image)."""
+    both images first (the template's values are re-read from its blurred image), and with
+    `band_px` both are band-passed log images (`prepared`)."""
 
     def __init__(
         self,
@@ -141,16 +161,18 @@ class Cost:
         *,
         illumination: bool | float = False,
         blur_px: float = 0.0,
+        band_px: float = 0.0,
     ):
         weight = float(illumination)
         if not 0.0 <= weight <= 1.0:
             raise ValueError(
                 f"illumination: expected a bool or a weight in [0, 1], got {illumination}"
             )
-        self.template = template.smoothed(blur_px)
-        self.image = blurred(image, blur_px)
+        self.template = template.smoothed(blur_px, band_px)
+        self.image = prepared(image, blur_px, band_px)
         self.illumination = weight
         self.blur_px = float(blur_px)
+        self.band_px = float(band_px)
         self.evaluations = 0
         model = template.model
         self._vertices = np.ascontiguousarray(model.vertices, dtype=np.float64)

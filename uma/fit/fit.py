@@ -3,9 +3,9 @@
 Units: pixels, radians. `fit_face` is what the engine calls when it switches to the model-based
 codec: it checks the image, lets the face detector place the search, runs the chosen method
 (SAABs, SAABs with illumination compensation, Gauss-Newton, or the hybrid: SAABs' global pose
-search with illumination compensation, polished by Gauss-Newton with a gain and offset per
-patch) and returns a `FitResult`, or a `Failure` that says why. `saabs_config.illumination` is
-set by the method ("saabs": off, "saabs_ic" and "hybrid": on).
+search in two views of the images, the better polished by Gauss-Newton with a gain and offset
+per patch; `uma.fit.hybrid`) and returns a `FitResult`, or a `Failure` that says why. `saabs_config.illumination` is
+set by the method ("saabs": off, "saabs_ic": on; the hybrid's stages set their own).
 """
 
 from __future__ import annotations
@@ -18,6 +18,7 @@ from uma.face.detect import Box, detect_face
 from uma.failure import Failure
 from uma.fit.cost import Cost, FitTemplate
 from uma.fit.gauss_newton import GaussNewtonConfig, gauss_newton
+from uma.fit.hybrid import HybridConfig, hybrid
 from uma.fit.result import FitResult
 from uma.fit.saabs import SaabsConfig, saabs
 from uma.fit.search import SearchBox, search_box
@@ -117,6 +118,7 @@ def fit_face(
     calibration: DetectorCalibration | None = None,
     saabs_config: SaabsConfig = SaabsConfig(),
     gn_config: GaussNewtonConfig = GaussNewtonConfig(),
+    hybrid_config: HybridConfig = HybridConfig(),
     rng=None,
 ) -> FitResult | Failure:
     """Fit `template`'s model to `image`; `start`/`box` default to the detector's proposal."""
@@ -140,26 +142,8 @@ def fit_face(
     if method == "gauss_newton":
         result = gauss_newton(template, image, start, box, config=gn_config)
     elif method == "hybrid":
-        # SAABs' global pose search with illumination compensation (a change of light cannot
-        # pull the pose), then Gauss-Newton with a gain and offset per patch polishes the pose
-        # and the action units together.
-        cost = Cost(template, image, illumination=True)
-        found = saabs(
-            cost,
-            start,
-            box,
-            config=replace(saabs_config, illumination=True),
-            rng=rng,
-            actions=False,
-        )
-        # SAABs has found the pose: the polish moves pose and units together from the start.
-        polish = replace(gn_config, patch_photometry=True, pose_first=False)
-        polished = gauss_newton(template, image, found.params, box, config=polish)
-        result = FitResult(
-            params=polished.params,
-            cost=float(cost(polished.params)),
-            evaluations=found.evaluations + polished.evaluations + 1,
-            iterations=found.iterations + polished.iterations,
+        result = hybrid(
+            template, image, start, box, config=hybrid_config, saabs_config=saabs_config, rng=rng
         )
     else:
         config = replace(saabs_config, illumination=method == "saabs_ic")

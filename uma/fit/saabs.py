@@ -12,8 +12,9 @@ compiled cost is cheapest that way) and takes the best proposal by the Metropoli
 when it lowers the cost, else with probability exp(-increase / temperature). The temperature
 falls geometrically from the initial to the final one. The best parameters ever seen are
 returned. The global phase searches the pose (tx, ty, scale, rx, ry, rz) on a subset of the
-template's pixels, in stages on images blurred less and less as it cools (coarse to fine: a
-wide basin first, precision last); the local phase then searches the action units together
+template's pixels, in stages (`Stage`) on images blurred less and less as it cools (coarse to
+fine: a wide basin first, precision last), each stage with its own view of the images (blurred,
+or band-passed log intensity) and its own illumination setting if it names one; the local phase then searches the action units together
 with the pose, on all pixels. A phase may stop early when its best cost has not improved by
 `tolerance` for `patience` steps. Randomness comes only from the generator passed in; wall-clock
 time never enters.
@@ -33,6 +34,7 @@ from uma.fit.result import FitResult
 from uma.fit.search import SearchBox
 
 __all__ = [
+    "Stage",
     "AnnealingSchedule",
     "SaabsConfig",
     "FitResult",
@@ -91,6 +93,29 @@ class AnnealingSchedule:
 
 
 @dataclass(frozen=True)
+class Stage:
+    """How one stage of the global phase looks at the images (sizes as fractions of the face
+    width): blurred by a Gaussian of `blur`, or with `band` > `blur` the band-pass of the log
+    intensity between the two (`uma.fit.cost.prepared`); `illumination` overrides the cost's
+    own setting (None keeps it)."""
+
+    blur: float
+    band: float = 0.0
+    illumination: float | None = None
+
+    def __post_init__(self) -> None:
+        if not 0 <= self.blur < 1 or not (self.band == 0 or self.blur < self.band < 1):
+            raise ValueError(
+                f"SAABs stage: expected 0 <= blur < 1 and band 0 or in (blur, 1), got "
+                f"blur {self.blur}, band {self.band}"
+            )
+        if self.illumination is not None and not 0 <= self.illumination <= 1:
+            raise ValueError(
+                f"SAABs stage: illumination must be None or in [0, 1], got {self.illumination}"
+            )
+
+
+@dataclass(frozen=True)
 class SaabsConfig:
     """SAABs' settings: a global (pose) and a local (pose and action units) phase.
 
@@ -112,7 +137,7 @@ class SaabsConfig:
     perturbation: str = "metric"  # or "axes" (see uma.fit.perturb)
     # The global phase runs in equal stages on images blurred by these Gaussian sigmas (as a
     # fraction of the face width: 4 px, then 1 px on a 78-px face), coarse to fine as it cools.
-    global_blur: tuple[float, ...] = (0.05, 0.0125)
+    global_stages: tuple[Stage, ...] = (Stage(0.05), Stage(0.0125))
     global_pixels: int = 2400  # the global phase scores at most this many template pixels
     local_pixels: int = 8000
 
@@ -121,10 +146,10 @@ class SaabsConfig:
             raise ValueError(
                 f"SAABs perturbation: expected one of {PERTURBATIONS}, got {self.perturbation!r}"
             )
-        blur = self.global_blur
-        if not blur or len(blur) > self.global_phase.steps or not all(0 <= b < 1 for b in blur):
+        count = len(self.global_stages)
+        if not 1 <= count <= self.global_phase.steps:
             raise ValueError(
-                f"SAABs global_blur: expected 1 to {self.global_phase.steps} sigmas in [0, 1), got {blur}"
+                f"SAABs global_stages: expected 1 to {self.global_phase.steps} stages, got {count}"
             )
         if self.global_pixels < 16 or self.local_pixels < 16:
             raise ValueError("SAABs global_pixels and local_pixels must be >= 16")
@@ -132,7 +157,7 @@ class SaabsConfig:
     @property
     def budget(self) -> int:
         """Cost evaluations at most: both phases, the start of each stage, the final scoring."""
-        return self.global_phase.budget + self.local_phase.budget + len(self.global_blur) + 2
+        return self.global_phase.budget + self.local_phase.budget + len(self.global_stages) + 2
 
 
 def stages(schedule: AnnealingSchedule, count: int) -> list[AnnealingSchedule]:
@@ -237,10 +262,15 @@ def saabs(
     pose = np.zeros(start.size, dtype=bool)
     pose[:N_POSE] = True
     best, used, steps, trace = start, 0, 0, ()
-    parts = stages(config.global_phase, len(config.global_blur))
-    for schedule, blur in zip(parts, config.global_blur, strict=True):
+    parts = stages(config.global_phase, len(config.global_stages))
+    for schedule, stage in zip(parts, config.global_stages, strict=True):
+        illumination = cost.illumination if stage.illumination is None else stage.illumination
         coarse = Cost(
-            cost.template, cost.image, illumination=cost.illumination, blur_px=blur * width
+            cost.template,
+            cost.image,
+            illumination=illumination,
+            blur_px=stage.blur * width,
+            band_px=stage.band * width,
         ).thinned(config.global_pixels)
         moves = Perturbation.build(model, best, pose, kind=config.perturbation)
         found = anneal(coarse, best, box, schedule, moves, rng=rng, face_width_px=width)
