@@ -11,7 +11,7 @@ Files: uma's own YAML (`codecs/face/uma-face.yaml`, see `load_model`) and Candid
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -89,16 +89,7 @@ class FaceModel:
                 f"{self.name}: expected {self.n_shapes} shape coefficients, got {shape.shape}"
             )
         vertices = self.vertices + np.tensordot(shape, self.shape_units, axes=1)
-        return FaceModel(
-            name=self.name,
-            vertices=vertices,
-            triangles=self.triangles,
-            shape_units=self.shape_units,
-            shape_unit_names=self.shape_unit_names,
-            action_units=self.action_units,
-            action_unit_names=self.action_unit_names,
-            feature_points=self.feature_points,
-        )
+        return replace(self, vertices=vertices)
 
     def feature_indices(self, names: list[str]) -> np.ndarray:
         missing = [n for n in names if n not in self.feature_points]
