@@ -28,6 +28,7 @@ __all__ = ["FitTemplate", "Cost", "batch_visible", "blurred", "prepared"]
 # Log-intensity band-pass values are scaled by this so they span tens of units, like grey levels
 # (the kernels' flatness checks are absolute).
 _LOG_SCALE = 100.0
+_MAX_VIEWS = 16  # prepared views kept per template
 
 
 def blurred(image: np.ndarray, sigma_px: float) -> np.ndarray:
@@ -85,12 +86,20 @@ class FitTemplate:
         return FitTemplate(self.model, self.params, self.image, raster, self.values[keep])
 
     def smoothed(self, sigma_px: float, band_px: float = 0.0) -> FitTemplate:
-        """The same pixels with their values read from the template image as `prepared` makes it."""
+        """The same pixels with their values read from the template image as `prepared` makes
+        it. Kept per (sigma, band): SAABs asks for the same few views of a template on every
+        frame (its stages are fractions of the template's own face width)."""
         if sigma_px <= 0 and band_px <= 0:
             return self
-        image = prepared(self.image, sigma_px, band_px)
-        values = image[self.raster.ys, self.raster.xs].astype(np.float32)
-        return FitTemplate(self.model, self.params, image, self.raster, values)
+        cache = self.__dict__.setdefault("_views", {})
+        key = (float(sigma_px), float(band_px))
+        if key not in cache:
+            if len(cache) >= _MAX_VIEWS:
+                cache.pop(next(iter(cache)))
+            image = prepared(self.image, sigma_px, band_px)
+            values = image[self.raster.ys, self.raster.xs].astype(np.float32)
+            cache[key] = FitTemplate(self.model, self.params, image, self.raster, values)
+        return cache[key]
 
     @property
     def face_width_px(self) -> float:
@@ -152,7 +161,9 @@ class Cost:
     evaluations. `illumination` compensates gain and offset per triangle patch (True), or mixes
     the compensated and plain scores with that weight (a float in [0, 1]); `blur_px` smooths
     both images first (the template's values are re-read from its blurred image), and with
-    `band_px` both are band-passed log images (`prepared`)."""
+    `band_px` both are band-passed log images (`prepared`). `template_px` (blur, band) views the
+    template differently when its face is another size than the image's (the same filter
+    relative to each face); by default it is viewed as the image."""
 
     def __init__(
         self,
@@ -162,13 +173,14 @@ class Cost:
         illumination: bool | float = False,
         blur_px: float = 0.0,
         band_px: float = 0.0,
+        template_px: tuple[float, float] | None = None,
     ):
         weight = float(illumination)
         if not 0.0 <= weight <= 1.0:
             raise ValueError(
                 f"illumination: expected a bool or a weight in [0, 1], got {illumination}"
             )
-        self.template = template.smoothed(blur_px, band_px)
+        self.template = template.smoothed(*(template_px or (blur_px, band_px)))
         self.image = prepared(image, blur_px, band_px)
         self.illumination = weight
         self.blur_px = float(blur_px)

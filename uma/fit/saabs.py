@@ -262,6 +262,7 @@ def saabs(
     pose = np.zeros(start.size, dtype=bool)
     pose[:N_POSE] = True
     best, used, steps, trace = start, 0, 0, ()
+    template_width = cost.template.face_width_px
     parts = stages(config.global_phase, len(config.global_stages))
     for schedule, stage in zip(parts, config.global_stages, strict=True):
         illumination = cost.illumination if stage.illumination is None else stage.illumination
@@ -271,6 +272,8 @@ def saabs(
             illumination=illumination,
             blur_px=stage.blur * width,
             band_px=stage.band * width,
+            # The same filter relative to the template's own face (and the same on every frame).
+            template_px=(stage.blur * template_width, stage.band * template_width),
         ).thinned(config.global_pixels)
         moves = Perturbation.build(model, best, pose, kind=config.perturbation)
         found = anneal(coarse, best, box, schedule, moves, rng=rng, face_width_px=width)
