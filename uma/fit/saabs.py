@@ -14,8 +14,8 @@ falls geometrically from the initial to the final one. The best parameters ever 
 returned. The global phase searches the pose (tx, ty, scale, rx, ry, rz) on a subset of the
 template's pixels, in stages (`Stage`) on images blurred less and less as it cools (coarse to
 fine: a wide basin first, precision last), each stage with its own view of the images (blurred,
-or band-passed log intensity) and its own illumination setting if it names one; the local phase then searches the action units together
-with the pose, on all pixels. A phase may stop early when its best cost has not improved by
+or band-passed log intensity) and its own illumination setting if it names one; the local
+phase then searches the action units together with the pose, on all pixels. A phase may stop early when its best cost has not improved by
 `tolerance` for `patience` steps. Randomness comes only from the generator passed in; wall-clock
 time never enters.
 """
@@ -135,8 +135,8 @@ class SaabsConfig:
     )
     illumination: bool | float = False  # per-patch compensation, or its weight (uma.fit.cost)
     perturbation: str = "metric"  # or "axes" (see uma.fit.perturb)
-    # The global phase runs in equal stages on images blurred by these Gaussian sigmas (as a
-    # fraction of the face width: 4 px, then 1 px on a 78-px face), coarse to fine as it cools.
+    # The global phase runs in equal stages, coarse to fine as it cools: here on images blurred
+    # by Gaussians of these fractions of the face width (4 px, then 1 px on a 78-px face).
     global_stages: tuple[Stage, ...] = (Stage(0.05), Stage(0.0125))
     global_pixels: int = 2400  # the global phase scores at most this many template pixels
     local_pixels: int = 8000
