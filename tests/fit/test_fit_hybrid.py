@@ -5,7 +5,8 @@ import pytest
 
 from uma.bench.init_cases import make_cases
 from uma.fit import HybridConfig, fit_face, mde_px, search_box
-from uma.fit.hybrid import LIGHT_ROBUST, SAME_LIGHT
+from uma.fit.gauss_newton import GaussNewtonConfig
+from uma.fit.hybrid import LIGHT_ROBUST, SAME_LIGHT, PolishStep
 
 
 def _side_lit(image: np.ndarray, strength: float) -> np.ndarray:
@@ -62,3 +63,5 @@ def test_the_result_counts_every_chain(template, cases):
     assert two.evaluations > one.evaluations + 300  # a second global search of 304
     with pytest.raises(ValueError):
         HybridConfig(chains=())
+    with pytest.raises(ValueError):
+        PolishStep(GaussNewtonConfig(), blur=0.05, band=0.02)  # a band narrower than the blur
