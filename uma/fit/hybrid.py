@@ -63,7 +63,9 @@ POLISH = (
         blur=0.012,
         band=0.1,
     ),
-    PolishStep(GaussNewtonConfig(patch_photometry=True, pose_first=False)),
+    # At most 4,000 template pixels (a CIF face has 17,000): 3 ms less per CIF frame than
+    # 8,000, for 0.18 px median error there instead of 0.11.
+    PolishStep(GaussNewtonConfig(patch_photometry=True, pose_first=False, max_pixels=4000)),
 )
 
 
