@@ -11,8 +11,8 @@ pose search once in each view (`chains`, each a tuple of stages from coarse to f
 the results on the full-resolution illumination-compensated cost, and polishes the better with
 Gauss-Newton (`polish`: on the band-passed view, then on the images with a gain and offset per
 patch; pose and action units together). Measured on `uma bench init`'s 400 cases of seeds 0 to
-4, against one SAABs search polished on the images only: success 89.6 % -> 94 to 95 %, under
-lights beyond 25 degrees 23 % -> 50 to 56 %; a CIF frame costs about 34 ms instead of 22.
+4, against one SAABs search polished on the images only: success 89.8 % -> 94.3 %, under
+lights beyond 25 degrees 21 % -> 51 %; a CIF frame costs about 34 ms instead of 22.
 """
 
 from __future__ import annotations
@@ -56,7 +56,7 @@ class PolishStep:
 # log images (1 to 8 px of a 78-px face), where side light's shading has mostly gone and the
 # polish reaches further; then on the images themselves with a gain and offset per patch, for
 # precision. Measured on 400 cases (seeds 0 to 4): the first step lifts success under lights
-# beyond 25 degrees from 42 % to 56 % and over all cases from 93.2 % to 94.8 %.
+# beyond 25 degrees from 42 % to 51 % and over all cases from 93.2 % to 94.3 %.
 POLISH = (
     PolishStep(
         GaussNewtonConfig(pose_first=False, blur_sigma_px=0.0, max_pixels=3000),
