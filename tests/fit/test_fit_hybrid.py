@@ -21,19 +21,20 @@ def side_lit(template):
     return [(_side_lit(c.image.astype(np.float32), 0.7), c.truth) for c in cases]
 
 
+def _hybrid(template, image, seed, config=None):
+    """The hybrid from the template's placement, in the search box around it."""
+    fit = template.fit
+    config = config or HybridConfig()
+    box = search_box(fit.params, fit.face_width_px)
+    return fit_face(
+        fit, image, method="hybrid", start=fit.params, box=box, rng=seed, hybrid_config=config
+    )
+
+
 def _errors(template, side_lit, config):
-    box = search_box(template.fit.params, template.fit.face_width_px)
     out = []
     for seed, (image, truth) in enumerate(side_lit):
-        result = fit_face(
-            template.fit,
-            image,
-            method="hybrid",
-            start=template.fit.params,
-            box=box,
-            rng=seed,
-            hybrid_config=config,
-        )
+        result = _hybrid(template, image, seed, config)
         out.append(mde_px(template.fit.model, result.params, truth) if result else np.inf)
     return np.array(out)
 
@@ -47,18 +48,9 @@ def test_the_band_passed_view_finds_the_face_under_side_light(template, side_lit
 
 
 def test_the_result_counts_every_chain(template, cases):
-    box = search_box(template.fit.params, template.fit.face_width_px)
     image = cases[0].image.astype(np.float32)
-    one = fit_face(
-        template.fit,
-        image,
-        method="hybrid",
-        start=template.fit.params,
-        box=box,
-        rng=0,
-        hybrid_config=HybridConfig(chains=(LIGHT_ROBUST,)),
-    )
-    two = fit_face(template.fit, image, method="hybrid", start=template.fit.params, box=box, rng=0)
+    one = _hybrid(template, image, 0, HybridConfig(chains=(LIGHT_ROBUST,)))
+    two = _hybrid(template, image, 0)
     assert one and two
     assert two.evaluations > one.evaluations + 300  # a second global search of 304
     with pytest.raises(ValueError):
