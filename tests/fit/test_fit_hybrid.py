@@ -43,8 +43,23 @@ def test_the_band_passed_view_finds_the_face_under_side_light(template, side_lit
     both = _errors(template, side_lit, HybridConfig())
     assert np.median(both) < 1.0 and np.mean(both < 1.5) >= 5 / 6
     # The same-light view alone is pulled off by the shading: the second view is what finds it.
-    same = _errors(template, side_lit, HybridConfig(chains=(SAME_LIGHT,)))
+    same = _errors(template, side_lit, HybridConfig(chains=(SAME_LIGHT,), retry_chains=()))
     assert np.mean(same < 1.5) <= 2 / 6
+    # A poor match after the first searches sends the hybrid into the band-passed view again.
+    retried = _errors(
+        template, side_lit, HybridConfig(chains=(SAME_LIGHT,), retry_chains=(LIGHT_ROBUST,))
+    )
+    assert np.mean(retried < 1.5) >= 5 / 6
+
+
+def test_a_good_match_is_not_searched_again(template, cases):
+    image = cases[0].image.astype(np.float32)
+    plain = _hybrid(template, image, 0, HybridConfig(retry_chains=()))
+    retrying = _hybrid(template, image, 0)  # the template's own light: a close match
+    assert plain and 1.0 - plain.cost > HybridConfig().retry_below
+    assert retrying.evaluations == plain.evaluations
+    always = _hybrid(template, image, 0, HybridConfig(retry_below=1.0))
+    assert always.evaluations > plain.evaluations + 300
 
 
 def test_the_result_counts_every_chain(template, cases):
@@ -55,5 +70,7 @@ def test_the_result_counts_every_chain(template, cases):
     assert two.evaluations > one.evaluations + 300  # a second global search of 304
     with pytest.raises(ValueError):
         HybridConfig(chains=())
+    with pytest.raises(ValueError):
+        HybridConfig(retry_below=1.5)
     with pytest.raises(ValueError):
         PolishStep(GaussNewtonConfig(), blur=0.05, band=0.02)  # a band narrower than the blur

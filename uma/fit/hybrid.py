@@ -8,11 +8,10 @@ same-light case found), but a light from 35 to 60 degrees off axis throws shadin
 across the face that pull the pose off. The band-passed log image (`uma.fit.cost.prepared`)
 removes most of that shading, at the price of a narrower basin. So the hybrid runs SAABs' global
 pose search once in each view (`chains`, each a tuple of stages from coarse to fine), scores
-the results on the full-resolution illumination-compensated cost, and polishes the better with
+the results on the full-resolution illumination-compensated cost, searches again in a wider
+band-passed view when even the best matches poorly (`retry_below`), and polishes the best with
 Gauss-Newton (`polish`: on the band-passed view, then on the images with a gain and offset per
-patch; pose and action units together). Measured on `uma bench init`'s 400 cases of seeds 0 to
-4, against one SAABs search polished on the images only: success 89.8 % -> 94.3 %, under
-lights beyond 25 degrees 21 % -> 51 %; a CIF frame costs about 34 ms instead of 22.
+patch; pose and action units together). Figures are in the README (`uma bench init`).
 """
 
 from __future__ import annotations
@@ -27,7 +26,15 @@ from uma.fit.result import FitResult
 from uma.fit.saabs import SaabsConfig, Stage, saabs
 from uma.fit.search import SearchBox
 
-__all__ = ["HybridConfig", "PolishStep", "hybrid", "SAME_LIGHT", "LIGHT_ROBUST", "POLISH"]
+__all__ = [
+    "HybridConfig",
+    "PolishStep",
+    "hybrid",
+    "SAME_LIGHT",
+    "LIGHT_ROBUST",
+    "LIGHT_ROBUST_WIDE",
+    "POLISH",
+]
 
 # Plain correlation on a 4-px blur (of a 78-px face) for the widest basin, then illumination
 # compensation on a 1-px blur for precision.
@@ -36,6 +43,12 @@ SAME_LIGHT = (Stage(0.05, illumination=0.0), Stage(0.0125, illumination=1.0))
 LIGHT_ROBUST = (
     Stage(0.04, band=0.1, illumination=1.0),
     Stage(0.018, band=0.05, illumination=1.0),
+)
+# Band-passed log intensity at three scales: 5 to 12 px, 2.3 to 6 px, then 1 to 3 px.
+LIGHT_ROBUST_WIDE = (
+    Stage(0.06, band=0.15, illumination=1.0),
+    Stage(0.03, band=0.08, illumination=1.0),
+    Stage(0.012, band=0.04, illumination=1.0),
 )
 
 
@@ -71,14 +84,23 @@ POLISH = (
 
 @dataclass(frozen=True)
 class HybridConfig:
-    """The hybrid's global searches (one SAABs run per chain of stages) and its polish steps."""
+    """The hybrid's global searches (one SAABs run per chain of stages), the further searches
+    it runs when the best match is poor (illumination-compensated correlation below
+    `retry_below`: a harsh light, or a search that went astray), and its polish steps."""
 
     chains: tuple[tuple[Stage, ...], ...] = (SAME_LIGHT, LIGHT_ROBUST)
+    # Measured on the 400 cases of seeds 0 to 4: 1 case in 10 is searched again (nearly all
+    # under lights beyond 25 deg), success 94.5 % -> 95.5 %; on the held-out seeds 5 to 7,
+    # 95.8 % -> 97.1 %. A correct fit under the template's own light correlates above 0.8.
+    retry_below: float = 0.6
+    retry_chains: tuple[tuple[Stage, ...], ...] = (LIGHT_ROBUST_WIDE,)
     polish: tuple[PolishStep, ...] = POLISH
 
     def __post_init__(self) -> None:
-        if not self.chains or not all(self.chains):
+        if not self.chains or not all(self.chains) or not all(self.retry_chains):
             raise ValueError("hybrid: expected at least one chain, each of at least one stage")
+        if not -1.0 <= self.retry_below <= 1.0:
+            raise ValueError(f"hybrid: retry_below must be a correlation, got {self.retry_below}")
 
 
 def hybrid(
@@ -97,18 +119,26 @@ def hybrid(
     rng = np.random.default_rng(rng)
     image = np.asarray(image, dtype=np.float32)
     cost = Cost(template, image, illumination=True)
-    found = [
-        saabs(
-            cost,
-            start,
-            box,
-            config=replace(saabs_config, global_stages=stages, illumination=True),
-            rng=rng,
-            actions=False,
-        )
-        for stages in config.chains
-    ]
+
+    def search(chains: tuple[tuple[Stage, ...], ...]) -> list[FitResult]:
+        return [
+            saabs(
+                cost,
+                start,
+                box,
+                config=replace(saabs_config, global_stages=stages, illumination=True),
+                rng=rng,
+                actions=False,
+            )
+            for stages in chains
+        ]
+
+    found = search(config.chains)
     scores = cost(np.array([f.params for f in found]))
+    if 1.0 - scores.min() < config.retry_below and config.retry_chains:
+        more = search(config.retry_chains)
+        found += more
+        scores = np.concatenate([scores, cost(np.array([f.params for f in more]))])
     params = found[int(np.argmin(scores))].params
     evaluations = sum(f.evaluations for f in found) + len(found)
     iterations = sum(f.iterations for f in found)
