@@ -90,8 +90,9 @@ class HybridConfig:
 
     chains: tuple[tuple[Stage, ...], ...] = (SAME_LIGHT, LIGHT_ROBUST)
     # Measured on the 400 cases of seeds 0 to 4: 1 case in 10 is searched again (nearly all
-    # under lights beyond 25 deg), success 94.5 % -> 95.5 %; on the held-out seeds 5 to 7,
-    # 95.8 % -> 97.1 %. A correct fit under the template's own light correlates above 0.8.
+    # under lights beyond 25 deg), success 94.3 % -> 95.3 %; on the 240 of seeds 5 to 7, not
+    # used to choose it, 95.8 % -> 96.7 %. A correct fit under the template's own light
+    # correlates above 0.8.
     retry_below: float = 0.6
     retry_chains: tuple[tuple[Stage, ...], ...] = (LIGHT_ROBUST_WIDE,)
     polish: tuple[PolishStep, ...] = POLISH
