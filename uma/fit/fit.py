@@ -3,9 +3,10 @@
 Units: pixels, radians. `fit_face` is what the engine calls when it switches to the model-based
 codec: it checks the image, lets the face detector place the search, runs the chosen method
 (SAABs, SAABs with illumination compensation, Gauss-Newton, or the hybrid: SAABs' global pose
-search in two views of the images, the better polished by Gauss-Newton with a gain and offset
-per patch; `uma.fit.hybrid`) and returns a `FitResult`, or a `Failure` that says why. `saabs_config.illumination` is
-set by the method ("saabs": off, "saabs_ic": on; the hybrid's stages set their own).
+search in two views of the images, a third when the match is poor, the best polished by
+Gauss-Newton; `uma.fit.hybrid`) and returns a `FitResult`, or a `Failure` that says why.
+`saabs_config.illumination` is set by the method ("saabs": off, "saabs_ic": on; the hybrid's
+stages set their own).
 """
 
 from __future__ import annotations
