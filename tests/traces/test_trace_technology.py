@@ -97,14 +97,26 @@ def test_generate_errors():
         RateModel(10.0, 11.0, 20.0, 0.1, 0.5)
 
 
+def _same_trace(a, b) -> bool:
+    # numpy's elementary functions may differ in the last bit between releases (numpy is not
+    # pinned), so generated rates are compared to 1e-12 relative; everything else exactly.
+    return (
+        np.array_equal(a.times_s, b.times_s)
+        and np.allclose(a.rates_kbps, b.rates_kbps, rtol=1e-12, atol=0)
+        and a.technologies == b.technologies
+        and a.duration_s == b.duration_s
+    )
+
+
 def test_project_traces_are_what_the_documented_command_writes(tmp_path):
     for spec in PROJECT_TRACES:
         committed = read_trace(traces_dir() / spec.name)
-        assert committed == build_project_trace(spec), spec.name
+        assert _same_trace(committed, build_project_trace(spec)), spec.name
         assert committed.duration_s == pytest.approx(sum(s.duration_s for s in spec.segments))
     assert main([str(tmp_path)]) == 0
     for spec in PROJECT_TRACES:
-        assert (tmp_path / spec.name).read_bytes() == (traces_dir() / spec.name).read_bytes()
+        written = read_trace(tmp_path / spec.name)
+        assert _same_trace(written, read_trace(traces_dir() / spec.name)), spec.name
 
 
 def test_project_gprs_outage_has_its_outage():
