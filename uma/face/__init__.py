@@ -13,7 +13,8 @@ from uma.face.geometry import (
     rotation_matrix,
     visible_triangles,
 )
-from uma.face.model import FaceModel, load_model, save_model
+from uma.face.load import load_model
+from uma.face.model import FaceModel, save_model
 from uma.face.render import Raster, RenderResult, rasterize, render, sample_bilinear, warp_points
 from uma.face.talking_head import Motion, TalkingHeadSource
 from uma.face.wfm import read_wfm
