@@ -14,6 +14,7 @@ from uma.face.geometry import (
     rotation_matrix,
     visible_triangles,
 )
+from uma.face.landmarks import IBUG68_TO_MPEG4, read_dlib_xml, read_pts, to_mpeg4
 from uma.face.model import FaceModel, load_model, save_model
 from uma.face.points import PointsFile, load_points
 from uma.face.render import Raster, RenderResult, rasterize, render, sample_bilinear, warp_points
@@ -49,6 +50,10 @@ __all__ = [
     "describe_clip",
     "read_picture",
     "picture_of",
+    "IBUG68_TO_MPEG4",
+    "read_pts",
+    "read_dlib_xml",
+    "to_mpeg4",
     "Box",
     "detect_face",
     "Motion",
