@@ -51,6 +51,7 @@ class World:
     inbox: simpy.Store | None = None
     next_unit_seq: int = 0
     feedback_lost: int = 0
+    on_display: Callable | None = None  # (index, source, shown, picture): `uma report --video`
 
     def send_feedback(self, item, handler: Callable) -> None:
         """Carry a report or request over the mobile uplink; lost in an outage or at random."""
@@ -149,6 +150,9 @@ def display_process(env: simpy.Environment, world: World):
         log["display_ms"][index] = deadline_s * 1000.0
         log["shown_frame"][index] = shown
         log["frozen"][index] = int(shown < 0 or shown != last_scheduled)
-        world.quality.submit(index, world.source_frames.pop(index), shown, picture)
+        source = world.source_frames.pop(index)
+        if world.on_display is not None:
+            world.on_display(index, source, shown, picture)
+        world.quality.submit(index, source, shown, picture)
         if world.progress is not None:
             world.progress(index + 1, world.frames)

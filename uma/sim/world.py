@@ -109,12 +109,15 @@ def run_scenario(
     progress: Callable[[int, int], None] | None = None,
     account: bool = False,
     source=None,
+    on_display: Callable[[int, np.ndarray, int, np.ndarray | None], None] | None = None,
 ) -> RunResult:
     """Simulate `scenario`; `progress(done, total)` is told of each displayed frame.
 
     With `account`, the wall-clock seconds spent in codecs and quality metrics are summed for
     `uma bench sim`; they are measured, never used by the simulation. `source` replaces the
     scenario's frame source (a benchmark passes frames it prepared beforehand).
+    `on_display(index, source, shown, picture)` sees each display instant's source frame and
+    the picture shown (None before the first), for `uma report --video`.
     """
     from uma.video import load_ladder
 
@@ -180,6 +183,7 @@ def run_scenario(
         quality=quality,
         progress=progress,
         inbox=simpy.Store(env),
+        on_display=on_display,
     )
     world_ref.append(world)
     env.process(sender_process(env, world))
