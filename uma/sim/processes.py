@@ -52,11 +52,13 @@ class World:
     next_unit_seq: int = 0
     feedback_lost: int = 0
     on_display: Callable | None = None  # (index, source, shown, picture): `uma report --video`
+    faults: Any = None  # uma.sim.faults.Faults: feedback silence
 
     def send_feedback(self, item, handler: Callable) -> None:
         """Carry a report or request over the mobile uplink; lost in an outage or at random."""
         now_s = self.env.now
-        if self.capacity.rate_kbps_at(now_s) <= 0.0:
+        silent = self.faults is not None and self.faults.feedback_silent(now_s)
+        if silent or self.capacity.rate_kbps_at(now_s) <= 0.0:
             self.feedback_lost += 1
             return
         props = self.link_props(self.capacity.technology_at(now_s))

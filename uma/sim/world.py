@@ -18,6 +18,7 @@ from uma.engine.engine import EngineEvent, UmaEngine
 from uma.metrics.framelog import FrameLog
 from uma.sim.capacity import CapacitySchedule
 from uma.sim.codecs import CodecChain
+from uma.sim.faults import Faults, fault_rng, with_outages
 from uma.sim.links import Downlink, FixedLink, LinkProps, LinkStats, downlink_process
 from uma.sim.processes import (
     World,
@@ -125,6 +126,8 @@ def run_scenario(
         np.random.default_rng(s) for s in np.random.SeedSequence(scenario.seed).spawn(3)
     )
     capacity = build_capacity(scenario, route_rng)
+    faults = Faults(scenario.faults, rng=fault_rng(scenario.seed))
+    capacity = with_outages(capacity, scenario.faults.outages)
     ladder = load_ladder(scenario.engine.ladder)
     source = source if source is not None else open_source(scenario.source, seed=scenario.seed)
     fps = float(source.fps)
@@ -161,6 +164,7 @@ def run_scenario(
         props=props,
         rng=loss_rng,
         deliver=receiver.on_packet,
+        faults=faults if faults.active else None,
     )
     world = World(
         env=env,
@@ -184,6 +188,7 @@ def run_scenario(
         progress=progress,
         inbox=simpy.Store(env),
         on_display=on_display,
+        faults=faults if faults.active else None,
     )
     world_ref.append(world)
     env.process(sender_process(env, world))
@@ -196,6 +201,7 @@ def run_scenario(
         log["psnr_db"][index] = psnr
         log["ssim"][index] = similarity
 
+    downlink.stats.packets_queued_at_end = len(downlink.queue)
     end_s = frames / fps
     events = sorted(_handover_events(capacity, end_s) + engine.events, key=lambda e: e.time_s)
     return RunResult(
