@@ -25,8 +25,14 @@ __all__ = [
     "EstimatorConfig",
     "EngineConfig",
     "ReceiverConfig",
+    "AdaptivePlayoutConfig",
     "MetricsConfig",
+    "ESTIMATOR_KINDS",
 ]
+
+# Bandwidth estimators the engine can use: its own delay-based one, or WebRTC's receiver-side
+# estimator (aiortc's port of webrtc.org's RemoteBitrateEstimator) carried back as a REMB.
+ESTIMATOR_KINDS = ("uma", "webrtc")
 
 Num = Annotated[float, Strict(), AllowInfNan(False)]
 PosNum = Annotated[float, Strict(), AllowInfNan(False), Field(gt=0)]
@@ -124,6 +130,17 @@ class EstimatorConfig(_Section):
     increase_per_s: NonNeg = 0.5
     loss_high: Fraction = 0.1
     window_s: PosNum = 1.0
+    # Which estimator: `engine.estimator: webrtc` is short for `engine.estimator: {kind: webrtc}`.
+    kind: Literal["uma", "webrtc"] = "uma"
+
+    @model_validator(mode="before")
+    @classmethod
+    def _kind_shorthand(cls, data):
+        if isinstance(data, str):
+            if data not in ESTIMATOR_KINDS:
+                raise ValueError(f"expected one of {', '.join(ESTIMATOR_KINDS)}")
+            return {"kind": data}
+        return data
 
 
 class EngineConfig(_Section):
@@ -138,10 +155,31 @@ class EngineConfig(_Section):
     estimator: EstimatorConfig = Field(default_factory=EstimatorConfig)
 
 
+class AdaptivePlayoutConfig(_Section):
+    """A playout delay that follows the measured frame delay and jitter (`uma.sim.playout`).
+
+    The target is a high percentile of the recent frames' capture-to-decoded delays plus a
+    margin, within [min_delay_ms, max_delay_ms]; the delay moves towards it by at most
+    `max_change_ms_per_s` (WebRTC's 100 ms/s), and a frame decoded after its deadline raises it
+    at once by its lateness, but not above the target (as WebRTC's VCMTiming does).
+    """
+
+    window_s: PosNum = 2.0
+    percentile: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, le=100)] = 95.0
+    margin_ms: NonNeg = 20.0
+    min_delay_ms: NonNeg = 50.0
+    max_delay_ms: PosNum = 10000.0
+    max_change_ms_per_s: PosNum = 100.0
+
+
 class ReceiverConfig(_Section):
-    """The mobile receiver's conversational playout delay."""
+    """The mobile receiver's playout: a fixed conversational deadline, or adaptive."""
 
     playout_delay_ms: PosNum = 300.0
+    # `fixed`: every frame at capture + playout_delay_ms; `adaptive`: the delay starts at
+    # playout_delay_ms and then follows the frames' delays as `adaptive` says.
+    playout: Literal["fixed", "adaptive"] = "fixed"
+    adaptive: AdaptivePlayoutConfig = Field(default_factory=AdaptivePlayoutConfig)
 
 
 class MetricsConfig(_Section):

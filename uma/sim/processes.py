@@ -51,6 +51,7 @@ class World:
     inbox: simpy.Store | None = None
     next_unit_seq: int = 0
     feedback_lost: int = 0
+    playout: Any = None  # uma.sim.playout: FixedPlayout or AdaptivePlayout (None: fixed)
 
     def send_feedback(self, item, handler: Callable) -> None:
         """Carry a report or request over the mobile uplink; lost in an outage or at random."""
@@ -140,7 +141,8 @@ def display_process(env: simpy.Environment, world: World):
     log = world.log
     last_scheduled = -1
     for index in range(world.frames):
-        deadline_s = index / world.fps + playout_s
+        delay_s = playout_s if world.playout is None else world.playout.delay_s(env.now)
+        deadline_s = max(env.now, index / world.fps + delay_s)
         if env.now < deadline_s:
             yield env.timeout(deadline_s - env.now)
         if log["scheduled"][index]:

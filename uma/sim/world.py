@@ -19,6 +19,7 @@ from uma.metrics.framelog import FrameLog
 from uma.sim.capacity import CapacitySchedule
 from uma.sim.codecs import CodecChain
 from uma.sim.links import Downlink, FixedLink, LinkProps, LinkStats, downlink_process
+from uma.sim.playout import make_playout
 from uma.sim.processes import (
     World,
     display_process,
@@ -157,6 +158,14 @@ def run_scenario(
         rng=loss_rng,
         deliver=receiver.on_packet,
     )
+    playout = make_playout(scenario.receiver)
+    receiver.on_decoded = lambda frame, arrival_s: playout.on_decoded(
+        log["capture_ms"][frame] / 1000.0, arrival_s
+    )
+    if scenario.engine.estimator.kind == "webrtc":
+        from uma.engine.webrtc import RembEstimator
+
+        receiver.bwe = RembEstimator()
     world = World(
         env=env,
         scenario=scenario,
@@ -178,6 +187,7 @@ def run_scenario(
         quality=quality,
         progress=progress,
         inbox=simpy.Store(env),
+        playout=playout,
     )
     world_ref.append(world)
     env.process(sender_process(env, world))
