@@ -158,10 +158,9 @@ class EngineConfig(_Section):
 class AdaptivePlayoutConfig(_Section):
     """A playout delay that follows the measured frame delay and jitter (`uma.sim.playout`).
 
-    The target is a high percentile of the recent frames' capture-to-decoded delays plus a
-    margin, within [min_delay_ms, max_delay_ms]; the delay moves towards it by at most
-    `max_change_ms_per_s` (WebRTC's 100 ms/s), and a frame decoded after its deadline raises it
-    at once by its lateness, but not above the target (as WebRTC's VCMTiming does).
+    The target is a high percentile of the capture-to-decoded delays of the frames decoded in
+    the last `window_s`, plus a margin, within [min_delay_ms, max_delay_ms]; the delay moves
+    towards it at a bounded slope (down at WebRTC's 100 ms/s, up at most 500 ms/s by default).
     """
 
     window_s: PosNum = 2.0
@@ -169,7 +168,11 @@ class AdaptivePlayoutConfig(_Section):
     margin_ms: NonNeg = 20.0
     min_delay_ms: NonNeg = 50.0
     max_delay_ms: PosNum = 10000.0
-    max_change_ms_per_s: PosNum = 100.0
+    # Below 1000 ms/s, so display instants never go back in time.
+    max_decrease_ms_per_s: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, lt=1000)] = (
+        100.0
+    )
+    max_increase_ms_per_s: PosNum = 500.0
 
 
 class ReceiverConfig(_Section):

@@ -6,10 +6,12 @@ decodes.
 
 `AdaptivePlayout` behaves as WebRTC's video jitter buffer does in outline: a target delay from
 the recent frames' capture-to-decoded delays (a high percentile over a time window, plus a
-margin, within bounds), which the current delay approaches by at most `max_change_ms_per_s`
-(WebRTC's VCMTiming: 100 ms per second, so a change plays as slight slow or fast motion rather
-than a jump); a frame decoded after its deadline raises the delay at once by its lateness, but
-not above the target (VCMTiming's rule for late frames). With no recent frame the delay holds.
+margin, within bounds), which the current delay approaches at a bounded slope, so a change
+plays as slow or fast motion rather than a jump: down by at most `max_decrease_ms_per_s`
+(WebRTC's VCMTiming: 100 ms per second), up by at most `max_increase_ms_per_s`. WebRTC also
+lets a late frame raise the delay at once by its lateness; here it may not (on cellular traces
+one frame queued through an outage would set seconds of delay in one step), so the delay stays
+smooth. With no frame decoded within the window the delay holds.
 """
 
 from __future__ import annotations
@@ -61,19 +63,15 @@ class AdaptivePlayout:
 
     def on_decoded(self, capture_s: float, arrival_s: float) -> None:
         self._samples.append((arrival_s, arrival_s - capture_s))
-        late_s = arrival_s - (capture_s + self.current_s)
-        if late_s > 0:
-            target = self.target_s(arrival_s)
-            ceiling = max(self.current_s, target if target is not None else self.current_s)
-            self.current_s = min(self.current_s + late_s, ceiling)
 
     def delay_s(self, now_s: float) -> float:
         elapsed_s = 0.0 if self._last_s is None else max(0.0, now_s - self._last_s)
         self._last_s = now_s
         target = self.target_s(now_s)
         if target is not None:
-            step_s = self.config.max_change_ms_per_s / 1000.0 * elapsed_s
-            self.current_s += min(max(target - self.current_s, -step_s), step_s)
+            up_s = self.config.max_increase_ms_per_s / 1000.0 * elapsed_s
+            down_s = self.config.max_decrease_ms_per_s / 1000.0 * elapsed_s
+            self.current_s += min(max(target - self.current_s, -down_s), up_s)
         return self.current_s
 
 

@@ -72,6 +72,8 @@ class ReceiverState:
             self.bwe.on_packet(arrival_s=now_s, sent_s=packet.sent_s, size_bits=packet.size_bits)
 
         unit = packet.unit
+        if unit is None:
+            return  # padding: counted and seen by the estimator, nothing to decode
         # The link is FIFO: a packet of a later unit means earlier incomplete units are lost.
         for seq in [s for s in self.assembling if s < unit.unit_seq]:
             del self.assembling[seq]

@@ -37,12 +37,13 @@ def run_metrics(result: RunResult) -> dict[str, Any]:
 
 
 def playout_metrics(result: RunResult) -> dict[str, Any]:
-    """WebRTC's freeze statistics, the displayed frame rate and the playout delay of a run."""
+    """WebRTC's freeze statistics, displayed frame rate, playout delay and padding of a run."""
     log = result.log
     stats = freeze_stats(log["display_ms"], log["shown_frame"], duration_s=result.duration_s)
     playout_ms = log["display_ms"] - log["capture_ms"]
     playout_ms = playout_ms[np.isfinite(playout_ms)]
     stats["playout_delay_mean_ms"] = round(float(playout_ms.mean()), 3) if playout_ms.size else None
+    stats["kbps_padding"] = round(result.padding_bits / result.duration_s / 1000.0, 3)
     stats["estimator"] = result.scenario.engine.estimator.kind
     stats["playout"] = result.scenario.receiver.playout
     return stats

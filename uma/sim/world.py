@@ -51,6 +51,7 @@ class RunResult:
     feedback_lost: int
     codec_s: float = 0.0
     metrics_s: float = 0.0
+    padding_bits: int = 0
 
 
 def build_capacity(scenario: Scenario, rng: np.random.Generator) -> CapacitySchedule:
@@ -216,4 +217,5 @@ def run_scenario(
         feedback_lost=world.feedback_lost,
         codec_s=codec.seconds,
         metrics_s=quality.seconds,
+        padding_bits=world.padding_bits,
     )
