@@ -27,9 +27,12 @@ __all__ = [
     "ReceiverConfig",
     "AdaptivePlayoutConfig",
     "MetricsConfig",
+    "POLICY_NAMES",
     "ESTIMATOR_KINDS",
 ]
 
+# The rate policies `engine.policy` may name; `uma.engine.policy.POLICIES` implements each.
+POLICY_NAMES: tuple[str, ...] = ("throughput", "oracle", "fixed")
 # Bandwidth estimators the engine can use: its own delay-based one, or WebRTC's receiver-side
 # estimator (aiortc's port of webrtc.org's RemoteBitrateEstimator) carried back as a REMB.
 ESTIMATOR_KINDS = ("uma", "webrtc")
@@ -153,6 +156,13 @@ class EngineConfig(_Section):
     fixed_rung: NonNegInt | None = None
     transcode_ms: NonNeg = 4.0
     estimator: EstimatorConfig = Field(default_factory=EstimatorConfig)
+    # Tuning (see `uma.engine.engine`): reports missing for this many intervals mean an outage;
+    # no more than this much sending time in flight; unacknowledged packets presumed lost after
+    # this long; while backlogged, a probe frame this often.
+    stale_reports: PosInt = 3
+    max_backlog_ms: PosNum = 300.0
+    presume_lost_ms: PosNum = 2000.0
+    probe_interval_ms: PosNum = 1000.0
 
 
 class AdaptivePlayoutConfig(_Section):
@@ -179,6 +189,10 @@ class ReceiverConfig(_Section):
     """The mobile receiver's playout: a fixed conversational deadline, or adaptive."""
 
     playout_delay_ms: PosNum = 300.0
+    # Tuning (see `uma.sim.receiver`): ask again for an IDR when none came this long after the
+    # last request; one-way delays older than this no longer set the queue-delay base.
+    keyframe_retry_ms: PosNum = 1000.0
+    base_delay_window_s: PosNum = 10.0
     # `fixed`: every frame at capture + playout_delay_ms; `adaptive`: the delay starts at
     # playout_delay_ms and then follows the frames' delays as `adaptive` says.
     playout: Literal["fixed", "adaptive"] = "fixed"

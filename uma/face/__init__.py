@@ -1,6 +1,7 @@
 """The face model: wireframe (uma's own and Candide-3), geometry, renderer, detector, content
 description, and a talking-head source with ground truth. OpenCV is imported where needed."""
 
+from uma.face.clip import describe_clip, picture_of, read_picture
 from uma.face.describe import ContentDescription, describe, load_description, read_points
 from uma.face.detect import Box, detect_face
 from uma.face.fit_points import PointFit, fit_points
@@ -13,7 +14,10 @@ from uma.face.geometry import (
     rotation_matrix,
     visible_triangles,
 )
-from uma.face.model import FaceModel, load_model, save_model
+from uma.face.landmarks import IBUG68_TO_MPEG4, read_dlib_xml, read_pts, to_mpeg4
+from uma.face.load import load_model
+from uma.face.model import FaceModel, save_model
+from uma.face.points import PointsFile, load_points
 from uma.face.render import Raster, RenderResult, rasterize, render, sample_bilinear, warp_points
 from uma.face.talking_head import Motion, TalkingHeadSource
 from uma.face.wfm import read_wfm
@@ -42,6 +46,15 @@ __all__ = [
     "describe",
     "load_description",
     "read_points",
+    "PointsFile",
+    "load_points",
+    "describe_clip",
+    "read_picture",
+    "picture_of",
+    "IBUG68_TO_MPEG4",
+    "read_pts",
+    "read_dlib_xml",
+    "to_mpeg4",
     "Box",
     "detect_face",
     "Motion",
