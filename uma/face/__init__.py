@@ -4,6 +4,15 @@ description, and a talking-head source with ground truth. OpenCV is imported whe
 from uma.face.clip import describe_clip, picture_of, read_picture
 from uma.face.describe import ContentDescription, describe, load_description, read_points
 from uma.face.detect import Box, detect_face
+from uma.face.fap import (
+    FapSequence,
+    FapUnits,
+    fap_units,
+    faps_to_parameters,
+    parameters_to_faps,
+    read_fap,
+    write_fap,
+)
 from uma.face.fit_points import PointFit, fit_points
 from uma.face.geometry import (
     N_POSE,
@@ -54,6 +63,13 @@ __all__ = [
     "read_pts",
     "read_dlib_xml",
     "to_mpeg4",
+    "FapSequence",
+    "FapUnits",
+    "read_fap",
+    "write_fap",
+    "fap_units",
+    "faps_to_parameters",
+    "parameters_to_faps",
     "Box",
     "detect_face",
     "Motion",
