@@ -224,3 +224,20 @@ def test_bad_sequences():
         FapSequence(name="x", fps=0, frames=())
     with pytest.raises(FaceError, match="one-line"):
         FapSequence(name="a\nb", fps=25, frames=())
+
+
+def test_a_track_becomes_a_fap_file_and_back(person, tmp_path):
+    from uma.face.fap import fap_sequence
+
+    model, units = person
+    rng = np.random.default_rng(3)
+    base = np.concatenate([[100.0, 80.0, 50.0, 0.0, 0.0, 0.0], np.zeros(model.n_actions)])
+    track = np.repeat(base[None], 5, axis=0)
+    track[:, 3:] += rng.uniform(-0.2, 0.2, (5, 3 + model.n_actions))
+    sequence = fap_sequence(track, model, units, fps=25, name="track", base=base)
+    write_fap(sequence, tmp_path / "track.fap")
+    back = read_fap(tmp_path / "track.fap")
+    assert back == sequence and len(back) == 5
+    replayed = np.array([faps_to_parameters(f, model, units, base=base) for f in back.frames])
+    assert np.abs(replayed[:, 3:6] - track[:, 3:6]).max() <= 0.5e-5 + 1e-12
+    assert np.abs(replayed[:, N_POSE:] - track[:, N_POSE:]).max() < 0.02

@@ -54,6 +54,7 @@ __all__ = [
     "fap_matrix",
     "faps_to_parameters",
     "parameters_to_faps",
+    "fap_sequence",
 ]
 
 N_FAPS = 68
@@ -427,3 +428,23 @@ def parameters_to_faps(
     values = matrix @ delta[N_POSE:]
     faps |= {k: int(np.rint(v)) for k, v in zip(numbers, values, strict=True)}
     return dict(sorted(faps.items()))
+
+
+def fap_sequence(
+    track: np.ndarray,
+    model: FaceModel,
+    units: FapUnits,
+    *,
+    fps: float,
+    name: str,
+    base: np.ndarray | None = None,
+) -> FapSequence:
+    """The `FapSequence` of a parameter track (F, 6 + A), e.g. a tracker's output, each frame
+    measured from `base` by `parameters_to_faps`; `write_fap` saves it."""
+    track = np.asarray(track, dtype=np.float64)
+    if track.ndim != 2:
+        raise FaceError(
+            f"{name}: expected a track of shape (frames, parameters), got {track.shape}"
+        )
+    frames = tuple(parameters_to_faps(row, model, units, base=base) for row in track)
+    return FapSequence(name=name, fps=fps, frames=frames)
