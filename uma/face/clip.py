@@ -18,7 +18,21 @@ from uma.face.describe import ContentDescription, describe
 from uma.face.model import FaceModel
 from uma.face.points import SKIMAGE_PREFIX, PointsFile, load_points
 
-__all__ = ["read_picture", "picture_of", "describe_clip"]
+__all__ = ["SHIPPED_CLIPS", "shipped_points", "read_picture", "picture_of", "describe_clip"]
+
+# Clip name (as `uma bench mbc` names clips) -> its hand-clicked points in codecs/face/.
+SHIPPED_CLIPS = {"akiyo": "akiyo.yaml", "carphone": "carphone.yaml", "astronaut": "astronaut.yaml"}
+
+
+def shipped_points(name: str) -> Path:
+    """The points file shipped for clip `name` (`akiyo`, `carphone`, `astronaut`)."""
+    from uma.paths import codecs_dir
+
+    if name not in SHIPPED_CLIPS:
+        raise FaceError(
+            f"no shipped points for {name!r}: expected one of {', '.join(SHIPPED_CLIPS)}"
+        )
+    return codecs_dir() / "face" / SHIPPED_CLIPS[name]
 
 
 def read_picture(path: str | Path, *, frame: int | None = None) -> np.ndarray:
@@ -93,17 +107,21 @@ def picture_of(points: PointsFile, *, frame: int | None = None) -> np.ndarray:
 
 
 def describe_clip(
-    points_file: str | Path | PointsFile, *, model: FaceModel | None = None
+    points_file: str | Path | PointsFile,
+    *,
+    model: FaceModel | None = None,
+    crop: bool = True,
 ) -> ContentDescription:
     """The content description of the clip (or image) a points file names, as `uma describe`
-    writes it: e.g. `describe_clip(codecs_dir() / "face" / "akiyo.yaml")`.
+    writes it: e.g. `describe_clip(shipped_points("akiyo"))`. With `crop=False` the texture is
+    the whole frame (see `describe`).
 
     Raises `FaceError` (or `VideoError`) naming the file when the picture cannot be read or the
     points do not fit the model.
     """
     points = points_file if isinstance(points_file, PointsFile) else load_points(points_file)
     picture = picture_of(points)
-    result = describe(picture, points.points, model=model)
+    result = describe(picture, points.points, model=model, crop=crop)
     if not result:
         raise FaceError(f"{points.path}: {result.reason}")
     return result
