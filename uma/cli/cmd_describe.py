@@ -1,4 +1,5 @@
-"""`uma describe IMAGE --points FILE`: fit the personal wireframe to a template image."""
+"""`uma describe IMAGE|VIDEO [--frame N] --points FILE`: fit the personal wireframe to a template
+picture (a still image, or one frame of a video)."""
 
 from __future__ import annotations
 
@@ -7,11 +8,14 @@ import argparse
 __all__ = ["register"]
 
 HELP = """\
-Fit the face model to a frontal template image from feature points you clicked (a YAML or
+Fit the face model to a frontal template picture from feature points you clicked (a YAML or
 JSON mapping of MPEG-4 feature point names, such as "3.5" for the left pupil, to [x, y]
-pixels). Writes the content description the engine sends ahead to the receiver
-(IMAGE-stem.face: personal wireframe, texture, initial pose) and a PNG with the fitted
-wireframe drawn over the image. OpenCV's Haar cascade must find a face in the image."""
+pixels). The picture is a still image (anything OpenCV reads) or frame N of a video (anything
+PyAV decodes; --frame N, 0-based). A points file may name its picture itself (video: and
+frame:, or image:, as codecs/face/akiyo.yaml does); then IMAGE and --frame may be left out.
+Writes the content description the engine sends ahead to the receiver (STEM.face, STEM the
+image's or video's name: personal wireframe, texture, initial pose) and STEM.fit.png with the
+fitted wireframe drawn over the picture. OpenCV's Haar cascade must find a face in it."""
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -21,7 +25,15 @@ def register(sub: argparse._SubParsersAction) -> None:
         description=HELP,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    parser.add_argument("image", metavar="IMAGE", help="template image (any format OpenCV reads)")
+    parser.add_argument(
+        "image",
+        metavar="IMAGE|VIDEO",
+        nargs="?",
+        help="template image or video (default: the picture the points file names)",
+    )
+    parser.add_argument(
+        "--frame", type=int, metavar="N", help="frame of the video (0-based; default the file's)"
+    )
     parser.add_argument(
         "--points", required=True, metavar="FILE", help="feature points (YAML/JSON)"
     )
@@ -47,19 +59,24 @@ def _describe(args: argparse.Namespace) -> int:
 
     from uma.atomic import atomic_write_bytes
     from uma.errors import FaceError
-    from uma.face import describe, detect_face, load_model, read_points
+    from uma.face import describe, detect_face, load_model
+    from uma.face.clip import picture_of, read_picture
+    from uma.face.points import load_points
 
-    image_path = Path(args.image)
-    try:
-        data = np.frombuffer(image_path.read_bytes(), dtype=np.uint8)
-    except FileNotFoundError:
-        raise FaceError(f"{image_path}: no such image file") from None
-    except OSError as err:
-        raise FaceError(f"{image_path}: cannot read ({err.strerror})") from None
-    image = cv2.imdecode(data, cv2.IMREAD_COLOR) if data.size else None
-    if image is None:
-        raise FaceError(f"{image_path}: not an image OpenCV can read")
-    points = read_points(args.points)
+    points_file = load_points(args.points)
+    points = points_file.points
+    if args.image is not None:
+        image_path = Path(args.image)
+        frame = args.frame
+        if frame is None and points_file.video is not None and _same(image_path, points_file.video):
+            frame = points_file.frame
+        image = read_picture(image_path, frame=frame)
+    else:
+        source = points_file.video or points_file.image
+        if source is None:
+            raise FaceError(f"{args.points}: names no picture: give IMAGE or VIDEO")
+        image_path = Path(str(source).removeprefix("skimage:"))
+        image = picture_of(points_file, frame=args.frame)
     model = load_model(args.model) if args.model else None
     box = detect_face(cv2.cvtColor(image, cv2.COLOR_BGR2GRAY))
     if not box:
@@ -107,3 +124,10 @@ def _describe(args: argparse.Namespace) -> int:
             f"{box.x},{box.y} {box.width}x{box.height}"
         )
     return 0
+
+
+def _same(a, b) -> bool:
+    try:
+        return a.resolve() == b.resolve()
+    except OSError:
+        return False

@@ -1,6 +1,7 @@
 """The face model: wireframe (uma's own and Candide-3), geometry, renderer, detector, content
 description, and a talking-head source with ground truth. OpenCV is imported where needed."""
 
+from uma.face.clip import describe_clip, picture_of, read_picture
 from uma.face.describe import ContentDescription, describe, load_description, read_points
 from uma.face.detect import Box, detect_face
 from uma.face.fit_points import PointFit, fit_points
@@ -14,6 +15,7 @@ from uma.face.geometry import (
     visible_triangles,
 )
 from uma.face.model import FaceModel, load_model, save_model
+from uma.face.points import PointsFile, load_points
 from uma.face.render import Raster, RenderResult, rasterize, render, sample_bilinear, warp_points
 from uma.face.talking_head import Motion, TalkingHeadSource
 from uma.face.wfm import read_wfm
@@ -42,6 +44,11 @@ __all__ = [
     "describe",
     "load_description",
     "read_points",
+    "PointsFile",
+    "load_points",
+    "describe_clip",
+    "read_picture",
+    "picture_of",
     "Box",
     "detect_face",
     "Motion",

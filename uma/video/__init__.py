@@ -5,6 +5,7 @@ Frames are planar YUV 4:2:0 arrays of shape (H * 3 // 2, W), uint8, everywhere i
 inside the functions that need them.
 """
 
+from uma.video.frame import read_frame
 from uma.video.h264 import NAL_IDR, EncodedFrame, H264Decoder, H264Encoder, nal_unit_types
 from uma.video.ladder import EncoderSettings, Ladder, Rung, default_ladder_path, load_ladder
 from uma.video.scale import resize_yuv420, split_planes
@@ -26,4 +27,5 @@ __all__ = [
     "VideoFileSource",
     "RawYuvSource",
     "PatternSource",
+    "read_frame",
 ]

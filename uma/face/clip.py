@@ -1,0 +1,109 @@
+"""Content descriptions of real clips: the picture a points file names, described.
+
+Units: pixels; frame indices are 0-based decoded pictures.
+
+`describe_clip("codecs/face/akiyo.yaml")` is what `uma describe --points codecs/face/akiyo.yaml`
+does without the command line: decode the frame the file names, fit the model to its points,
+and return the content description (texture cut from that frame).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from uma.errors import FaceError, VideoError
+from uma.face.describe import ContentDescription, describe
+from uma.face.model import FaceModel
+from uma.face.points import SKIMAGE_PREFIX, PointsFile, load_points
+
+__all__ = ["read_picture", "picture_of", "describe_clip"]
+
+
+def read_picture(path: str | Path, *, frame: int | None = None) -> np.ndarray:
+    """A BGR picture: the still image at `path` (anything OpenCV reads), or frame `frame` of
+    the video at `path` (anything PyAV decodes).
+
+    A still is tried first; what OpenCV cannot read goes to PyAV. `frame` given for a still,
+    or missing for a video, is a `FaceError`/`VideoError` naming the file.
+    """
+    import cv2
+
+    from uma.video.frame import read_frame
+
+    if str(path).startswith(SKIMAGE_PREFIX):
+        return _skimage(str(path), frame)
+    path = Path(path)
+    try:
+        data = np.frombuffer(path.read_bytes(), dtype=np.uint8)
+    except FileNotFoundError:
+        raise FaceError(f"{path}: no such image or video file") from None
+    except IsADirectoryError:
+        raise FaceError(f"{path}: is a folder, not an image or video file") from None
+    except OSError as err:
+        raise FaceError(f"{path}: cannot read ({err.strerror})") from None
+    image = cv2.imdecode(data, cv2.IMREAD_COLOR) if data.size else None
+    if image is not None:
+        if frame is not None:
+            raise FaceError(f"{path}: a still image has no frame {frame}: --frame is for videos")
+        return image
+    if frame is None:
+        try:
+            read_frame(path, 0)
+        except VideoError:
+            raise FaceError(
+                f"{path}: neither an image OpenCV reads nor a video PyAV decodes"
+            ) from None
+        raise FaceError(f"{path}: is a video: say which frame (--frame N, or frame: in the points)")
+    try:
+        return read_frame(path, frame)
+    except VideoError as err:
+        if "not a video" in str(err) or "no video stream" in str(err):
+            raise FaceError(
+                f"{path}: neither an image OpenCV reads nor a video PyAV decodes"
+            ) from None
+        raise
+
+
+def _skimage(reference: str, frame: int | None) -> np.ndarray:
+    import cv2
+    import skimage.data
+
+    name = reference[len(SKIMAGE_PREFIX) :]
+    loader = getattr(skimage.data, name, None)
+    if frame is not None:
+        raise FaceError(f"{reference}: a still image has no frame {frame}")
+    if loader is None or not callable(loader):
+        raise FaceError(f"{reference}: scikit-image ships no picture {name!r}")
+    image = np.asarray(loader())
+    if image.ndim == 2:
+        return cv2.cvtColor(image, cv2.COLOR_GRAY2BGR)
+    return cv2.cvtColor(image[..., :3], cv2.COLOR_RGB2BGR)
+
+
+def picture_of(points: PointsFile, *, frame: int | None = None) -> np.ndarray:
+    """The picture `points` names (its `video:` at `frame:` or its `image:`); `frame`
+    overrides the file's frame."""
+    if points.video is not None:
+        return read_picture(points.video, frame=frame if frame is not None else points.frame)
+    if points.image is not None:
+        return read_picture(points.image, frame=frame)
+    raise FaceError(f"{points.path}: names no picture (video: or image:)")
+
+
+def describe_clip(
+    points_file: str | Path | PointsFile, *, model: FaceModel | None = None
+) -> ContentDescription:
+    """The content description of the clip (or image) a points file names, as `uma describe`
+    writes it: e.g. `describe_clip(codecs_dir() / "face" / "akiyo.yaml")`.
+
+    Raises `FaceError` (or `VideoError`) naming the file when the picture cannot be read or the
+    points do not fit the model.
+    """
+    points = points_file if isinstance(points_file, PointsFile) else load_points(points_file)
+    picture = picture_of(points)
+    result = describe(picture, points.points, model=model)
+    if not result:
+        raise FaceError(f"{points.path}: {result.reason}")
+    return result
