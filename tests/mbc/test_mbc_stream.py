@@ -58,7 +58,9 @@ def test_decoder_reproduces_the_encoders_quantised_values_exactly() -> None:
     assert sorted(got) == list(range(60))
     assert np.array_equal(np.array([got[k] for k in range(60)]), expected)
     # Within half a step of the unquantised parameters, in every unit.
-    steps = UNITS.from_units(ParameterEncoder(UNITS, CONFIG).quantiser.steps(16))
+    steps = UNITS.from_units(
+        ParameterEncoder(UNITS, CONFIG).quantiser.steps(CONFIG.quantiser.global_code)
+    )
     assert np.all(np.abs(expected - params) <= steps / 2 + 1e-9)
 
 

