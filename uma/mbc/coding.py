@@ -34,9 +34,9 @@ class CoderConfig:
     larger ones escape; the prior's counts fall off as exp(-|k| / prior_width); every coded
     symbol adds `increment` to its count; counts halve when they sum beyond `max_total`."""
 
-    half_range: int = 12
-    prior_peak: float = 24.0
-    prior_width: float = 1.5
+    half_range: int = 24
+    prior_peak: float = 16.0
+    prior_width: float = 3.0
     increment: int = 24
     max_total: int = 1 << 13
 
