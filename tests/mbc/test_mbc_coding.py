@@ -73,7 +73,7 @@ def test_models_adapt_so_small_residuals_cost_little() -> None:
     zeros = [(True, rng.integers(-100, 100, 13))] + [(False, np.zeros(13, int))] * 100
     _, bits = encode_sets(zeros, AdaptiveModels(13))
     # 13 x 20 bits for the intra set; the 1,300 zero residuals then cost about a quarter of a
-    # bit each (the prior alone would charge them 2.7 bits: log2 of its mass over its peak).
+    # bit each (the prior alone would charge them 2.6 bits: log2 of its mass over its peak).
     assert bits - 13 * 20 < 0.3 * 1300
 
 
