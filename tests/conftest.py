@@ -1,12 +1,25 @@
-"""Shared fixtures: the real data beside the clone (`../shared/data`), skipped when absent."""
+"""Shared fixtures: the real data beside the clone (`../shared/data`), skipped when absent.
+
+Hypothesis profiles: `ci` is derandomised (the same examples every run, so a CI failure is
+about the change, not the draw), chosen by `HYPOTHESIS_PROFILE=ci` (as `.ci/run` sets) or by
+`CI` being set; local runs keep `dev`, which draws new examples each time.
+"""
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
+from hypothesis import settings
 
 from uma.paths import shared_data_dir
+
+settings.register_profile("ci", derandomize=True, database=None, print_blob=True)
+settings.register_profile("dev")
+settings.load_profile(
+    os.environ.get("HYPOTHESIS_PROFILE") or ("ci" if os.environ.get("CI") else "dev")
+)
 
 
 @pytest.fixture(scope="session")

@@ -14,6 +14,7 @@ __all__ = [
     "VideoError",
     "FaceError",
     "RunError",
+    "OutputError",
 ]
 
 
@@ -43,3 +44,7 @@ class RunError(UmaError, RuntimeError):
     """The run itself found a problem (a failed check); exit status 1."""
 
     exit_code = 1
+
+
+class OutputError(UmaError, OSError):
+    """Results cannot be written where asked: a file in the way, no permission, disk full."""

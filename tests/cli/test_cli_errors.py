@@ -49,3 +49,21 @@ def test_malformed_trace_in_scenario_names_file_and_line(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "line 3 of" in err[0] and "t.csv" in err[0]
     assert not (tmp_path / "out" / "metrics.json").exists()
+
+
+def test_run_out_that_is_a_file_fails_before_the_run(tmp_path, capsys, monkeypatch):
+    import uma.sim
+
+    def never(*args, **kwargs):
+        raise AssertionError("the simulation ran")
+
+    monkeypatch.setattr(uma.sim, "run_scenario", never)
+    taken = tmp_path / "taken"
+    taken.write_text("x")
+    scenario = tmp_path / "s.yaml"
+    scenario.write_text("name: x\nroute:\n  - {technology: 3G, duration_s: 1}\n")
+    assert main(["run", str(scenario), "--out", str(taken), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [
+        f"uma: error: --out: expected a folder for the results, got an existing file '{taken}'"
+    ]

@@ -154,3 +154,39 @@ def test_any_yaml_mapping_is_a_scenario_or_one_config_error(tmp_path_factory, da
         assert "s.yaml" in str(err) and "\n" not in str(err)
     else:
         assert scenario.route
+
+
+def test_duplicate_key_names_both_lines(tmp_path):
+    text = MINIMAL + "seed: 1\nengine:\n  policy: oracle\n  safety: 0.9\n  policy: fixed\n"
+    with pytest.raises(
+        ConfigError, match=r"s.yaml:9 \(engine\.policy\): duplicate key, already given on line 7"
+    ):
+        load_scenario(write(tmp_path, text))
+    with pytest.raises(ConfigError, match=r":6 \(seed\): duplicate key, already given on line 5"):
+        load_scenario(write(tmp_path, MINIMAL + "seed: 1\nseed: 2\n"))
+
+
+def test_trace_that_is_a_folder_is_named_as_a_folder(tmp_path):
+    (tmp_path / "traces").mkdir()
+    text = MINIMAL + "  - {technology: 3G, duration_s: 5, trace: traces}\n"
+    with pytest.raises(ConfigError, match=r"route\[1\]\.trace\): expected a file, got a folder"):
+        load_scenario(write(tmp_path, text))
+
+
+def test_policy_names_are_the_engines_policies():
+    from uma.config.scenario import POLICY_NAMES
+    from uma.engine.policy import POLICIES
+
+    assert set(POLICY_NAMES) == set(POLICIES)
+
+
+def test_engine_and_receiver_tuning_is_configurable(tmp_path):
+    text = MINIMAL + (
+        "engine: {stale_reports: 5, max_backlog_ms: 500, presume_lost_ms: 1000,"
+        " probe_interval_ms: 250}\nreceiver: {keyframe_retry_ms: 400, base_delay_window_s: 4}\n"
+    )
+    scenario = load_scenario(write(tmp_path, text))
+    assert scenario.engine.stale_reports == 5 and scenario.engine.probe_interval_ms == 250
+    assert scenario.receiver.keyframe_retry_ms == 400
+    with pytest.raises(ConfigError, match=r"engine\.stale_reports"):
+        load_scenario(write(tmp_path, MINIMAL + "engine: {stale_reports: 0}\n"))

@@ -92,3 +92,43 @@ def test_missing_reports_decay_the_estimate():
     before = engine.estimate_kbps
     engine.on_frame(0, 1.0)
     assert engine.estimate_kbps < before
+
+
+def _report(now_s, *, bits=20000, packets=2, highest_seq=0):
+    return ReceiverReport(
+        sent_s=now_s,
+        interval_s=0.1,
+        received_bits=bits,
+        packets_received=packets,
+        packets_lost=0,
+        highest_seq=highest_seq,
+        queue_delay_ms=0.0,
+    )
+
+
+def test_silent_feedback_decays_the_estimate_but_keeps_its_window():
+    engine = make_engine(stale_reports=3)
+    engine.on_packets_sent([8000, 8000])
+    for i in range(10):
+        engine.on_report(_report(i / 10, highest_seq=1), i / 10)
+    before = engine.estimator
+    engine.on_frame(50, 2.0)  # reports stopped 1.1 s ago: stale
+    after = engine.estimator
+    assert after.estimate_kbps == before.estimate_kbps * 0.85
+    assert after.window == before.window and after.received_kbps == before.received_kbps
+    assert after.last_decrease_s == 2.0
+
+
+def test_stale_threshold_is_configurable():
+    engine = make_engine(stale_reports=30)
+    estimate = engine.estimate_kbps
+    engine.on_frame(50, 2.0)  # 20 intervals without a report: not yet stale
+    assert engine.estimate_kbps == estimate
+
+
+def test_report_naming_a_sequence_never_sent_is_clamped():
+    engine = make_engine()
+    engine.on_packets_sent([8000, 8000])
+    engine.on_report(_report(0.1, highest_seq=99), 0.1)
+    assert engine.highest_seq == 1 and engine.outstanding_bits == 0
+    engine.on_frame(3, 0.12)

@@ -99,3 +99,17 @@ def test_write_results_writes_all_files(tmp_path):
         "scenario.yaml",
     ]
     assert json.loads((out / "metrics.json").read_text()) == {"a": 1}
+
+
+def test_ssim_db_comes_from_the_unrounded_mean():
+    # mean SSIM 0.99996: rounded to 4 decimals it would read 1.0 and 100 dB
+    log = FrameLog(2)
+    log["capture_ms"][:] = [0.0, 40.0]
+    log["display_ms"][:] = [300.0, 340.0]
+    log["shown_frame"][:] = [0, 1]
+    log["ssim"][:] = [0.99995, 0.99997]
+    out = aggregate(
+        log, duration_s=0.08, capacity_bits=1000, link={"bits_delivered": 0}, event_kinds=[]
+    )
+    assert out["ssim"] == 1.0
+    assert out["ssim_db"] == pytest.approx(-10 * math.log10(1 - 0.99996), abs=1e-4)

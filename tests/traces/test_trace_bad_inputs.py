@@ -225,3 +225,15 @@ def test_mixed_lines_are_not_guessed(tmp_path):
     # The first lines disagree on the format: auto refuses rather than picking one.
     with pytest.raises(TraceError, match="cannot tell the trace format"):
         read_trace(write(tmp_path, "1,100\n0\t1\n"))
+
+
+def test_gzip_trace_is_read_and_a_broken_one_named(tmp_path):
+    import gzip
+
+    plain = write(tmp_path, VALID["pensieve"])
+    packed = tmp_path / "trace.log.gz"
+    packed.write_bytes(gzip.compress(VALID["pensieve"].encode()))
+    assert read_trace(packed) == read_trace(plain)
+    packed.write_bytes(gzip.compress(VALID["pensieve"].encode())[:20])
+    with pytest.raises(TraceError, match=r"trace.log.gz: a gzip-compressed trace that does not"):
+        read_trace(packed)

@@ -94,7 +94,7 @@ def test_vbv_bounds_the_queue_at_the_target_rate(akiyo, rate_kbps, width, height
     frames = at_rung(akiyo, width, height, fps)
     encoder = H264Encoder(width, height, fps, rate_kbps)
     sizes = [encoder.encode(f, force_idr=i % 37 == 0).size_bits for i, f in enumerate(frames)]
-    assert encoder.vbv_bufsize_kbit == pytest.approx(4 * rate_kbps / fps)
+    assert encoder.vbv_bufsize_kbit == int(4 * rate_kbps / fps)
     assert peak_queue_kbit(sizes, rate_kbps, fps) <= encoder.vbv_bufsize_kbit
 
 
@@ -236,3 +236,11 @@ def test_encoder_rejects_bad_frames_and_settings():
 def test_nal_unit_types_parses_annex_b():
     assert nal_unit_types(b"\x00\x00\x00\x01\x67ab\x00\x00\x01\x68c\x00\x00\x01\x65") == [7, 8, 5]
     assert nal_unit_types(b"") == []
+
+
+def test_vbv_settings_are_whole_kbit_x264_accepts():
+    # x264 refuses "vbv-maxrate=1500.000" ("Error parsing option") and truncates it; whole kbit
+    # rounded down keep the cap at or below the target
+    encoder = H264Encoder(176, 144, 7.5, 37.9)
+    assert (encoder.vbv_maxrate_kbit, encoder.vbv_bufsize_kbit) == (37, 20)
+    assert "vbv-maxrate=37:vbv-bufsize=20:" in encoder.x264_params

@@ -13,6 +13,8 @@ JSON mapping of MPEG-4 feature point names, such as "3.5" for the left pupil, to
 pixels). The picture is a still image (anything OpenCV reads) or frame N of a video (anything
 PyAV decodes; --frame N, 0-based). A points file may name its picture itself (video: and
 frame:, or image:, as codecs/face/akiyo.yaml does); then IMAGE and --frame may be left out.
+68-point iBUG landmarks serve as clicks too: a .pts file, or dlib's XML (the faces annotated
+for IMAGE's file name), mapped to MPEG-4 points as uma/face/landmarks.py documents.
 Writes the content description the engine sends ahead to the receiver (STEM.face, STEM the
 image's or video's name: personal wireframe, texture, initial pose) and STEM.fit.png with the
 fitted wireframe drawn over the picture. OpenCV's Haar cascade must find a face in it."""
@@ -35,7 +37,16 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--frame", type=int, metavar="N", help="frame of the video (0-based; default the file's)"
     )
     parser.add_argument(
-        "--points", required=True, metavar="FILE", help="feature points (YAML/JSON)"
+        "--points",
+        required=True,
+        metavar="FILE",
+        help="feature points (YAML/JSON), or 68 iBUG landmarks (.pts, dlib .xml)",
+    )
+    parser.add_argument(
+        "--face",
+        type=int,
+        metavar="K",
+        help="with a dlib .xml naming several faces in the image: which (0-based; default the largest)",
     )
     parser.add_argument("--model", metavar="FILE", help="face model (.yaml or Candide-3 .wfm)")
     parser.add_argument("--out", metavar="DIR", default=".", help="output folder (default .)")
@@ -63,7 +74,7 @@ def _describe(args: argparse.Namespace) -> int:
     from uma.face.clip import picture_of, read_picture
     from uma.face.points import load_points
 
-    points_file = load_points(args.points)
+    points_file = load_points(args.points, image=args.image, face=args.face)
     points = points_file.points
     if args.image is not None:
         image_path = Path(args.image)

@@ -34,6 +34,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def handle(args: argparse.Namespace) -> int:
     from pathlib import Path
 
+    from uma.atomic import prepare_out_dir
     from uma.config import load_scenario
     from uma.errors import ConfigError
     from uma.sim import run_scenario
@@ -44,7 +45,7 @@ def handle(args: argparse.Namespace) -> int:
         if args.seed < 0:
             raise ConfigError(f"--seed: expected a non-negative integer, got {args.seed}")
         scenario = scenario.with_seed(args.seed)
-    out_dir = Path(args.out) if args.out else Path("results") / scenario.name
+    out_dir = prepare_out_dir(Path(args.out) if args.out else Path("results") / scenario.name)
 
     bar = None
     if not args.quiet and sys.stderr.isatty():

@@ -5,7 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from uma.config.scenario import Scenario
+from uma.config.scenario import POLICY_NAMES, Scenario
+from uma.config.technologies import LABELS, technology_label
 from uma.config.yamlfile import KeyLines, load_yaml
 from uma.errors import ConfigError
 from uma.paths import scenarios_dir
@@ -66,26 +67,24 @@ def _check_files(scenario: Scenario, lines: KeyLines) -> None:
     ]
     wanted += [(("route", i, "trace"), seg.trace) for i, seg in enumerate(scenario.route)]
     for key_path, path in wanted:
+        if path is not None and Path(path).is_dir():
+            raise ConfigError(f"{lines.where(key_path)}: expected a file, got a folder {path!r}")
         if path is not None and not Path(path).is_file():
             raise ConfigError(f"{lines.where(key_path)}: expected an existing file, got {path!r}")
 
 
 def _check_names(scenario: Scenario, lines: KeyLines) -> None:
-    from uma.engine.policy import POLICIES
-
-    if scenario.engine.policy not in POLICIES:
-        choices = ", ".join(sorted(POLICIES))
+    if scenario.engine.policy not in POLICY_NAMES:
+        choices = ", ".join(sorted(POLICY_NAMES))
         raise ConfigError(
             f"{lines.where(('engine', 'policy'))}: expected one of {choices}, "
             f"got {scenario.engine.policy!r}"
         )
-    from uma.traces.technology import TECHNOLOGIES, normalise_technology
-
     for index, segment in enumerate(scenario.route):
-        if segment.trace is None and normalise_technology(segment.technology) not in TECHNOLOGIES:
+        if segment.trace is None and not technology_label(segment.technology):
             raise ConfigError(
                 f"{lines.where(('route', index, 'technology'))}: expected one of "
-                f"{', '.join(TECHNOLOGIES)} (or a trace file), got {segment.technology!r}"
+                f"{', '.join(LABELS)} (or a trace file), got {segment.technology!r}"
             )
     if scenario.engine.policy == "fixed" and scenario.engine.fixed_rung is None:
         raise ConfigError(f"{lines.where(('engine',))}: policy 'fixed' needs 'fixed_rung'")

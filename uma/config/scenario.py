@@ -26,7 +26,11 @@ __all__ = [
     "EngineConfig",
     "ReceiverConfig",
     "MetricsConfig",
+    "POLICY_NAMES",
 ]
+
+# The rate policies `engine.policy` may name; `uma.engine.policy.POLICIES` implements each.
+POLICY_NAMES: tuple[str, ...] = ("throughput", "oracle", "fixed")
 
 Num = Annotated[float, Strict(), AllowInfNan(False)]
 PosNum = Annotated[float, Strict(), AllowInfNan(False), Field(gt=0)]
@@ -136,12 +140,23 @@ class EngineConfig(_Section):
     fixed_rung: NonNegInt | None = None
     transcode_ms: NonNeg = 4.0
     estimator: EstimatorConfig = Field(default_factory=EstimatorConfig)
+    # Tuning (see `uma.engine.engine`): reports missing for this many intervals mean an outage;
+    # no more than this much sending time in flight; unacknowledged packets presumed lost after
+    # this long; while backlogged, a probe frame this often.
+    stale_reports: PosInt = 3
+    max_backlog_ms: PosNum = 300.0
+    presume_lost_ms: PosNum = 2000.0
+    probe_interval_ms: PosNum = 1000.0
 
 
 class ReceiverConfig(_Section):
     """The mobile receiver's conversational playout delay."""
 
     playout_delay_ms: PosNum = 300.0
+    # Tuning (see `uma.sim.receiver`): ask again for an IDR when none came this long after the
+    # last request; one-way delays older than this no longer set the queue-delay base.
+    keyframe_retry_ms: PosNum = 1000.0
+    base_delay_window_s: PosNum = 10.0
 
 
 class MetricsConfig(_Section):

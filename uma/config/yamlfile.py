@@ -51,19 +51,29 @@ def format_key_path(key_path: Sequence[Any]) -> str:
     return out
 
 
-def _walk(node: Any, key_path: tuple, lines: dict[tuple, int]) -> None:
+def _walk(node: Any, key_path: tuple, lines: dict[tuple, int], path: Path) -> None:
     import yaml
 
     lines[key_path] = node.start_mark.line + 1
     if isinstance(node, yaml.MappingNode):
+        seen: dict[Any, int] = {}
         for key_node, value_node in node.value:
             key = key_node.value
-            _walk(value_node, key_path + (key,), lines)
+            line = key_node.start_mark.line + 1
+            if key in seen:
+                # yaml.safe_load keeps the last of duplicate keys silently; a typo'd copy of a
+                # key would then override the one the user reads.
+                dotted = format_key_path(key_path + (key,))
+                raise ConfigError(
+                    f"{path}:{line} ({dotted}): duplicate key, already given on line {seen[key]}"
+                )
+            seen[key] = line
+            _walk(value_node, key_path + (key,), lines, path)
             # Point at the key's own line: a nested mapping's value starts on the next line.
             lines[key_path + (key,)] = key_node.start_mark.line + 1
     elif isinstance(node, yaml.SequenceNode):
         for index, item in enumerate(node.value):
-            _walk(item, key_path + (index,), lines)
+            _walk(item, key_path + (index,), lines, path)
 
 
 def load_yaml(path: str | Path) -> tuple[Any, KeyLines]:
@@ -88,5 +98,5 @@ def load_yaml(path: str | Path) -> tuple[Any, KeyLines]:
         raise ConfigError(f"{path}: invalid YAML: {err}") from None
     lines: dict[tuple, int] = {}
     if node is not None:
-        _walk(node, (), lines)
+        _walk(node, (), lines, path)
     return data, KeyLines(path, lines)

@@ -6,6 +6,13 @@ The SimPy world feeds it receiver reports, keyframe requests and the sender's fr
 out what it returns (skip the frame, or transcode it at a rung, as an IDR or not). The engine keeps
 what it needs to judge the downlink: the bandwidth estimate, the bits still in flight (sent
 after the highest sequence number the receiver has reported), and when it last switched rung.
+
+The tuning lives in `EngineConfig` so sweeps reach it: `stale_reports` (reports missing for this
+many intervals mean the feedback path, and likely the downlink, is down), `max_backlog_ms` (frames
+waiting in the network beyond this much sending time are not worth adding to), `presume_lost_ms`
+(packets the receiver has not acknowledged after this long are presumed lost: a lost tail would
+otherwise look outstanding forever and stall the engine) and `probe_interval_ms` (while
+backlogged, still send a frame this often: a probe that keeps the reports coming).
 """
 
 from __future__ import annotations
@@ -13,21 +20,16 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from uma.config.scenario import EngineConfig, FeedbackConfig
-from uma.engine.estimator import EstimatorState, initial_estimate, update_estimate
+from uma.engine.estimator import (
+    EstimatorState,
+    initial_estimate,
+    stale_decrease,
+    update_estimate,
+)
 from uma.engine.policy import POLICIES, PolicyView, highest_fitting
 from uma.engine.reports import KeyframeRequest, ReceiverReport
 
 __all__ = ["UmaEngine", "FrameDecision", "EngineEvent"]
-
-# Reports missing for this many intervals mean the feedback path, and likely the downlink, is down.
-STALE_REPORTS = 3
-# Encoded frames waiting in the network beyond this much sending time are not worth adding to.
-MAX_BACKLOG_S = 0.3
-# Packets the receiver has not acknowledged after this long are presumed lost (a lost tail
-# would otherwise look outstanding forever and stall the engine).
-PRESUME_LOST_S = 2.0
-# While backlogged, still send a frame this often: a probe that keeps the reports coming.
-PROBE_INTERVAL_S = 1.0
 
 
 @dataclass(frozen=True)
@@ -92,8 +94,11 @@ class UmaEngine:
 
     # --- events in -------------------------------------------------------------------------
     def on_report(self, report: ReceiverReport, now_s: float) -> None:
-        if report.highest_seq > self.highest_seq:
-            self.highest_seq = report.highest_seq
+        # A report cannot acknowledge more than was sent (a corrupt or forged report would
+        # otherwise index past the sent packets).
+        reported_seq = min(report.highest_seq, len(self.cum_sent_bits) - 2)
+        if reported_seq > self.highest_seq:
+            self.highest_seq = reported_seq
             self.last_progress_s = now_s
         self.last_report_s = now_s
         self.estimator = update_estimate(
@@ -132,7 +137,10 @@ class UmaEngine:
     ) -> FrameDecision:
         """Decide for source frame `frame`, arriving from the sender at `now_s`."""
         self._check_stale(now_s)
-        if self.outstanding_bits and now_s - self.last_progress_s > PRESUME_LOST_S:
+        if (
+            self.outstanding_bits
+            and now_s - self.last_progress_s > self.config.presume_lost_ms / 1000.0
+        ):
             self.highest_seq = len(self.cum_sent_bits) - 2
             self.last_progress_s = now_s
         view = PolicyView(
@@ -163,8 +171,8 @@ class UmaEngine:
             return FrameDecision(
                 frame, self.rung, scheduled=False, send=False, force_idr=False, reason="fps"
             )
-        budget_bits = self.estimator.estimate_kbps * 1000.0 * MAX_BACKLOG_S
-        probe_due = now_s - self.last_sent_s >= PROBE_INTERVAL_S
+        budget_bits = self.estimator.estimate_kbps * self.config.max_backlog_ms
+        probe_due = now_s - self.last_sent_s >= self.config.probe_interval_ms / 1000.0
         if self.outstanding_bits > budget_bits and not switched and not probe_due:
             return FrameDecision(
                 frame, self.rung, scheduled=True, send=False, force_idr=False, reason="backlog"
@@ -187,16 +195,9 @@ class UmaEngine:
 
     def _check_stale(self, now_s: float) -> None:
         interval_s = self.feedback.interval_ms / 1000.0
-        if now_s - self.last_report_s <= STALE_REPORTS * interval_s:
+        if now_s - self.last_report_s <= self.config.stale_reports * interval_s:
             return
         if now_s - self.last_stale_decrease_s < interval_s:
             return
-        est = self.config.estimator
-        decayed = max(est.min_kbps, self.estimator.estimate_kbps * est.decrease_factor)
-        self.estimator = EstimatorState(
-            estimate_kbps=decayed,
-            last_decrease_s=now_s,
-            queue_delay_ms=self.estimator.queue_delay_ms,
-            loss_fraction=self.estimator.loss_fraction,
-        )
+        self.estimator = stale_decrease(self.estimator, now_s=now_s, config=self.config.estimator)
         self.last_stale_decrease_s = now_s

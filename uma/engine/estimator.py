@@ -21,7 +21,7 @@ from dataclasses import dataclass, replace
 from uma.config.scenario import EstimatorConfig
 from uma.engine.reports import ReceiverReport
 
-__all__ = ["EstimatorState", "initial_estimate", "update_estimate"]
+__all__ = ["EstimatorState", "initial_estimate", "update_estimate", "stale_decrease"]
 
 
 @dataclass(frozen=True)
@@ -55,6 +55,25 @@ def _windowed(state: EstimatorState, report: ReceiverReport, window_s: float):
     return window, rate_kbps, loss
 
 
+def _bounded(estimate_kbps: float, config: EstimatorConfig) -> float:
+    return min(max(estimate_kbps, config.min_kbps), config.max_kbps)
+
+
+def stale_decrease(
+    state: EstimatorState, *, now_s: float, config: EstimatorConfig
+) -> EstimatorState:
+    """One multiplicative decrease when reports stop coming (the feedback path is silent).
+
+    Only the estimate and the time of the decrease change: the report window and the received
+    rate are kept, so the first report after the silence is judged against what came before.
+    """
+    return replace(
+        state,
+        estimate_kbps=_bounded(state.estimate_kbps * config.decrease_factor, config),
+        last_decrease_s=now_s,
+    )
+
+
 def update_estimate(
     state: EstimatorState,
     report: ReceiverReport,
@@ -83,7 +102,7 @@ def update_estimate(
         grown = estimate * (1.0 + config.increase_per_s * report.interval_s)
         estimate = min(grown, max(3.0 * received_kbps, estimate))
 
-    estimate = min(max(estimate, config.min_kbps), config.max_kbps)
+    estimate = _bounded(estimate, config)
     return replace(
         state,
         estimate_kbps=estimate,

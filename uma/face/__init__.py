@@ -14,7 +14,9 @@ from uma.face.geometry import (
     rotation_matrix,
     visible_triangles,
 )
-from uma.face.model import FaceModel, load_model, save_model
+from uma.face.landmarks import IBUG68_TO_MPEG4, read_dlib_xml, read_pts, to_mpeg4
+from uma.face.load import load_model
+from uma.face.model import FaceModel, save_model
 from uma.face.points import PointsFile, load_points
 from uma.face.render import Raster, RenderResult, rasterize, render, sample_bilinear, warp_points
 from uma.face.talking_head import Motion, TalkingHeadSource
@@ -49,6 +51,10 @@ __all__ = [
     "describe_clip",
     "read_picture",
     "picture_of",
+    "IBUG68_TO_MPEG4",
+    "read_pts",
+    "read_dlib_xml",
+    "to_mpeg4",
     "Box",
     "detect_face",
     "Motion",

@@ -196,7 +196,7 @@ def describe(
     image: np.ndarray, points: Mapping[str, tuple[float, float]], *, model: FaceModel | None = None
 ) -> ContentDescription | Failure:
     """Fit `model` (uma's wireframe by default) to `points` on `image` and cut out its texture."""
-    from uma.face.model import load_model
+    from uma.face.load import load_model
 
     model = model if model is not None else load_model()
     fit = fit_points(model, points, image_shape=image.shape[:2])

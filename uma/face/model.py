@@ -4,8 +4,8 @@ Units: model coordinates, unitless, x to the viewer's right, y up, z toward the 
 face is about 2 units tall (chin at y = -0.82, hairline near y = 1.1; a unit is ~10 cm). Triangles wind
 counter-clockwise seen from the front, for back-face culling.
 
-Files: uma's own YAML (`codecs/face/uma-face.yaml`, see `load_model`) and Candide-3 `.wfm`
-(`uma.face.wfm.read_wfm`).
+Files: uma's own YAML (`codecs/face/uma-face.yaml`, `read_model_yaml`) and Candide-3 `.wfm`
+(`uma.face.wfm.read_wfm`); `uma.face.load.load_model` reads either.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ import numpy as np
 
 from uma.errors import FaceError
 
-__all__ = ["FaceModel", "load_model", "save_model", "default_model_path"]
+__all__ = ["FaceModel", "read_model_yaml", "save_model", "default_model_path"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -152,15 +152,11 @@ def _units_from_yaml(items, n: int, where: str) -> tuple[tuple[str, ...], np.nda
     return tuple(names), np.array(arrays).reshape(-1, n, 3)
 
 
-def load_model(path: str | Path | None = None) -> FaceModel:
-    """Read a face model: uma's YAML (default: the project's own wireframe) or a `.wfm` file."""
+def read_model_yaml(path: str | Path) -> FaceModel:
+    """Read a face model in uma's YAML."""
     import yaml
 
-    path = Path(path) if path is not None else default_model_path()
-    if path.suffix.lower() == ".wfm":
-        from uma.face.wfm import read_wfm
-
-        return read_wfm(path)
+    path = Path(path)
     try:
         data = yaml.safe_load(path.read_text(encoding="utf-8"))
     except FileNotFoundError:

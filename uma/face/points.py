@@ -51,14 +51,24 @@ def resolve_reference(value: str, base: Path) -> str:
     return str(path if path.is_absolute() else base / path)
 
 
-def load_points(path: str | Path) -> PointsFile:
-    """Read a points file: YAML/JSON as above (`.pts` and dlib XML landmarks are mapped from
-    68-point iBUG layouts by `uma.face.landmarks`)."""
+def load_points(
+    path: str | Path, *, image: str | Path | None = None, face: int | None = None
+) -> PointsFile:
+    """Read a points file: YAML/JSON as above, or 68-point iBUG landmarks (`.pts`, dlib's
+    `.xml`) mapped to MPEG-4 points by `uma.face.landmarks`. For an XML file, `image` says
+    whose faces to take (and `face` which of them; default the largest)."""
     import yaml
 
     from uma.face.describe import read_points
 
     path = Path(path)
+    if path.suffix.lower() in (".pts", ".xml"):
+        from uma.face.landmarks import landmark_points
+
+        points, picture = landmark_points(path, image=image, face=face)
+        return PointsFile(
+            path=path, points=points, image=str(picture) if picture is not None else None
+        )
     points = read_points(path)
     data = yaml.safe_load(path.read_text(encoding="utf-8"))
     if not isinstance(data, dict) or not isinstance(data.get("points"), dict):

@@ -98,7 +98,7 @@ def astronaut_scene(width: int, height: int) -> tuple[ContentDescription, np.nda
 def describe_full(frame: np.ndarray, points) -> ContentDescription:
     """Like `describe`, but the texture is the whole frame (no crop)."""
     from uma.face.fit_points import fit_points
-    from uma.face.model import load_model
+    from uma.face.load import load_model
 
     model = load_model()
     fit = fit_points(model, points, image_shape=frame.shape[:2])

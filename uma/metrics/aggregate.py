@@ -48,7 +48,9 @@ def aggregate(
     kinds = Counter(event_kinds)
     h264_bits = int(log["size_bits"][log["codec"] == "h264"].sum())
     mbc_bits = int(log["size_bits"][log["codec"] == "mbc"].sum())
-    mean_ssim = _stat(log["ssim"], np.mean)
+    ssim_values = log["ssim"][np.isfinite(log["ssim"])]
+    # ssim_db from the unrounded mean: near 1, rounding SSIM to 4 decimals moves it by decibels.
+    ssim_db = round(ssim_to_db(float(ssim_values.mean())), 4) if ssim_values.size else None
     p95 = lambda v: np.percentile(v, 95)  # noqa: E731
     return {
         "frames": int(log.frames),
@@ -67,8 +69,8 @@ def aggregate(
         "packets": dict(link),
         "freeze_ratio": round(float(log["frozen"].mean()), 4) if log.frames else None,
         "psnr_db": _stat(log["psnr_db"], np.mean),
-        "ssim": mean_ssim,
-        "ssim_db": round(ssim_to_db(mean_ssim), 4) if mean_ssim is not None else None,
+        "ssim": _stat(log["ssim"], np.mean),
+        "ssim_db": ssim_db,
         "delay_median_ms": _stat(delays, np.median),
         "delay_p95_ms": _stat(delays, p95),
         "arrival_delay_median_ms": _stat(arrival, np.median),

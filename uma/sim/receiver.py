@@ -23,12 +23,7 @@ from uma.engine.reports import KeyframeRequest, ReceiverReport
 from uma.metrics.framelog import FrameLog
 from uma.sim.packets import EncodedUnit, Packet
 
-__all__ = ["ReceiverState", "BASE_DELAY_WINDOW_S"]
-
-# One-way delays older than this no longer set the base (a handover changes the path's delay).
-BASE_DELAY_WINDOW_S = 10.0
-# Ask again for an IDR when none came this long after the last request.
-KEYFRAME_RETRY_S = 1.0
+__all__ = ["ReceiverState"]
 
 
 @dataclass
@@ -39,6 +34,10 @@ class ReceiverState:
     decode: Callable[[EncodedUnit], np.ndarray | None]
     request_keyframe: Callable[[KeyframeRequest], None]
     now: Callable[[], float]
+    # Tuning from `ReceiverConfig`: ask again for an IDR when none came this long after the last
+    # request; one-way delays older than this no longer set the base (a handover changes it).
+    keyframe_retry_s: float = 1.0
+    base_delay_window_s: float = 10.0
     assembling: dict[int, list] = field(default_factory=dict)  # unit_seq -> [unit, packets got]
     expected_unit: int = 0
     broken: bool = False
@@ -93,7 +92,7 @@ class ReceiverState:
             return  # a stale duplicate; the chain already moved on
         self.broken = True
         now_s = self.now()
-        if now_s - self.last_request_s >= KEYFRAME_RETRY_S or self.last_request_s < 0:
+        if now_s - self.last_request_s >= self.keyframe_retry_s or self.last_request_s < 0:
             self.last_request_s = now_s
             self.request_keyframe(KeyframeRequest(sent_s=now_s, frame=unit_seq))
 
@@ -102,13 +101,13 @@ class ReceiverState:
         while window and window[-1][1] >= owd_s:
             window.pop()
         window.append((now_s, owd_s))
-        while window[0][0] < now_s - BASE_DELAY_WINDOW_S:
+        while window[0][0] < now_s - self.base_delay_window_s:
             window.popleft()
 
     def make_report(self, interval_s: float) -> ReceiverReport:
         """Summarise the interval since the last report and reset its counters."""
         now_s = self.now()
-        if self.broken and now_s - self.last_request_s >= KEYFRAME_RETRY_S:
+        if self.broken and now_s - self.last_request_s >= self.keyframe_retry_s:
             self.last_request_s = now_s
             self.request_keyframe(KeyframeRequest(sent_s=now_s, frame=self.expected_unit))
         queue_ms = None

@@ -148,6 +148,8 @@ def run_scenario(
             request, engine.on_keyframe_request
         ),
         now=lambda: env.now,
+        keyframe_retry_s=scenario.receiver.keyframe_retry_ms / 1000.0,
+        base_delay_window_s=scenario.receiver.base_delay_window_s,
     )
     downlink = Downlink(
         env=env,

@@ -27,6 +27,18 @@ def shown(text: str, limit: int = 60) -> str:
     return repr(text if len(text) <= limit else text[:limit] + "...")
 
 
+def _gunzip(data: bytes, name: str) -> bytes:
+    import gzip
+    import zlib
+
+    try:
+        return gzip.decompress(data)
+    except (OSError, EOFError, zlib.error) as err:
+        raise TraceError(
+            f"{name}: a gzip-compressed trace that does not decompress ({err})"
+        ) from None
+
+
 class TraceText:
     """A trace file's numbered lines: blank lines skipped, `#` comments kept apart if allowed."""
 
@@ -41,6 +53,8 @@ class TraceText:
             raise TraceError(f"{self.name}: expected a trace file, got a folder") from None
         except OSError as err:
             raise TraceError(f"{self.name}: cannot read ({err.strerror})") from None
+        if data[:2] == b"\x1f\x8b":  # gzip's magic: traces are often shipped compressed
+            data = _gunzip(data, self.name)
         try:
             if b"\0" in data:
                 raise UnicodeDecodeError("utf-8", data, data.index(b"\0"), 1, "NUL byte")

@@ -28,6 +28,7 @@ Settings for conversational video over a bottleneck, and why:
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from fractions import Fraction
 
@@ -121,7 +122,10 @@ class H264Encoder:
         self.width, self.height, self.fps, self.rate_kbps = width, height, float(fps), rate_kbps
         self.preset, self.tune = preset, tune
         self.keyint_frames, self.vbv_frames = int(keyint_frames), float(vbv_frames)
-        self.vbv_bufsize_kbit = rate_kbps * vbv_frames / fps
+        # x264 reads whole kbit (a decimal is an "Error parsing option" and truncated): pass whole
+        # kbit, rounded down so the cap never exceeds the target, and keep what x264 uses.
+        self.vbv_maxrate_kbit = max(1, math.floor(rate_kbps))
+        self.vbv_bufsize_kbit = max(1, math.floor(rate_kbps * vbv_frames / fps))
         rate = Fraction(fps).limit_denominator(1001)
         context = av.CodecContext.create("libx264", "w")
         context.width = width
@@ -130,8 +134,8 @@ class H264Encoder:
         context.time_base = 1 / rate
         context.framerate = rate
         context.bit_rate = int(round(rate_kbps * 1000))
-        params = (
-            f"vbv-maxrate={rate_kbps:.3f}:vbv-bufsize={self.vbv_bufsize_kbit:.3f}:"
+        self.x264_params = params = (
+            f"vbv-maxrate={self.vbv_maxrate_kbit}:vbv-bufsize={self.vbv_bufsize_kbit}:"
             f"keyint={self.keyint_frames}:repeat-headers=1:annexb=1"
         )
         context.options = {
