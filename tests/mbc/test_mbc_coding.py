@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from uma.face.model import load_model
+from uma.face import load_model
 from uma.mbc.coding import AdaptiveModels, decode_sets, encode_sets
 from uma.mbc.quant import Quantiser, QuantiserConfig
 from uma.mbc.units import FaceUnits

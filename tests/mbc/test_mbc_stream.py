@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from uma.errors import UmaError
-from uma.face.model import load_model
+from uma.face import load_model
 from uma.mbc.decoder import ParameterDecoder
 from uma.mbc.errors import PacketError
 from uma.mbc.packets import Packet, parse_packet
