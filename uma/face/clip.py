@@ -111,17 +111,18 @@ def describe_clip(
     *,
     model: FaceModel | None = None,
     crop: bool = True,
+    ridge_px: float | None = None,
 ) -> ContentDescription:
     """The content description of the clip (or image) a points file names, as `uma describe`
     writes it: e.g. `describe_clip(shipped_points("akiyo"))`. With `crop=False` the texture is
-    the whole frame (see `describe`).
+    the whole frame; `ridge_px` as in `describe`.
 
     Raises `FaceError` (or `VideoError`) naming the file when the picture cannot be read or the
     points do not fit the model.
     """
     points = points_file if isinstance(points_file, PointsFile) else load_points(points_file)
     picture = picture_of(points)
-    result = describe(picture, points.points, model=model, crop=crop)
+    result = describe(picture, points.points, model=model, crop=crop, ridge_px=ridge_px)
     if not result:
         raise FaceError(f"{points.path}: {result.reason}")
     return result
