@@ -187,3 +187,13 @@ def test_shipped_points_and_whole_frame_texture(shared_data):
     assert np.allclose(whole.params[:2], cropped.params[:2] + [x0, y0])
     assert np.allclose(whole.params[2:], cropped.params[2:])
     assert np.allclose(whole.projected() - [x0, y0], cropped.projected())
+
+
+def test_a_stronger_ridge_keeps_coefficients_moderate(shared_data):
+    from uma.face import shipped_points
+
+    default = describe_clip(shipped_points("carphone"))
+    ridged = describe_clip(shipped_points("carphone"), ridge_px=2.0)
+    assert np.abs(ridged.params[6:]).max() < np.abs(default.params[6:]).max()
+    assert np.abs(ridged.shape).max() < np.abs(default.shape).max()
+    assert ridged.fit_rms_px < default.fit_rms_px + 0.2

@@ -198,14 +198,18 @@ def describe(
     *,
     model: FaceModel | None = None,
     crop: bool = True,
+    ridge_px: float | None = None,
 ) -> ContentDescription | Failure:
     """Fit `model` (uma's wireframe by default) to `points` on `image` and cut out its texture
     (the face's box with a margin; with `crop=False` the whole image, `origin_px` (0, 0), for a
-    receiver that renders over the template's own picture)."""
+    receiver that renders over the template's own picture). `ridge_px` overrides the fit's
+    penalty on shape and action coefficients (`uma.face.fit_points.RIDGE_PX`): larger keeps
+    them nearer 0 where the points hardly tell units apart (mouth width against lip stretch)."""
     from uma.face.load import load_model
 
     model = model if model is not None else load_model()
-    fit = fit_points(model, points, image_shape=image.shape[:2])
+    extra = {} if ridge_px is None else {"ridge_px": ridge_px}
+    fit = fit_points(model, points, image_shape=image.shape[:2], **extra)
     if not fit:
         return fit
     assert isinstance(fit, PointFit)
