@@ -8,7 +8,7 @@ BIN := $(VENV)/bin
 $(BIN)/uma: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install -q --upgrade pip
-	$(BIN)/python -m pip install -q -e '.[dev]'
+	$(BIN)/python -m pip install -q -e '.[dev,webrtc]'
 	touch $@
 
 install: $(BIN)/uma

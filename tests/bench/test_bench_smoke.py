@@ -76,3 +76,21 @@ def test_bench_sweep_json_keys(capsys, tmp_path):
     result = json.loads(capsys.readouterr().out)
     assert result["points"] == 12 and result["identical"] is True
     assert result["speedup"] == round(result["t1_s"] / result["t2_s"], 3)
+
+
+def test_bench_salsify_json_keys(capsys, shared_data):
+    import pytest
+
+    pytest.importorskip("aiortc")
+    argv = ["bench", "salsify", "--frames", "50", "--clip-frames", "10", "--skip-default", "--json"]
+    assert main(argv) == 0
+    result = json.loads(capsys.readouterr().out)
+    assert result["trace"].endswith("TMobile-UMTS-driving.down") and result["frames"] == 50
+    for name in ("uma", "webrtc"):
+        row = result["estimators"][name]
+        for key in ("delay_p95_ms", "ssim_db", "freeze_ratio", "kbps_h264"):
+            assert row[key] is not None, (name, key)
+    assert set(result["published"]) == {"salsify_1c", "webrtc", "skype", "facetime"}
+    for row in result["published"].values():
+        assert set(row) == {"delay_p95_ms", "ssim_db"}
+    assert result["estimators"]["webrtc"]["kbps_padding"] >= 0
