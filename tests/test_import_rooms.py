@@ -20,7 +20,8 @@ LEVELS: list[set[str]] = [
     {"atomic"},
     {"__init__"},
     {"config"},
-    {"traces", "engine", "metrics", "face", "video"},
+    {"traces", "engine", "metrics", "video"},
+    {"face"},  # reads a template from a video frame (`uma.face.clip`)
     {"fit"},  # uses face
     {"mbc"},  # uses fit and face
     {"sim"},  # may use mbc

@@ -1,0 +1,40 @@
+"""The model-based codec: track the personal face model, code its parameters, render them.
+
+Pure library (no SimPy, no clock). `FaceTracker` (encoder.py) initialises and tracks;
+`ParameterEncoder` (stream.py) quantises in face animation units (units.py, quant.py),
+range-codes (coding.py, constriction, imported when coding) and packs (packets.py);
+`ParameterDecoder` and `FaceRenderer` (decoder.py) turn packets back into pictures.
+"""
+
+from uma.mbc.coding import AdaptiveModels, CoderConfig, decode_sets, encode_sets
+from uma.mbc.decoder import Decoded, DecodeEvent, FaceRenderer, ParameterDecoder
+from uma.mbc.encoder import FaceTracker, TrackerConfig, TrackFailure, TrackResult
+from uma.mbc.errors import PacketError
+from uma.mbc.packets import IP_UDP_RTP_BYTES, Packet, parse_packet
+from uma.mbc.quant import Quantiser, QuantiserConfig
+from uma.mbc.stream import ParameterEncoder, StreamConfig
+from uma.mbc.units import FaceUnits
+
+__all__ = [
+    "FaceTracker",
+    "TrackerConfig",
+    "TrackResult",
+    "TrackFailure",
+    "FaceUnits",
+    "Quantiser",
+    "QuantiserConfig",
+    "CoderConfig",
+    "AdaptiveModels",
+    "encode_sets",
+    "decode_sets",
+    "Packet",
+    "parse_packet",
+    "IP_UDP_RTP_BYTES",
+    "PacketError",
+    "StreamConfig",
+    "ParameterEncoder",
+    "ParameterDecoder",
+    "Decoded",
+    "DecodeEvent",
+    "FaceRenderer",
+]

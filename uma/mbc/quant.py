@@ -1,0 +1,91 @@
+"""Quantisation of face parameters, as MPEG-4 FBA does it: a step per parameter times a global step.
+
+Units: values in face animation units (`uma.mbc.units`); steps in the same units; quantised
+values are integers (int64).
+
+Each parameter has its own step (`QuantiserConfig.steps`, the counterpart of MPEG-4's per-FAP
+quantisation step), multiplied by one global step, the rate control: doubling it roughly
+halves the precision and saves about one bit per parameter and frame. An intra set quantises
+the values themselves; a predictive set quantises the residual to the previous *decoded*
+values, so the encoder's reference is exactly the decoder's and the two never drift. Either
+way the error of every decoded value stays within half its step.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["QuantiserConfig", "Quantiser", "GLOBAL_STEP_SCALE"]
+
+# The global step travels in each packet as one byte: code / GLOBAL_STEP_SCALE (1/16 to ~16).
+GLOBAL_STEP_SCALE = 16.0
+# Pose: tx, ty (ES/1024), scale (1/1024), rx, ry, rz (1e-5 rad). Chosen on the talking head at
+# seed 1 and akiyo's second half (not the README's data) so that the face-region loss of the
+# quantised rendering stays near 0.2 dB at global step 1: a translation step is ~0.2 px on a
+# CIF face, a rotation step 0.1 degree.
+DEFAULT_POSE_STEPS = (4.0, 4.0, 3.0, 500.0, 500.0, 150.0)
+DEFAULT_ACTION_STEP = 12.0  # 1/1024 of the face distance an action unit acts on
+
+
+@dataclass(frozen=True)
+class QuantiserConfig:
+    """Per-parameter steps (pose, then one for every action unit) and the global step."""
+
+    pose_steps: tuple[float, ...] = DEFAULT_POSE_STEPS
+    action_step: float = DEFAULT_ACTION_STEP
+    global_step: float = 1.5
+
+    def __post_init__(self) -> None:
+        if len(self.pose_steps) != 6 or not all(s > 0 for s in self.pose_steps):
+            raise ValueError(f"quantiser: six positive pose steps expected, got {self.pose_steps}")
+        if not self.action_step > 0:
+            raise ValueError(f"quantiser: action_step > 0 expected, got {self.action_step}")
+        code = round(self.global_step * GLOBAL_STEP_SCALE)
+        if not 1 <= code <= 255 or abs(code / GLOBAL_STEP_SCALE - self.global_step) > 1e-9:
+            raise ValueError(
+                f"quantiser: global_step must be a multiple of 1/16 in [1/16, 255/16], got "
+                f"{self.global_step}"
+            )
+
+    @property
+    def global_code(self) -> int:
+        """The global step as the byte a packet carries."""
+        return round(self.global_step * GLOBAL_STEP_SCALE)
+
+
+class Quantiser:
+    """Steps for `n_params` parameters; stateless (the reference is passed in)."""
+
+    def __init__(self, n_params: int, config: QuantiserConfig = QuantiserConfig()):
+        if n_params < 6:
+            raise ValueError(f"quantiser: at least the 6 pose parameters expected, got {n_params}")
+        self.config = config
+        self.base = np.array(
+            list(config.pose_steps) + [config.action_step] * (n_params - 6), dtype=np.float64
+        )
+        self.n_params = n_params
+
+    def steps(self, global_code: int) -> np.ndarray:
+        """Every parameter's step at a global step code (the packet's byte)."""
+        return self.base * (global_code / GLOBAL_STEP_SCALE)
+
+    def intra(self, values: np.ndarray, global_code: int) -> np.ndarray:
+        """Quantised indices of `values` (absolute)."""
+        return np.rint(np.asarray(values, dtype=np.float64) / self.steps(global_code)).astype(
+            np.int64
+        )
+
+    def predict(self, values: np.ndarray, reference: np.ndarray, global_code: int) -> np.ndarray:
+        """Quantised residual indices of `values` against the decoded `reference`."""
+        residual = np.asarray(values, dtype=np.float64) - reference
+        return np.rint(residual / self.steps(global_code)).astype(np.int64)
+
+    def dequantise_intra(self, indices: np.ndarray, global_code: int) -> np.ndarray:
+        return np.asarray(indices, dtype=np.float64) * self.steps(global_code)
+
+    def dequantise_predictive(
+        self, indices: np.ndarray, reference: np.ndarray, global_code: int
+    ) -> np.ndarray:
+        return reference + np.asarray(indices, dtype=np.float64) * self.steps(global_code)
