@@ -3,12 +3,12 @@ PYTHON ?= python3
 VENV ?= .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test test-all lint bench install clean
+.PHONY: demo test test-all regress lint bench install clean
 
 $(BIN)/uma: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install -q --upgrade pip
-	$(BIN)/python -m pip install -q -e '.[dev]'
+	$(BIN)/python -m pip install -q -e '.[dev,webrtc]'
 	touch $@
 
 install: $(BIN)/uma
@@ -18,6 +18,10 @@ demo: install
 
 test: install
 	$(BIN)/python -m pytest -q -m "not slow"
+
+# The regression gate on the repository's baselines (about 15 s).
+regress: install
+	$(BIN)/uma regress tests/baselines/suite.yaml
 
 test-all: install
 	$(BIN)/python -m pytest -q

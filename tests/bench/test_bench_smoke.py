@@ -63,3 +63,21 @@ def test_bench_init_json_keys(capsys):
             "evaluations_median",
         ):
             assert key in stats and key in stats["large_pose"]
+
+
+def test_bench_salsify_json_keys(capsys, shared_data):
+    import pytest
+
+    pytest.importorskip("aiortc")
+    argv = ["bench", "salsify", "--frames", "50", "--clip-frames", "10", "--skip-default", "--json"]
+    assert main(argv) == 0
+    result = json.loads(capsys.readouterr().out)
+    assert result["trace"].endswith("TMobile-UMTS-driving.down") and result["frames"] == 50
+    for name in ("uma", "webrtc"):
+        row = result["estimators"][name]
+        for key in ("delay_p95_ms", "ssim_db", "freeze_ratio", "kbps_h264"):
+            assert row[key] is not None, (name, key)
+    assert set(result["published"]) == {"salsify_1c", "webrtc", "skype", "facetime"}
+    for row in result["published"].values():
+        assert set(row) == {"delay_p95_ms", "ssim_db"}
+    assert result["estimators"]["webrtc"]["kbps_padding"] >= 0

@@ -33,7 +33,7 @@ def test_help_is_light():
     # `uma --help` must not import the heavy libraries.
     code = (
         "import sys; from uma.cli import build_parser; build_parser(); "
-        "heavy = [m for m in ('av', 'cv2', 'skimage', 'simpy', 'numba', 'dask', 'matplotlib') "
+        "heavy = [m for m in ('av', 'cv2', 'skimage', 'simpy', 'numba', 'dask', 'matplotlib', 'aiortc') "
         "if m in sys.modules]; print(heavy)"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)

@@ -172,3 +172,28 @@ def test_cli_describes_the_real_clips(shared_data, tmp_path, capsys, clip):
 def test_describe_clip_of_the_astronaut_photograph():
     description = describe_clip(codecs_dir() / "face" / "astronaut.yaml")
     assert abs(description.fit_rms_px - 1.47) < 0.02  # as the README quotes
+
+
+def test_shipped_points_and_whole_frame_texture(shared_data):
+    from uma.face import shipped_points
+
+    assert shipped_points("akiyo").name == "akiyo.yaml"
+    with pytest.raises(FaceError, match="expected one of akiyo"):
+        shipped_points("foreman")
+    cropped = describe_clip(shipped_points("carphone"))
+    whole = describe_clip(shipped_points("carphone"), crop=False)
+    assert whole.texture.shape == (144, 176, 3) and whole.origin_px == (0.0, 0.0)
+    x0, y0 = cropped.origin_px
+    assert np.allclose(whole.params[:2], cropped.params[:2] + [x0, y0])
+    assert np.allclose(whole.params[2:], cropped.params[2:])
+    assert np.allclose(whole.projected() - [x0, y0], cropped.projected())
+
+
+def test_a_stronger_ridge_keeps_coefficients_moderate(shared_data):
+    from uma.face import shipped_points
+
+    default = describe_clip(shipped_points("carphone"))
+    ridged = describe_clip(shipped_points("carphone"), ridge_px=2.0)
+    assert np.abs(ridged.params[6:]).max() < np.abs(default.params[6:]).max()
+    assert np.abs(ridged.shape).max() < np.abs(default.shape).max()
+    assert ridged.fit_rms_px < default.fit_rms_px + 0.2

@@ -105,3 +105,22 @@ def test_report_measures_rate_and_queue_delay():
     assert report.highest_seq == seq - 1
     empty = receiver.make_report(0.5)
     assert empty.packets_received == 0 and empty.queue_delay_ms is None
+
+
+def test_padding_packets_are_counted_but_not_assembled():
+    from uma.sim.packets import padding_packets, padding_sizes_bits
+    from uma.sim.receiver import ReceiverState
+
+    log = FrameLog(4)
+    now = [1.0]
+    receiver = ReceiverState(
+        log=log, decode=lambda unit: None, request_keyframe=lambda r: None, now=lambda: now[0]
+    )
+    sizes = padding_sizes_bits(8 * 3000, payload_bytes=1200)
+    assert sum(sizes) == 8 * 3000 and max(sizes) == 8 * 1240
+    for packet in padding_packets(sizes, first_seq=0, sent_s=0.9):
+        receiver.on_packet(packet)
+    report = receiver.make_report(0.1)
+    assert report.packets_received == len(sizes) and report.received_bits == 8 * 3000
+    assert report.packets_lost == 0 and not receiver.assembling
+    assert padding_sizes_bits(8 * 30, payload_bytes=1200) == []  # not even a header's worth

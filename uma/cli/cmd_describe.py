@@ -103,8 +103,14 @@ def _describe(args: argparse.Namespace) -> int:
     description_path = out / f"{image_path.stem}.face"
     size_bytes = result.save(description_path)
 
-    overlay = image.copy()
-    drawn = (result.projected() + np.array(result.origin_px)) * 16
+    # Small pictures (QCIF) are enlarged for the drawing, so the wireframe stays legible.
+    zoom = max(1, int(np.ceil(ZOOM_TO_PX / max(image.shape[:2]))))
+    overlay = cv2.resize(image, None, fx=zoom, fy=zoom, interpolation=cv2.INTER_CUBIC)
+
+    def at(xy):  # pixel centres of the picture onto the enlarged drawing
+        return (np.asarray(xy, dtype=np.float64) + 0.5) * zoom - 0.5
+
+    drawn = at(result.projected() + np.array(result.origin_px)) * 16
     for triangle in result.model.triangles:
         cv2.polylines(
             overlay,
@@ -115,11 +121,11 @@ def _describe(args: argparse.Namespace) -> int:
             cv2.LINE_AA,
             4,
         )
-    for x, y in points.values():
+    for x, y in at(list(points.values())):
         cv2.circle(overlay, (int(round(x)), int(round(y))), 2, (0, 0, 255), -1)
-    cv2.rectangle(
-        overlay, (box.x, box.y), (box.x + box.width, box.y + box.height), (255, 128, 0), 1
-    )
+    corner = (box.x * zoom, box.y * zoom)
+    far = ((box.x + box.width) * zoom, (box.y + box.height) * zoom)
+    cv2.rectangle(overlay, corner, far, (255, 128, 0), 1)
     ok, png = cv2.imencode(".png", overlay)
     png_path = out / f"{image_path.stem}.fit.png"
     atomic_write_bytes(png_path, png.tobytes())
@@ -128,13 +134,19 @@ def _describe(args: argparse.Namespace) -> int:
         f"{len(result.model.triangles)} triangles, texture {result.texture.shape[1]}x"
         f"{result.texture.shape[0]}), points fitted to {result.fit_rms_px:.2f} px rms"
     )
-    print(f"{png_path}: fitted wireframe (green), clicked points (red), detected face (blue)")
+    scale = f", drawn {zoom}x" if zoom > 1 else ""
+    print(
+        f"{png_path}: fitted wireframe (green), clicked points (red), detected face (blue){scale}"
+    )
     if not on_face:
         print(
             f"note: the points lie away from the face the detector found at "
             f"{box.x},{box.y} {box.width}x{box.height}"
         )
     return 0
+
+
+ZOOM_TO_PX = 400  # a picture smaller than this on its long side is drawn enlarged
 
 
 def _same(a, b) -> bool:

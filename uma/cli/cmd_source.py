@@ -14,7 +14,13 @@ Write a synthetic talking-head clip: the astronaut photograph animated by the fa
 with libx264 at high quality (CRF 16), and beside it CLIP.truth.json with every frame's model
 parameters (tx_px, ty_px, scale_px, rx_rad, ry_rad, rz_rad, action units), projected model
 points (pixels) and light (gain; unit direction in camera coordinates, x right, y up, z toward
-the camera). Scenarios use the same source with `source: {kind: talking-head}`."""
+the camera). Scenarios use the same source with `source: {kind: talking-head}`.
+
+With --fap FILE an MPEG-4 FBA .fap file drives the head instead: frame i of the clip is frame i
+of the file, at the file's frame rate; head rotation from FAPs 48-50 (pitch, yaw, roll) and the
+action units from the low-level FAPs (jaw, lips, eyelids, brows), added to the photograph's own
+pose and expression; position, scale and light are held still (sensor noise stays). --frames
+defaults to the file's length."""
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -32,9 +38,16 @@ def register(sub: argparse._SubParsersAction) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     synth.add_argument("--out", required=True, metavar="CLIP.mp4", help="clip to write")
-    synth.add_argument("--frames", type=int, default=250, help="frames (default 250, 10 s)")
+    synth.add_argument(
+        "--frames", type=int, help="frames (default 250, 10 s; with --fap the file's)"
+    )
     synth.add_argument("--size", type=frame_size, default=(352, 288), help="WxH (default 352x288)")
-    synth.add_argument("--fps", type=float, default=25.0, help="frame rate (default 25)")
+    synth.add_argument(
+        "--fps", type=float, help="frame rate (default 25; with --fap the file's, and only it)"
+    )
+    synth.add_argument(
+        "--fap", metavar="FILE", help="animate from an MPEG-4 FBA .fap file (see above)"
+    )
     synth.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     synth.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
     synth.set_defaults(func=handle_synth)
@@ -60,13 +73,32 @@ def _synth(args: argparse.Namespace) -> int:
 
     from uma.atomic import atomic_open, atomic_write_text
     from uma.errors import ConfigError
-    from uma.face import TalkingHeadSource
+    from uma.face import TalkingHeadSource, read_fap
 
+    sequence = read_fap(args.fap) if args.fap else None
+    if sequence is not None:
+        if args.fps is not None and args.fps != sequence.fps:
+            raise ConfigError(
+                f"--fps {args.fps:g}: {args.fap} plays at {sequence.fps:g} frames/s; "
+                "leave --fps out with --fap"
+            )
+        if len(sequence) == 0:
+            raise ConfigError(f"{args.fap}: the file holds no frame")
+        if args.frames is not None and args.frames > len(sequence):
+            raise ConfigError(
+                f"--frames {args.frames}: {args.fap} holds only {len(sequence)} frames"
+            )
+        args.fps = sequence.fps
+        args.frames = args.frames if args.frames is not None else len(sequence)
+    args.frames = 250 if args.frames is None else args.frames
+    args.fps = 25.0 if args.fps is None else args.fps
     if args.frames <= 0 or args.fps <= 0 or args.seed < 0:
         raise ConfigError("--frames, --fps and --seed: expected positive numbers (seed >= 0)")
     out = Path(args.out)
     width, height = args.size
-    source = TalkingHeadSource(width, height, args.fps, seed=args.seed, frame_count=args.frames)
+    source = TalkingHeadSource(
+        width, height, args.fps, seed=args.seed, frame_count=args.frames, fap=sequence
+    )
     truth = []
     rate = Fraction(args.fps).limit_denominator(1001)
     with atomic_open(out, "wb") as handle:
@@ -102,6 +134,7 @@ def _synth(args: argparse.Namespace) -> int:
         "size": [width, height],
         "fps": args.fps,
         "seed": args.seed,
+        "fap": str(Path(args.fap).resolve()) if args.fap else None,
         "param_names": [
             "tx_px",
             "ty_px",

@@ -25,12 +25,17 @@ __all__ = [
     "EstimatorConfig",
     "EngineConfig",
     "ReceiverConfig",
+    "AdaptivePlayoutConfig",
     "MetricsConfig",
     "POLICY_NAMES",
+    "ESTIMATOR_KINDS",
 ]
 
 # The rate policies `engine.policy` may name; `uma.engine.policy.POLICIES` implements each.
 POLICY_NAMES: tuple[str, ...] = ("throughput", "oracle", "fixed")
+# Bandwidth estimators the engine can use: its own delay-based one, or WebRTC's receiver-side
+# estimator (aiortc's port of webrtc.org's RemoteBitrateEstimator) carried back as a REMB.
+ESTIMATOR_KINDS = ("uma", "webrtc")
 
 Num = Annotated[float, Strict(), AllowInfNan(False)]
 PosNum = Annotated[float, Strict(), AllowInfNan(False), Field(gt=0)]
@@ -128,6 +133,17 @@ class EstimatorConfig(_Section):
     increase_per_s: NonNeg = 0.5
     loss_high: Fraction = 0.1
     window_s: PosNum = 1.0
+    # Which estimator: `engine.estimator: webrtc` is short for `engine.estimator: {kind: webrtc}`.
+    kind: Literal["uma", "webrtc"] = "uma"
+
+    @model_validator(mode="before")
+    @classmethod
+    def _kind_shorthand(cls, data):
+        if isinstance(data, str):
+            if data not in ESTIMATOR_KINDS:
+                raise ValueError(f"expected one of {', '.join(ESTIMATOR_KINDS)}")
+            return {"kind": data}
+        return data
 
 
 class EngineConfig(_Section):
@@ -149,14 +165,38 @@ class EngineConfig(_Section):
     probe_interval_ms: PosNum = 1000.0
 
 
+class AdaptivePlayoutConfig(_Section):
+    """A playout delay that follows the measured frame delay and jitter (`uma.sim.playout`).
+
+    The target is a high percentile of the capture-to-decoded delays of the frames decoded in
+    the last `window_s`, plus a margin, within [min_delay_ms, max_delay_ms]; the delay moves
+    towards it at a bounded slope (down at WebRTC's 100 ms/s, up at most 500 ms/s by default).
+    """
+
+    window_s: PosNum = 2.0
+    percentile: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, le=100)] = 95.0
+    margin_ms: NonNeg = 20.0
+    min_delay_ms: NonNeg = 50.0
+    max_delay_ms: PosNum = 10000.0
+    # Below 1000 ms/s, so display instants never go back in time.
+    max_decrease_ms_per_s: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, lt=1000)] = (
+        100.0
+    )
+    max_increase_ms_per_s: PosNum = 500.0
+
+
 class ReceiverConfig(_Section):
-    """The mobile receiver's conversational playout delay."""
+    """The mobile receiver's playout: a fixed conversational deadline, or adaptive."""
 
     playout_delay_ms: PosNum = 300.0
     # Tuning (see `uma.sim.receiver`): ask again for an IDR when none came this long after the
     # last request; one-way delays older than this no longer set the queue-delay base.
     keyframe_retry_ms: PosNum = 1000.0
     base_delay_window_s: PosNum = 10.0
+    # `fixed`: every frame at capture + playout_delay_ms; `adaptive`: the delay starts at
+    # playout_delay_ms and then follows the frames' delays as `adaptive` says.
+    playout: Literal["fixed", "adaptive"] = "fixed"
+    adaptive: AdaptivePlayoutConfig = Field(default_factory=AdaptivePlayoutConfig)
 
 
 class MetricsConfig(_Section):

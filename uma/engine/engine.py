@@ -20,12 +20,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from uma.config.scenario import EngineConfig, FeedbackConfig
-from uma.engine.estimator import (
-    EstimatorState,
-    initial_estimate,
-    stale_decrease,
-    update_estimate,
-)
+from uma.engine.estimator import EstimatorState, initial_estimate, stale_decrease
+from uma.engine.estimators import ESTIMATORS
 from uma.engine.policy import POLICIES, PolicyView, highest_fitting
 from uma.engine.reports import KeyframeRequest, ReceiverReport
 
@@ -75,6 +71,7 @@ class UmaEngine:
         self.source_fps = source_fps
         self.policy = POLICIES[config.policy]
         self.estimator: EstimatorState = initial_estimate(config.estimator)
+        self.update_estimate = ESTIMATORS[config.estimator.kind]
         if config.policy == "fixed" and config.fixed_rung is not None:
             self.rung = min(config.fixed_rung, len(rung_rates_kbps) - 1)
         else:
@@ -101,7 +98,7 @@ class UmaEngine:
             self.highest_seq = reported_seq
             self.last_progress_s = now_s
         self.last_report_s = now_s
-        self.estimator = update_estimate(
+        self.estimator = self.update_estimate(
             self.estimator,
             report,
             now_s=now_s,

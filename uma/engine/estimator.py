@@ -21,7 +21,13 @@ from dataclasses import dataclass, replace
 from uma.config.scenario import EstimatorConfig
 from uma.engine.reports import ReceiverReport
 
-__all__ = ["EstimatorState", "initial_estimate", "update_estimate", "stale_decrease"]
+__all__ = [
+    "EstimatorState",
+    "initial_estimate",
+    "update_estimate",
+    "stale_decrease",
+    "windowed_received",
+]
 
 
 @dataclass(frozen=True)
@@ -39,7 +45,8 @@ def initial_estimate(config: EstimatorConfig) -> EstimatorState:
     return EstimatorState(estimate_kbps=config.initial_kbps)
 
 
-def _windowed(state: EstimatorState, report: ReceiverReport, window_s: float):
+def windowed_received(state: EstimatorState, report: ReceiverReport, window_s: float):
+    """(window, received_kbps, loss_fraction) over the recent reports, `report` included."""
     window = state.window + (
         (report.interval_s, report.received_bits, report.packets_received, report.packets_lost),
     )
@@ -83,7 +90,7 @@ def update_estimate(
     config: EstimatorConfig,
 ) -> EstimatorState:
     """Fold one receiver report into the estimate; a pure function."""
-    window, received_kbps, loss = _windowed(state, report, config.window_s)
+    window, received_kbps, loss = windowed_received(state, report, config.window_s)
     queue_ms = report.queue_delay_ms
     estimate = state.estimate_kbps
     last_decrease_s = state.last_decrease_s

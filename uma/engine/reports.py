@@ -16,7 +16,8 @@ class ReceiverReport:
 
     `queue_delay_ms` is the mean one-way delay of the packets received in the interval minus the
     smallest one-way delay seen in the recent past: it grows when a queue builds at the
-    bottleneck. It is None when no packet arrived in the interval.
+    bottleneck. It is None when no packet arrived in the interval. `remb_kbps` is the receiver's
+    WebRTC bandwidth estimate (a REMB), None when the scenario does not use it or it has none yet.
     """
 
     sent_s: float
@@ -26,6 +27,7 @@ class ReceiverReport:
     packets_lost: int
     highest_seq: int
     queue_delay_ms: float | None
+    remb_kbps: float | None = None
 
     @property
     def received_kbps(self) -> float:

@@ -1,9 +1,19 @@
 """The face model: wireframe (uma's own and Candide-3), geometry, renderer, detector, content
 description, and a talking-head source with ground truth. OpenCV is imported where needed."""
 
-from uma.face.clip import describe_clip, picture_of, read_picture
+from uma.face.clip import describe_clip, picture_of, read_picture, shipped_points
 from uma.face.describe import ContentDescription, describe, load_description, read_points
 from uma.face.detect import Box, detect_face
+from uma.face.fap import (
+    FapSequence,
+    FapUnits,
+    fap_sequence,
+    fap_units,
+    faps_to_parameters,
+    parameters_to_faps,
+    read_fap,
+    write_fap,
+)
 from uma.face.fit_points import PointFit, fit_points
 from uma.face.geometry import (
     N_POSE,
@@ -51,10 +61,19 @@ __all__ = [
     "describe_clip",
     "read_picture",
     "picture_of",
+    "shipped_points",
     "IBUG68_TO_MPEG4",
     "read_pts",
     "read_dlib_xml",
     "to_mpeg4",
+    "FapSequence",
+    "FapUnits",
+    "read_fap",
+    "write_fap",
+    "fap_units",
+    "fap_sequence",
+    "faps_to_parameters",
+    "parameters_to_faps",
     "Box",
     "detect_face",
     "Motion",

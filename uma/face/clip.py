@@ -18,15 +18,30 @@ from uma.face.describe import ContentDescription, describe
 from uma.face.model import FaceModel
 from uma.face.points import SKIMAGE_PREFIX, PointsFile, load_points
 
-__all__ = ["read_picture", "picture_of", "describe_clip"]
+__all__ = ["SHIPPED_CLIPS", "shipped_points", "read_picture", "picture_of", "describe_clip"]
+
+# Clip name (as `uma bench mbc` names clips) -> its hand-clicked points in codecs/face/.
+SHIPPED_CLIPS = {"akiyo": "akiyo.yaml", "carphone": "carphone.yaml", "astronaut": "astronaut.yaml"}
+
+
+def shipped_points(name: str) -> Path:
+    """The points file shipped for clip `name` (`akiyo`, `carphone`, `astronaut`)."""
+    from uma.paths import codecs_dir
+
+    if name not in SHIPPED_CLIPS:
+        raise FaceError(
+            f"no shipped points for {name!r}: expected one of {', '.join(SHIPPED_CLIPS)}"
+        )
+    return codecs_dir() / "face" / SHIPPED_CLIPS[name]
 
 
 def read_picture(path: str | Path, *, frame: int | None = None) -> np.ndarray:
     """A BGR picture: the still image at `path` (anything OpenCV reads), or frame `frame` of
     the video at `path` (anything PyAV decodes).
 
-    A still is tried first; what OpenCV cannot read goes to PyAV. `frame` given for a still,
-    or missing for a video, is a `FaceError`/`VideoError` naming the file.
+    A still is tried first; what OpenCV cannot read goes to PyAV (a file named like a video,
+    `.mp4` and the like, goes to PyAV at once, so a long clip is not read into memory). `frame`
+    given for a still, or missing for a video, is a `FaceError`/`VideoError` naming the file.
     """
     import cv2
 
@@ -35,6 +50,12 @@ def read_picture(path: str | Path, *, frame: int | None = None) -> np.ndarray:
     if str(path).startswith(SKIMAGE_PREFIX):
         return _skimage(str(path), frame)
     path = Path(path)
+    if path.suffix.lower() in VIDEO_SUFFIXES and path.is_file():
+        if frame is None:
+            raise FaceError(
+                f"{path}: is a video: say which frame (--frame N, or frame: in the points)"
+            )
+        return _video_frame(path, frame)
     try:
         data = np.frombuffer(path.read_bytes(), dtype=np.uint8)
     except FileNotFoundError:
@@ -56,6 +77,34 @@ def read_picture(path: str | Path, *, frame: int | None = None) -> np.ndarray:
                 f"{path}: neither an image OpenCV reads nor a video PyAV decodes"
             ) from None
         raise FaceError(f"{path}: is a video: say which frame (--frame N, or frame: in the points)")
+    return _video_frame(path, frame)
+
+
+# Suffixes taken for videos without trying OpenCV first.
+VIDEO_SUFFIXES = frozenset(
+    [
+        ".mp4",
+        ".m4v",
+        ".mov",
+        ".avi",
+        ".mkv",
+        ".webm",
+        ".mpg",
+        ".mpeg",
+        ".ts",
+        ".flv",
+        ".3gp",
+        ".wmv",
+        ".y4m",
+        ".h264",
+        ".264",
+    ]
+)
+
+
+def _video_frame(path: Path, frame: int) -> np.ndarray:
+    from uma.video.frame import read_frame
+
     try:
         return read_frame(path, frame)
     except VideoError as err:
@@ -93,17 +142,22 @@ def picture_of(points: PointsFile, *, frame: int | None = None) -> np.ndarray:
 
 
 def describe_clip(
-    points_file: str | Path | PointsFile, *, model: FaceModel | None = None
+    points_file: str | Path | PointsFile,
+    *,
+    model: FaceModel | None = None,
+    crop: bool = True,
+    ridge_px: float | None = None,
 ) -> ContentDescription:
     """The content description of the clip (or image) a points file names, as `uma describe`
-    writes it: e.g. `describe_clip(codecs_dir() / "face" / "akiyo.yaml")`.
+    writes it: e.g. `describe_clip(shipped_points("akiyo"))`. With `crop=False` the texture is
+    the whole frame; `ridge_px` as in `describe`.
 
     Raises `FaceError` (or `VideoError`) naming the file when the picture cannot be read or the
     points do not fit the model.
     """
     points = points_file if isinstance(points_file, PointsFile) else load_points(points_file)
     picture = picture_of(points)
-    result = describe(picture, points.points, model=model)
+    result = describe(picture, points.points, model=model, crop=crop, ridge_px=ridge_px)
     if not result:
         raise FaceError(f"{points.path}: {result.reason}")
     return result

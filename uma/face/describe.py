@@ -193,13 +193,23 @@ def _implausible(fit: PointFit) -> Failure | None:
 
 
 def describe(
-    image: np.ndarray, points: Mapping[str, tuple[float, float]], *, model: FaceModel | None = None
+    image: np.ndarray,
+    points: Mapping[str, tuple[float, float]],
+    *,
+    model: FaceModel | None = None,
+    crop: bool = True,
+    ridge_px: float | None = None,
 ) -> ContentDescription | Failure:
-    """Fit `model` (uma's wireframe by default) to `points` on `image` and cut out its texture."""
+    """Fit `model` (uma's wireframe by default) to `points` on `image` and cut out its texture
+    (the face's box with a margin; with `crop=False` the whole image, `origin_px` (0, 0), for a
+    receiver that renders over the template's own picture). `ridge_px` overrides the fit's
+    penalty on shape and action coefficients (`uma.face.fit_points.RIDGE_PX`): larger keeps
+    them nearer 0 where the points hardly tell units apart (mouth width against lip stretch)."""
     from uma.face.load import load_model
 
     model = model if model is not None else load_model()
-    fit = fit_points(model, points, image_shape=image.shape[:2])
+    extra = {} if ridge_px is None else {"ridge_px": ridge_px}
+    fit = fit_points(model, points, image_shape=image.shape[:2], **extra)
     if not fit:
         return fit
     assert isinstance(fit, PointFit)
@@ -213,6 +223,8 @@ def describe(
     x0, y0 = np.maximum(np.floor(low - margin), 0).astype(int)
     x1 = int(min(np.ceil(high[0] + margin[0]), image.shape[1]))
     y1 = int(min(np.ceil(high[1] + margin[1]), image.shape[0]))
+    if not crop:
+        x0, y0, x1, y1 = 0, 0, image.shape[1], image.shape[0]
     params = fit.params.copy()
     params[0] -= x0
     params[1] -= y0

@@ -132,6 +132,7 @@ def fit_points(
     image_shape: tuple[int, int] | None = None,
     fit_shape: bool = True,
     fit_actions: bool = True,
+    ridge_px: float = RIDGE_PX,
 ) -> PointFit | Failure:
     """Least-squares fit of shape, pose and actions to named points; a `Failure` says why not."""
     from scipy.optimize import least_squares
@@ -149,7 +150,7 @@ def fit_points(
 
     scale0, roll0, tx0, ty0 = _similarity(base[:, :2], target)
     x0 = np.concatenate([[tx0, ty0, scale0, 0.0, 0.0, roll0], np.zeros(n_shape + n_action)])
-    ridge = RIDGE_PX * scale0 / 100.0
+    ridge = ridge_px * scale0 / 100.0
 
     def residuals(x: np.ndarray) -> np.ndarray:
         coeffs = x[N_POSE:]

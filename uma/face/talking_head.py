@@ -12,6 +12,13 @@ the sensor adds Gaussian noise. The whole frame is one mesh (`uma.face.scene`): 
 neck follow the head, the background stays, and no seam shows where the face meets them.
 All motion is deterministic from the seed. `ground_truth(i)` gives the parameters, projected
 model points and light of frame i, exactly those used to render it.
+
+Driven by an MPEG-4 `.fap` file instead (`fap=`, `uma source synth --fap FILE`), frame i takes
+the file's frame i: head rotation from FAPs 48-50 and action units from the low-level FAPs
+(`uma.face.fap`), added to the template's own pose and expression, which are MPEG-4's neutral
+face here. Everything the file does not say is held still: no drift in position or scale, no
+speech or blinks of our own, the template's light (gain 1, frontal); sensor noise stays.
+Past the file's last frame the last one holds.
 """
 
 from __future__ import annotations
@@ -22,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from uma.face.describe import ContentDescription, read_points
+from uma.face.fap import FapSequence, fap_units, faps_to_parameters
 from uma.face.geometry import N_POSE, project
 from uma.face.render import barycentric_affine, triangle_labels
 from uma.face.scene import SceneMesh
@@ -127,6 +135,7 @@ class TalkingHeadSource:
         motion: Motion | None = None,
         description: ContentDescription | None = None,
         frame_count: int | None = None,
+        fap: FapSequence | None = None,
     ) -> None:
         self.width, self.height, self.fps = width, height, float(fps)
         self.name = "talking-head"
@@ -153,9 +162,21 @@ class TalkingHeadSource:
         frontal = self.scene.normals(self.description.params)[:, 2]
         self._template_shade = AMBIENT + (1 - AMBIENT) * np.clip(frontal, 0, None)
         self._plan = _speech_plan(np.random.default_rng(seed), self.motion)
+        self.fap = fap
+        self._fap_params = None
+        if fap is not None:
+            if len(fap) == 0:
+                raise ValueError(f"{fap.name}: the .fap sequence holds no frame")
+            units = fap_units(self.model)
+            base = self.description.params
+            self._fap_params = np.array(
+                [faps_to_parameters(f, self.model, units, base=base) for f in fap.frames]
+            )
 
     def params_at(self, index: int) -> np.ndarray:
         """The model parameters of frame `index` (6 + A,)."""
+        if self._fap_params is not None:
+            return self._fap_params[min(index, len(self._fap_params) - 1)].copy()
         m, t = self.motion, index / self.fps
         base = self.description.params
         p = base.copy()
@@ -183,8 +204,11 @@ class TalkingHeadSource:
     def light_at(self, index: int) -> tuple[float, np.ndarray]:
         """Overall gain and the key light's unit direction (camera coordinates) at frame `index`.
 
-        At frame 0 the light is the template's own: gain 1, shining along the camera's axis.
+        At frame 0 the light is the template's own: gain 1, shining along the camera's axis
+        (and at every frame when a `.fap` file drives the head).
         """
+        if self._fap_params is not None:
+            return 1.0, np.array([0.0, 0.0, 1.0])
         m, t = self.motion, index / self.fps
         gain = 1.0 + m.light_gain * np.sin(2 * np.pi * 0.04 * t)
         tilt = m.light_angle_rad * np.sin(np.pi * 0.035 * t) ** 2

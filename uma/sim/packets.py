@@ -7,7 +7,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["EncodedUnit", "Packet", "packetize", "packet_sizes_bits", "HEADER_BYTES"]
+__all__ = [
+    "EncodedUnit",
+    "Packet",
+    "packetize",
+    "packet_sizes_bits",
+    "padding_packets",
+    "padding_sizes_bits",
+    "HEADER_BYTES",
+]
 
 # IPv4 + UDP + RTP headers on every packet.
 HEADER_BYTES = 40
@@ -30,8 +38,10 @@ class EncodedUnit:
 
 @dataclass(frozen=True)
 class Packet:
+    """One packet on the downlink; `unit` is None for a padding-only packet (RTP padding)."""
+
     seq: int
-    unit: EncodedUnit
+    unit: EncodedUnit | None
     index: int
     count: int
     size_bits: int
@@ -61,3 +71,31 @@ def packet_sizes_bits(unit: EncodedUnit, *, payload_bytes: int) -> list[int]:
     size = max(1, len(unit.data))
     count = -(-size // payload_bytes)
     return [8 * (min(payload_bytes, size - i * payload_bytes) + HEADER_BYTES) for i in range(count)]
+
+
+def padding_sizes_bits(bits: float, *, payload_bytes: int) -> list[int]:
+    """Sizes of the padding-only packets that carry about `bits` on the wire (headers included)."""
+    total_bytes = int(bits // 8)
+    if total_bytes <= HEADER_BYTES:
+        return []
+    full = payload_bytes + HEADER_BYTES
+    sizes = [8 * full] * (total_bytes // full)
+    rest = total_bytes - full * len(sizes)
+    if rest > HEADER_BYTES:
+        sizes.append(8 * rest)
+    return sizes
+
+
+def padding_packets(sizes_bits: list[int], *, first_seq: int, sent_s: float) -> list[Packet]:
+    """Padding-only packets of the given sizes, numbered from `first_seq`."""
+    return [
+        Packet(
+            seq=first_seq + i,
+            unit=None,
+            index=i,
+            count=len(sizes_bits),
+            size_bits=size,
+            sent_s=sent_s,
+        )
+        for i, size in enumerate(sizes_bits)
+    ]

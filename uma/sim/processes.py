@@ -20,7 +20,13 @@ from uma.engine.engine import UmaEngine
 from uma.metrics.framelog import FrameLog
 from uma.sim.capacity import CapacitySchedule
 from uma.sim.links import Downlink, FixedLink, LinkProps, deliver_later
-from uma.sim.packets import EncodedUnit, packet_sizes_bits, packetize
+from uma.sim.packets import (
+    EncodedUnit,
+    packet_sizes_bits,
+    packetize,
+    padding_packets,
+    padding_sizes_bits,
+)
 from uma.sim.receiver import ReceiverState
 
 __all__ = ["World", "sender_process", "engine_process", "report_process", "display_process"]
@@ -51,6 +57,8 @@ class World:
     inbox: simpy.Store | None = None
     next_unit_seq: int = 0
     feedback_lost: int = 0
+    playout: Any = None  # uma.sim.playout: FixedPlayout or AdaptivePlayout (None: fixed)
+    padding_bits: int = 0
 
     def send_feedback(self, item, handler: Callable) -> None:
         """Carry a report or request over the mobile uplink; lost in an outage or at random."""
@@ -85,6 +93,7 @@ def engine_process(env: simpy.Environment, world: World):
     oracle = scenario.engine.policy == "oracle"
     transcode_s = scenario.engine.transcode_ms / 1000.0
     payload_bytes = scenario.downlink.packet_bytes
+    pad = scenario.engine.estimator.kind == "webrtc"
     log = world.log
     while True:
         index, encoded = yield world.inbox.get()
@@ -117,12 +126,35 @@ def engine_process(env: simpy.Environment, world: World):
             unit, first_seq=first_seq, payload_bytes=payload_bytes, sent_s=env.now
         ):
             world.downlink.offer(packet)
+        if pad:
+            _pad_to_estimate(world, unit, decision.rung, payload_bytes)
         log["codec"][index] = "h264"
         log["width"][index] = width
         log["height"][index] = height
         log["sent"][index] = 1
         log["keyframe"][index] = int(unit.keyframe)
         log["size_bits"][index] = 8 * len(unit.data)
+
+
+def _pad_to_estimate(world: World, unit: EncodedUnit, rung: int, payload_bytes: int) -> None:
+    """Follow a frame with padding up to the estimate's share of the frame interval.
+
+    A WebRTC sender encodes at its target rate; uma's ladder sends at most a rung's rate, and
+    WebRTC's estimator never rises above 1.5 x what it receives, so without this it could never
+    climb to the next rung. The padding stands in for the rate a WebRTC encoder would send.
+    """
+    engine = world.engine
+    interval_s = 1.0 / min(world.ladder.rungs[rung].fps, world.fps)
+    sent_bits = sum(packet_sizes_bits(unit, payload_bytes=payload_bytes))
+    sizes = padding_sizes_bits(
+        engine.estimate_kbps * 1000.0 * interval_s - sent_bits, payload_bytes=payload_bytes
+    )
+    if not sizes:
+        return
+    first_seq = engine.on_packets_sent(sizes)
+    for packet in padding_packets(sizes, first_seq=first_seq, sent_s=world.env.now):
+        world.downlink.offer(packet)
+    world.padding_bits += sum(sizes)
 
 
 def report_process(env: simpy.Environment, world: World):
@@ -140,7 +172,8 @@ def display_process(env: simpy.Environment, world: World):
     log = world.log
     last_scheduled = -1
     for index in range(world.frames):
-        deadline_s = index / world.fps + playout_s
+        delay_s = playout_s if world.playout is None else world.playout.delay_s(env.now)
+        deadline_s = max(env.now, index / world.fps + delay_s)
         if env.now < deadline_s:
             yield env.timeout(deadline_s - env.now)
         if log["scheduled"][index]:

@@ -16,6 +16,7 @@ from __future__ import annotations
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -50,6 +51,11 @@ class ReceiverState:
     highest_seq: int = -1
     owd_sum_s: float = 0.0
     base_window: deque = field(default_factory=deque)  # (time_s, owd_s), increasing owd
+    # WebRTC's receiver-side estimator (`uma.engine.webrtc.RembEstimator`) when the scenario
+    # uses it: fed every packet, its estimate rides in the reports as a REMB.
+    bwe: Any = None
+    # Told (frame, arrival_s) of every decoded frame: the adaptive playout listens.
+    on_decoded: Callable[[int, float], None] | None = None
 
     def on_packet(self, packet: Packet) -> None:
         now_s = self.now()
@@ -61,8 +67,12 @@ class ReceiverState:
         owd_s = now_s - packet.sent_s
         self.owd_sum_s += owd_s
         self._track_base(now_s, owd_s)
+        if self.bwe is not None:
+            self.bwe.on_packet(arrival_s=now_s, sent_s=packet.sent_s, size_bits=packet.size_bits)
 
         unit = packet.unit
+        if unit is None:
+            return  # padding: counted and seen by the estimator, nothing to decode
         # The link is FIFO: a packet of a later unit means earlier incomplete units are lost.
         for seq in [s for s in self.assembling if s < unit.unit_seq]:
             del self.assembling[seq]
@@ -86,6 +96,8 @@ class ReceiverState:
         self.decoded[unit.frame] = picture
         self.log["arrival_ms"][unit.frame] = now_s * 1000.0
         self.log["decoded"][unit.frame] = 1
+        if self.on_decoded is not None:
+            self.on_decoded(unit.frame, now_s)
 
     def _chain_broken(self, unit_seq: int) -> None:
         if unit_seq < self.expected_unit and not self.broken:
@@ -122,6 +134,7 @@ class ReceiverState:
             packets_lost=self.lost,
             highest_seq=self.highest_seq,
             queue_delay_ms=queue_ms,
+            remb_kbps=self.bwe.estimate_kbps if self.bwe is not None else None,
         )
         self.bits = self.packets = self.lost = 0
         self.owd_sum_s = 0.0

@@ -6,7 +6,10 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
-from uma.metrics.aggregate import aggregate
+import numpy as np
+
+from uma.metrics.aggregate import aggregate, ssim_to_db
+from uma.metrics.freezes import freeze_stats
 from uma.metrics.results import events_csv, write_results
 from uma.sim.world import RunResult
 
@@ -30,7 +33,24 @@ def run_metrics(result: RunResult) -> dict[str, Any]:
         event_kinds=[event.kind for event in result.events],
     )
     body["feedback_lost"] = result.feedback_lost
-    return head | body
+    return head | body | playout_metrics(result)
+
+
+def playout_metrics(result: RunResult) -> dict[str, Any]:
+    """WebRTC's freeze statistics, displayed frame rate, playout delay and padding of a run."""
+    log = result.log
+    stats = freeze_stats(log["display_ms"], log["shown_frame"], duration_s=result.duration_s)
+    playout_ms = log["display_ms"] - log["capture_ms"]
+    playout_ms = playout_ms[np.isfinite(playout_ms)]
+    stats["playout_delay_mean_ms"] = round(float(playout_ms.mean()), 3) if playout_ms.size else None
+    # Salsify scores each displayed frame against its own source frame; the nearest uma has
+    # without more SSIM work: the display instants that show the frame meant for them.
+    fresh = log["ssim"][(log["frozen"] == 0) & np.isfinite(log["ssim"])]
+    stats["ssim_db_unfrozen"] = round(ssim_to_db(float(fresh.mean())), 4) if fresh.size else None
+    stats["kbps_padding"] = round(result.padding_bits / result.duration_s / 1000.0, 3)
+    stats["estimator"] = result.scenario.engine.estimator.kind
+    stats["playout"] = result.scenario.receiver.playout
+    return stats
 
 
 def save_run(result: RunResult, out_dir: str | Path) -> dict[str, Any]:

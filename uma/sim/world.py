@@ -19,6 +19,7 @@ from uma.metrics.framelog import FrameLog
 from uma.sim.capacity import CapacitySchedule
 from uma.sim.codecs import CodecChain
 from uma.sim.links import Downlink, FixedLink, LinkProps, LinkStats, downlink_process
+from uma.sim.playout import make_playout
 from uma.sim.processes import (
     World,
     display_process,
@@ -50,6 +51,7 @@ class RunResult:
     feedback_lost: int
     codec_s: float = 0.0
     metrics_s: float = 0.0
+    padding_bits: int = 0
 
 
 def build_capacity(scenario: Scenario, rng: np.random.Generator) -> CapacitySchedule:
@@ -159,6 +161,14 @@ def run_scenario(
         rng=loss_rng,
         deliver=receiver.on_packet,
     )
+    playout = make_playout(scenario.receiver)
+    receiver.on_decoded = lambda frame, arrival_s: playout.on_decoded(
+        log["capture_ms"][frame] / 1000.0, arrival_s
+    )
+    if scenario.engine.estimator.kind == "webrtc":
+        from uma.engine.webrtc import RembEstimator
+
+        receiver.bwe = RembEstimator()
     world = World(
         env=env,
         scenario=scenario,
@@ -180,6 +190,7 @@ def run_scenario(
         quality=quality,
         progress=progress,
         inbox=simpy.Store(env),
+        playout=playout,
     )
     world_ref.append(world)
     env.process(sender_process(env, world))
@@ -208,4 +219,5 @@ def run_scenario(
         feedback_lost=world.feedback_lost,
         codec_s=codec.seconds,
         metrics_s=quality.seconds,
+        padding_bits=world.padding_bits,
     )

@@ -1,0 +1,135 @@
+"""`uma regress`: passes on the true baseline, fails on a deliberately worse one, and on a
+missing metric; bad suite or baseline files are exit 2 naming the line."""
+
+import json
+import re
+
+import pytest
+
+from uma.cli import main
+
+SCENARIO = """\
+name: tiny
+seed: 1
+source: {kind: pattern, width: 96, height: 64, fps: 25}
+route:
+  - {technology: 3G, duration_s: 1.5}
+  - {technology: GPRS, duration_s: 1.5}
+"""
+SUITE = """\
+baseline: baseline.yaml
+scenarios: [tiny.yaml]
+metrics:
+  kbps_h264: {worse: up, relative: 0.05}
+  psnr_db: {worse: down, absolute: 0.3}
+  freeze_ratio: {worse: up, absolute: 0.02}
+"""
+
+
+@pytest.fixture(scope="module")
+def suite(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("suite")
+    (folder / "tiny.yaml").write_text(SCENARIO)
+    (folder / "suite.yaml").write_text(SUITE)
+    code = main(["regress", str(folder / "suite.yaml"), "--update", "--out", str(folder / "runs")])
+    assert code == 0
+    return folder
+
+
+def baseline_with(suite, **changes):
+    import yaml
+
+    data = yaml.safe_load((suite / "baseline.yaml").read_text())
+    data["tiny"] |= changes
+    return data
+
+
+def test_true_baseline_passes_from_a_new_run(suite, capsys, tmp_path):
+    capsys.readouterr()
+    assert main(["regress", str(suite / "suite.yaml"), "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert out.splitlines()[0].split() == [
+        "scenario",
+        "metric",
+        "baseline",
+        "now",
+        "change",
+        "tolerance",
+        "verdict",
+    ]
+    assert "REGRESSED" not in out and "3 checks, 0 regressed" in out
+
+
+def test_worse_baseline_fails_and_names_the_metric(suite, capsys, tmp_path):
+    import yaml
+
+    data = baseline_with(suite)
+    # A baseline 1 dB better than today: today's PSNR has "fallen" past the 0.3 dB tolerance.
+    data["tiny"]["psnr_db"] += 1.0
+    data["tiny"]["kbps_h264"] *= 0.9  # and today's rate "rose" 11 %
+    folder = tmp_path / "worse"
+    folder.mkdir()
+    (folder / "tiny.yaml").write_text(SCENARIO)
+    (folder / "suite.yaml").write_text(SUITE)
+    (folder / "baseline.yaml").write_text(yaml.safe_dump(data))
+    capsys.readouterr()
+    assert main(["regress", str(folder / "suite.yaml"), "--results", str(suite / "runs")]) == 1
+    lines = capsys.readouterr().out.splitlines()
+    verdicts = {line.split()[1]: line.split()[-1] for line in lines[1:-1]}
+    assert verdicts == {"kbps_h264": "REGRESSED", "psnr_db": "REGRESSED", "freeze_ratio": "ok"}
+
+
+def test_missing_metric_is_a_regression(suite, capsys, tmp_path):
+    results = tmp_path / "tiny"
+    results.mkdir()
+    metrics = json.loads((suite / "runs" / "tiny" / "metrics.json").read_text())
+    del metrics["psnr_db"]
+    (results / "metrics.json").write_text(json.dumps(metrics))
+    assert main(["regress", str(suite / "suite.yaml"), "--results", str(tmp_path)]) == 1
+    assert "missing" in capsys.readouterr().out
+
+
+def test_update_says_what_changed(suite, capsys, tmp_path):
+    import shutil
+
+    folder = tmp_path / "s"
+    shutil.copytree(suite, folder, ignore=shutil.ignore_patterns("runs"))
+    text = (folder / "baseline.yaml").read_text().replace("psnr_db: ", "psnr_db: 1")
+    (folder / "baseline.yaml").write_text(text)
+    capsys.readouterr()
+    assert (
+        main(["regress", str(folder / "suite.yaml"), "--update", "--results", str(suite / "runs")])
+        == 0
+    )
+    out = capsys.readouterr().out
+    assert "REGRESSED" in out and "baseline" in out.splitlines()[-1]
+    assert (folder / "baseline.yaml").read_text() == (suite / "baseline.yaml").read_text()
+
+
+@pytest.mark.parametrize(
+    "baseline, message",
+    [
+        ("tiny:\n  kbps_h264: 12\n  psnr_db: 30: 1\n", r"baseline.yaml:3: invalid YAML"),
+        (
+            "tiny:\n  kbps_h264: 12 kbit/s\n",
+            r"baseline.yaml:2 \(tiny.kbps_h264\): expected a number or null",
+        ),
+        ("other:\n  kbps_h264: 1\n", r"no baseline for scenario 'tiny'"),
+    ],
+)
+def test_malformed_baseline_is_exit_2_naming_the_line(suite, capsys, tmp_path, baseline, message):
+    (tmp_path / "tiny.yaml").write_text(SCENARIO)
+    (tmp_path / "suite.yaml").write_text(SUITE)
+    (tmp_path / "baseline.yaml").write_text(baseline)
+    assert main(["regress", str(tmp_path / "suite.yaml"), "--results", str(suite / "runs")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1
+    assert re.search(message, err[0]), err[0]
+
+
+def test_bad_suite_names_the_key(tmp_path, capsys):
+    (tmp_path / "suite.yaml").write_text(
+        SUITE.replace("worse: up, relative", "worse: sideways, relative")
+    )
+    assert main(["regress", str(tmp_path / "suite.yaml")]) == 2
+    assert "suite.yaml:4 (metrics.kbps_h264) worse: expected up or down" in capsys.readouterr().err

@@ -1,0 +1,78 @@
+"""`uma bench salsify`: uma's H.264 path on Salsify's T-Mobile UMTS trace beside Salsify's figures."""
+
+from __future__ import annotations
+
+import argparse
+
+__all__ = ["register"]
+
+DEFAULT_TRACE = "traces/mahimahi/TMobile-UMTS-driving.down"  # under ../shared/data
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    from uma.cli.cmd_bench import add_common_arguments
+
+    parser = sub.add_parser(
+        "salsify",
+        help="uma and WebRTC estimators on Salsify's trace, beside Salsify's published figures",
+        description="Run scenarios/salsify-tmobile-umts.yaml with engine.estimator uma and webrtc "
+        "(and the default scenario with both), and print delay p95 and SSIM in dB beside the "
+        "figures Salsify (NSDI 2018) published for the same trace, with the issue's targets.",
+    )
+    parser.add_argument(
+        "--trace",
+        metavar="FILE",
+        help=f"Mahimahi downlink trace (default: ../shared/data/{DEFAULT_TRACE})",
+    )
+    parser.add_argument("--scenario", metavar="FILE", help="scenario (default: the Salsify one)")
+    parser.add_argument(
+        "--frames",
+        type=int,
+        help="frames to simulate (default: the whole trace at the source's rate)",
+    )
+    parser.add_argument(
+        "--clip-frames",
+        type=int,
+        default=250,
+        help="source frames prepared and looped (default 250)",
+    )
+    parser.add_argument(
+        "--skip-default", action="store_true", help="do not also run the default scenario"
+    )
+    add_common_arguments(parser)
+    parser.set_defaults(func=handle)
+
+
+def handle(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from uma.bench.salsify import SalsifyBenchConfig, format_table, run_salsify_bench
+    from uma.cli.cmd_bench import emit
+    from uma.config import load_scenario
+    from uma.errors import ConfigError
+    from uma.paths import scenarios_dir, shared_data_dir
+
+    for name in ("frames", "clip_frames"):
+        value = getattr(args, name)
+        if value is not None and value <= 0:
+            raise ConfigError(
+                f"--{name.replace('_', '-')}: expected a positive integer, got {value}"
+            )
+    if args.seed < 0:
+        raise ConfigError(f"--seed: expected a non-negative integer, got {args.seed}")
+    trace = Path(args.trace) if args.trace else shared_data_dir() / DEFAULT_TRACE
+    if not trace.is_file():
+        raise ConfigError(f"--trace: expected an existing Mahimahi trace file, got {str(trace)!r}")
+    scenario_path = args.scenario or scenarios_dir() / "salsify-tmobile-umts.yaml"
+    scenario = load_scenario(scenario_path).with_seed(args.seed)
+    default = None if args.skip_default else load_scenario(None).with_seed(args.seed)
+    config = SalsifyBenchConfig(
+        scenario=scenario,
+        trace=str(trace.resolve()),
+        frames=args.frames,
+        clip_frames=args.clip_frames,
+        default_scenario=default,
+    )
+    result = run_salsify_bench(config)
+    emit(result, format_table(result), as_json=args.json)
+    return 0

@@ -1,0 +1,115 @@
+"""`uma regress SUITE.yaml`: gate CI on rate and quality metrics against baselines."""
+
+from __future__ import annotations
+
+import argparse
+
+__all__ = ["register"]
+
+HELP = """\
+Run the short scenarios a suite lists (or read finished results with --results DIR, where
+DIR/<scenario name>/metrics.json is what `uma run --out DIR/<name>` writes) and compare each
+gated metric with the suite's baseline file under its tolerance and direction. Prints
+scenario, metric, baseline, now, change, tolerance, verdict.
+
+--update rewrites the baseline from these results, on purpose, and shows what changed.
+Exit status: 0 every metric within its tolerance, 1 a regression (a missing metric or a failed
+run is one), 2 bad input (suite, baseline or scenario files)."""
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    parser = sub.add_parser(
+        "regress",
+        help="compare metrics with the repository's baselines; exit 1 on a regression",
+        description=HELP,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument("suite", metavar="SUITE.yaml", help="suite file")
+    parser.add_argument("--results", metavar="DIR", help="read finished results instead of running")
+    parser.add_argument("--out", metavar="DIR", help="where runs go (default results/regress)")
+    parser.add_argument("--workers", type=int, default=2, help="worker processes (default 2)")
+    parser.add_argument("--update", action="store_true", help="rewrite the baseline on purpose")
+    parser.set_defaults(func=handle)
+
+
+def handle(args: argparse.Namespace) -> int:
+    import sys
+    from pathlib import Path
+
+    from uma.atomic import atomic_write_text, prepare_out_dir
+    from uma.config import load_scenario
+    from uma.errors import ConfigError
+    from uma.experiments.point import completed_metrics, point_task, run_point
+    from uma.experiments.regress import (
+        baseline_yaml,
+        compare,
+        format_checks,
+        load_baseline,
+        load_suite,
+    )
+    from uma.experiments.spec import scenario_hash
+
+    if args.workers < 1:
+        raise ConfigError(f"--workers: expected a positive integer, got {args.workers}")
+    if args.results and args.out:
+        raise ConfigError("--results and --out: give one (--results reads, --out runs)")
+    suite = load_suite(args.suite)
+    scenarios = [load_scenario(path) for path in suite.scenarios]
+    names = [s.name for s in scenarios]
+    if len(set(names)) != len(names):
+        raise ConfigError(f"{suite.path} (scenarios): two scenarios share a name: {names}")
+    baseline = None
+    if not args.update or suite.baseline_path.exists():
+        baseline = load_baseline(suite.baseline_path)
+
+    now: dict[str, dict | None] = {}
+    failures: list[str] = []
+    if args.results:
+        results = Path(args.results)
+        if not results.is_dir():
+            raise ConfigError(f"--results: expected a folder of results, got {str(results)!r}")
+        for name in names:
+            now[name] = completed_metrics(results / name)
+            if now[name] is None:
+                failures.append(f"{name}: no {results / name / 'metrics.json'}")
+    else:
+        from uma.experiments.executor import LocalExecutor
+
+        out = prepare_out_dir(Path(args.out) if args.out else Path("results") / "regress")
+        tasks = [
+            point_task(s, out / s.name, index=i, hash=scenario_hash(s))
+            for i, s in enumerate(scenarios)
+        ]
+        executor = LocalExecutor(min(args.workers, len(tasks)))
+        try:
+            replies = {r["index"]: r for r in executor.map_unordered(run_point, tasks)}
+        finally:
+            executor.close()
+        for i, name in enumerate(names):
+            reply = replies[i]
+            now[name] = reply["metrics"] if reply["status"] == "ok" else None
+            if reply["status"] != "ok":
+                failures.append(f"{name}: the run failed: {reply['error']}")
+
+    for line in failures:
+        print(f"uma regress: {line}", file=sys.stderr)
+    if args.update:
+        if failures:
+            print("uma regress: baseline not updated", file=sys.stderr)
+            return 1
+        if baseline is not None:
+            try:
+                checks = compare(suite, baseline, now)
+                print(format_checks(checks))
+            except ConfigError as err:
+                print(f"(previous baseline incomplete: {err})")
+        atomic_write_text(suite.baseline_path, baseline_yaml(suite, now))
+        print(
+            f"baseline {suite.baseline_path} written ({len(now)} scenarios, {len(suite.metrics)} metrics each)"
+        )
+        return 0
+    checks = compare(suite, baseline, now)
+    print(format_checks(checks))
+    bad = sum(check.failed for check in checks)
+    print(f"{len(checks)} checks, {bad} regressed" + (" or missing" if bad else ""))
+    return 1 if bad or failures else 0

@@ -1,0 +1,82 @@
+"""`uma sweep EXPERIMENT.yaml`: run a grid of scenarios on local processes or a Dask cluster."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+__all__ = ["register"]
+
+HELP = """\
+Run every point of an experiment: a base scenario and a grid over its keys (see
+uma/experiments/spec.py, or the README). Points run on local worker processes (--workers,
+default 2), or on a Dask cluster when --scheduler gives its address (tcp://host:port; the
+workers must see the same files and the --out folder).
+
+Writes OUT/sweep.csv and OUT/sweep.parquet (one row per run: the grid's keys and every metric)
+and OUT/points/<hash>/ per run. Rerunning skips points already complete (keyed by the hash of
+the resolved scenario); a failed point is recorded with its error and the others go on.
+Exit status: 0 all points ran, 1 some point failed, 2 bad input."""
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    parser = sub.add_parser(
+        "sweep",
+        help="run a grid of scenarios (local processes or Dask), one table of results",
+        description=HELP,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument("experiment", metavar="EXPERIMENT.yaml", help="experiment file")
+    parser.add_argument("--workers", type=int, help="local worker processes (default 2)")
+    parser.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler, tcp://host:port")
+    parser.add_argument(
+        "--timeout", type=float, default=10.0, metavar="S", help="seconds to reach the scheduler"
+    )
+    parser.add_argument("--out", metavar="DIR", help="results folder (default results/<name>)")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar or summary")
+    parser.set_defaults(func=handle)
+
+
+def handle(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from uma.atomic import prepare_out_dir
+    from uma.errors import ConfigError
+    from uma.experiments import load_experiment, make_executor, run_sweep
+
+    if args.workers is not None and args.workers < 1:
+        raise ConfigError(f"--workers: expected a positive integer, got {args.workers}")
+    if args.workers is not None and args.scheduler:
+        raise ConfigError("--workers and --scheduler: give one (a cluster has its own workers)")
+    experiment = load_experiment(args.experiment)
+    out_dir = prepare_out_dir(Path(args.out) if args.out else Path("results") / experiment.name)
+    executor = make_executor(workers=args.workers, scheduler=args.scheduler, timeout_s=args.timeout)
+
+    bar = None
+    progress = None
+    if not args.quiet and sys.stderr.isatty():
+        from tqdm import tqdm
+
+        bar = tqdm(
+            total=len(experiment.points), unit="point", desc=experiment.name, file=sys.stderr
+        )
+
+        def progress(done: int, total: int) -> None:
+            bar.update(done - bar.n)
+
+    try:
+        result = run_sweep(experiment, out_dir, executor, progress=progress)
+    finally:
+        executor.close()
+        if bar is not None:
+            bar.close()
+    if not args.quiet:
+        print(
+            f"sweep {experiment.name}: {len(result.rows)} points, {result.ran} run, "
+            f"{result.skipped} already complete, {result.failed} failed\n"
+            f"  table    {result.csv_path} and {result.parquet_path.name}"
+        )
+        for row in result.rows:
+            if row["status"] != "ok":
+                print(f"  failed   point {row['point']} ({row['hash']}): {row['error']}")
+    return 1 if result.failed else 0

@@ -1,0 +1,63 @@
+"""Run one sweep point in whatever process an executor gives it, and write its folder.
+
+The task is small (the resolved scenario as JSON-ready data and a folder name): the worker
+opens its own source and traces, so nothing large travels to it. Any failure becomes a value
+(`status: failed` and the error's line) so one bad point does not stop the others.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+from pathlib import Path
+from typing import Any
+
+__all__ = ["run_point", "point_task", "completed_metrics"]
+
+
+def point_task(scenario, out_dir: str | Path, *, index: int, hash: str) -> dict[str, Any]:
+    """The task for `run_point`: plain data that pickles small and travels to any worker."""
+    return {
+        "index": index,
+        "hash": hash,
+        "scenario": scenario.model_dump(mode="json"),
+        "out_dir": str(out_dir),
+    }
+
+
+def completed_metrics(out_dir: str | Path) -> dict[str, Any] | None:
+    """The metrics of a finished run in `out_dir` (metrics.json is written last), or None."""
+    path = Path(out_dir) / "metrics.json"
+    try:
+        return json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+
+
+def run_point(task: dict[str, Any]) -> dict[str, Any]:
+    """Simulate the task's scenario, write its results; `{index, hash, status, error, metrics}`.
+
+    Scoring runs inline (`metrics.workers: 0`): a sweep's parallelism is across points, and the
+    results do not depend on it.
+    """
+    from uma.atomic import atomic_write_text
+
+    out = Path(task["out_dir"])
+    reply: dict[str, Any] = {"index": task["index"], "hash": task["hash"], "error": ""}
+    try:
+        from uma.config.scenario import Scenario
+        from uma.sim import run_scenario
+        from uma.sim.summary import save_run
+
+        data = dict(task["scenario"])
+        data["metrics"] = dict(data.get("metrics", {}), workers=0)
+        scenario = Scenario.model_validate(data)
+        (out / "error.txt").unlink(missing_ok=True)
+        metrics = save_run(run_scenario(scenario), out)
+    except Exception as err:  # recorded with the point, never lost: the sweep goes on
+        message = " ".join(str(err).split()) or type(err).__name__
+        reply |= {"status": "failed", "error": f"{type(err).__name__}: {message}", "metrics": {}}
+        with contextlib.suppress(Exception):  # the reply still carries the error
+            atomic_write_text(out / "error.txt", reply["error"] + "\n")
+        return reply
+    return reply | {"status": "ok", "metrics": metrics}

@@ -1,0 +1,232 @@
+"""The regression gate: compare each run's metrics with a baseline kept in the repository.
+
+A suite file lists short scenarios, the baseline file and, per metric, the direction that is
+worse and how far it may move that way:
+
+```yaml
+baseline: baseline.yaml            # relative to the suite file
+scenarios: [short-commute.yaml]    # scenario files; results are looked up by scenario name
+metrics:
+  kbps_h264:    {worse: up, relative: 0.05}    # bit rate may not rise more than 5 %
+  psnr_db:      {worse: down, absolute: 0.3}   # PSNR may not fall more than 0.3 dB
+  freeze_ratio: {worse: up, absolute: 0.02}
+```
+
+The baseline is YAML, scenario name -> metric -> value (null where the metric has none), written
+by `uma regress SUITE --update`. A metric the results lack, or null where the baseline has a
+number, is a regression. Units are those of the metric's name.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from uma.errors import ConfigError
+
+__all__ = ["Tolerance", "Suite", "Check", "load_suite", "load_baseline", "compare", "format_checks"]
+
+_SUITE_KEYS = ("baseline", "scenarios", "metrics", "description")
+
+
+@dataclass(frozen=True)
+class Tolerance:
+    """`worse` is "up" or "down"; the allowed move that way is `relative` (of |baseline|) or `absolute`."""
+
+    worse: str
+    relative: float | None = None
+    absolute: float | None = None
+
+    def allowed(self, baseline: float) -> float:
+        if self.relative is not None:
+            return self.relative * abs(baseline)
+        return float(self.absolute)
+
+    def describe(self) -> str:
+        way = "rise" if self.worse == "up" else "fall"
+        if self.relative is not None:
+            return f"{way} <= {self.relative * 100:g} %"
+        return f"{way} <= {self.absolute:g}"
+
+
+@dataclass(frozen=True)
+class Suite:
+    path: Path
+    baseline_path: Path
+    scenarios: tuple[Path, ...]
+    metrics: dict[str, Tolerance]
+
+
+@dataclass(frozen=True)
+class Check:
+    scenario: str
+    metric: str
+    baseline: float | None
+    now: float | None
+    change: str
+    tolerance: str
+    verdict: str  # ok, better, REGRESSED, missing
+
+    @property
+    def failed(self) -> bool:
+        return self.verdict in ("REGRESSED", "missing")
+
+
+def _number(value: Any) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def load_suite(path: str | Path) -> Suite:
+    """Parse a suite file; errors name its line and key."""
+    from uma.config.yamlfile import load_yaml
+
+    path = Path(path)
+    data, lines = load_yaml(path)
+    if not isinstance(data, dict):
+        raise ConfigError(
+            f"{lines.where(())}: expected a mapping with baseline, scenarios, metrics"
+        )
+    for key in data:
+        if key not in _SUITE_KEYS:
+            raise ConfigError(
+                f"{lines.where((key,))}: unknown key, expected one of {', '.join(_SUITE_KEYS)}"
+            )
+    folder = path.resolve().parent
+    baseline = data.get("baseline")
+    if not isinstance(baseline, str) or not baseline:
+        raise ConfigError(f"{lines.where(('baseline',))}: expected the baseline file's path")
+    scenarios = data.get("scenarios")
+    if (
+        not isinstance(scenarios, list)
+        or not scenarios
+        or not all(isinstance(s, str) for s in scenarios)
+    ):
+        raise ConfigError(
+            f"{lines.where(('scenarios',))}: expected a non-empty list of scenario files"
+        )
+    metrics = data.get("metrics")
+    if not isinstance(metrics, dict) or not metrics:
+        raise ConfigError(f"{lines.where(('metrics',))}: expected a mapping of metric -> tolerance")
+    tolerances = {}
+    for name, spec in metrics.items():
+        where = lines.where(("metrics", name))
+        if not isinstance(spec, dict) or set(spec) - {"worse", "relative", "absolute"}:
+            raise ConfigError(
+                f"{where}: expected {{worse: up|down, relative: X or absolute: X}}, got {spec!r}"
+            )
+        if spec.get("worse") not in ("up", "down"):
+            raise ConfigError(f"{where} worse: expected up or down, got {spec.get('worse')!r}")
+        given = [k for k in ("relative", "absolute") if k in spec]
+        if len(given) != 1 or not _number(spec[given[0]]) or spec[given[0]] < 0:
+            raise ConfigError(
+                f"{where}: expected exactly one of relative or absolute, a number >= 0"
+            )
+        tolerances[str(name)] = Tolerance(spec["worse"], spec.get("relative"), spec.get("absolute"))
+    return Suite(
+        path=path,
+        baseline_path=(folder / baseline).resolve(),
+        scenarios=tuple((folder / s).resolve() for s in scenarios),
+        metrics=tolerances,
+    )
+
+
+def load_baseline(path: Path) -> dict[str, dict[str, float | None]]:
+    """The baseline file: scenario -> metric -> number or null; a malformed line names itself."""
+    from uma.config.yamlfile import load_yaml
+
+    data, lines = load_yaml(path)
+    if not isinstance(data, dict):
+        raise ConfigError(f"{lines.where(())}: expected a mapping of scenario -> metric -> value")
+    out: dict[str, dict[str, float | None]] = {}
+    for scenario, values in data.items():
+        if not isinstance(values, dict):
+            raise ConfigError(
+                f"{lines.where((scenario,))}: expected a mapping of metric -> value, got {values!r}"
+            )
+        for metric, value in values.items():
+            if value is not None and not _number(value):
+                raise ConfigError(
+                    f"{lines.where((scenario, metric))}: expected a number or null, got {value!r}"
+                )
+        out[str(scenario)] = {str(k): v for k, v in values.items()}
+    return out
+
+
+def _check(scenario: str, metric: str, tol: Tolerance, base: Any, now: Any) -> Check:
+    def result(change: str, verdict: str) -> Check:
+        return Check(scenario, metric, base, now, change, tol.describe(), verdict)
+
+    if base is None:
+        return result("", "ok" if now is None else "better")
+    if not _number(now):
+        return result("", "missing")
+    delta = now - base
+    change = (
+        f"{delta / abs(base) * 100:+.2f} %"
+        if tol.relative is not None and base
+        else f"{delta:+.4g}"
+    )
+    worse_by = delta if tol.worse == "up" else -delta
+    allowed = tol.allowed(base)
+    if worse_by > allowed + 1e-12:
+        return result(change, "REGRESSED")
+    return result(change, "better" if -worse_by > allowed + 1e-12 else "ok")
+
+
+def compare(
+    suite: Suite,
+    baseline: dict[str, dict[str, Any]],
+    now: dict[str, dict[str, Any] | None],
+) -> list[Check]:
+    """One check per scenario and metric; `now[scenario]` None means the run left no results."""
+    checks = []
+    for scenario, metrics in now.items():
+        base = baseline.get(scenario)
+        if base is None:
+            raise ConfigError(
+                f"{suite.baseline_path}: no baseline for scenario {scenario!r} "
+                f"(write one on purpose with --update)"
+            )
+        for metric, tol in suite.metrics.items():
+            if metric not in base:
+                raise ConfigError(
+                    f"{suite.baseline_path} ({scenario}.{metric}): no baseline value "
+                    f"(write one on purpose with --update)"
+                )
+            value = (metrics or {}).get(metric)
+            checks.append(_check(scenario, metric, tol, base[metric], value))
+    return checks
+
+
+def _shown(value: Any) -> str:
+    return "-" if value is None else f"{value:.6g}"
+
+
+def format_checks(checks: list[Check]) -> str:
+    """The table: scenario, metric, baseline, now, change, tolerance, verdict."""
+    head = ("scenario", "metric", "baseline", "now", "change", "tolerance", "verdict")
+    rows = [head] + [
+        (c.scenario, c.metric, _shown(c.baseline), _shown(c.now), c.change, c.tolerance, c.verdict)
+        for c in checks
+    ]
+    widths = [max(len(row[i]) for row in rows) for i in range(len(head))]
+    return "\n".join(
+        "  ".join(cell.ljust(width) for cell, width in zip(row, widths, strict=True)).rstrip()
+        for row in rows
+    )
+
+
+def baseline_yaml(suite: Suite, now: dict[str, dict[str, Any]]) -> str:
+    """The baseline file's text for the current results (the metrics the suite gates)."""
+    lines = [
+        f"# Baseline of {suite.path.name}: written by `uma regress {suite.path.name} --update`.",
+        "# Regenerate on purpose, and say why in the commit message.",
+    ]
+    for scenario, metrics in now.items():
+        lines.append(f"{scenario}:")
+        for metric in suite.metrics:
+            value = metrics.get(metric)
+            lines.append(f"  {metric}: {'null' if value is None else repr(float(value))}")
+    return "\n".join(lines) + "\n"

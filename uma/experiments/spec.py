@@ -1,0 +1,160 @@
+"""An experiment file: a base scenario and a grid over its keys, expanded into points.
+
+```yaml
+name: policy-vs-playout
+base: ../scenarios/stockholm-uppsala.yaml   # relative to this file
+set: {duration_s: 30}                       # optional: the same keys for every point
+grid:                                        # key path -> the values to try
+  engine.policy: [throughput, oracle]
+  receiver.playout_delay_ms: [150, 300, 600]
+  route[1].trace: [a.log, b.log]             # paths relative to this file
+repeat: 2                                    # optional: seeds seed, seed + 1, ... per point
+```
+
+Every point is validated before anything runs (an unknown key, an empty grid, a value the
+schema refuses: one `ConfigError` naming the file, line and key). A point's identity is the hash
+of its fully resolved scenario, which makes a sweep resumable.
+"""
+
+from __future__ import annotations
+
+import copy
+import itertools
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from uma.config.scenario import Scenario
+from uma.errors import ConfigError
+
+__all__ = ["Experiment", "Point", "load_experiment", "scenario_hash"]
+
+_TOP_KEYS = ("name", "description", "base", "set", "grid", "repeat")
+
+
+@dataclass(frozen=True)
+class Point:
+    """One run of a sweep: its grid values, repeat number, resolved scenario and its hash."""
+
+    index: int
+    values: dict[str, Any]
+    repeat: int
+    scenario: Scenario
+    hash: str
+
+
+@dataclass(frozen=True)
+class Experiment:
+    name: str
+    path: Path
+    grid_keys: tuple[str, ...]
+    points: tuple[Point, ...]
+
+
+def scenario_hash(scenario: Scenario) -> str:
+    """16 hex digits of SHA-256 over the resolved scenario, the threads that score it left out.
+
+    `metrics.workers` does not change results (see `MetricsConfig`), so it is not part of a
+    point's identity.
+    """
+    import hashlib
+    import json
+
+    data = scenario.model_dump(mode="json")
+    data["metrics"].pop("workers", None)
+    text = json.dumps(data, sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
+
+
+def _absolute(value: Any, folder: Path) -> Any:
+    if isinstance(value, str) and value:
+        path = Path(value).expanduser()
+        return str(path if path.is_absolute() else (folder / path).resolve())
+    return value
+
+
+def load_experiment(path: str | Path) -> Experiment:
+    """Parse an experiment file and expand its grid into validated points."""
+    from uma.config.load import scenario_from_dict
+    from uma.config.yamlfile import load_yaml
+    from uma.experiments.keypaths import PATH_KEYS, check_key_path, parse_key_path, set_key_path
+
+    path = Path(path)
+    data, lines = load_yaml(path)
+    folder = path.resolve().parent
+    if not isinstance(data, dict):
+        raise ConfigError(f"{lines.where(())}: expected a mapping with base and grid")
+    for key in data:
+        if key not in _TOP_KEYS:
+            raise ConfigError(
+                f"{lines.where((key,))}: unknown key, expected one of {', '.join(_TOP_KEYS)}"
+            )
+    if "base" not in data or not isinstance(data["base"], str):
+        raise ConfigError(f"{lines.where(('base',))}: expected base: the path of a scenario file")
+    base_path = Path(_absolute(data["base"], folder))
+    base_data, base_lines = load_yaml(base_path)
+    if not isinstance(base_data, dict):
+        raise ConfigError(f"{base_lines.where(())}: expected a mapping of scenario keys")
+    name = data.get("name", path.stem)
+    if not isinstance(name, str) or not name:
+        raise ConfigError(f"{lines.where(('name',))}: expected a name, got {name!r}")
+    repeat = data.get("repeat", 1)
+    if isinstance(repeat, bool) or not isinstance(repeat, int) or repeat < 1:
+        raise ConfigError(
+            f"{lines.where(('repeat',))}: expected a positive integer, got {repeat!r}"
+        )
+
+    grid = data.get("grid")
+    if not isinstance(grid, dict) or not grid:
+        raise ConfigError(
+            f"{lines.where(('grid',))}: expected a non-empty mapping of key paths to lists of "
+            f"values, got {grid!r}"
+        )
+    fixed = data.get("set") or {}
+    if not isinstance(fixed, dict):
+        raise ConfigError(f"{lines.where(('set',))}: expected a mapping of key paths to values")
+
+    def key_path(section: str, text: Any) -> tuple:
+        where = lines.where((section, text))
+        if not isinstance(text, str):
+            raise ConfigError(f"{where}: expected a key path, got {text!r}")
+        try:
+            parsed = parse_key_path(text)
+            check_key_path(parsed, base_data)
+        except ValueError as err:
+            raise ConfigError(f"{where}: {err}") from None
+        return parsed
+
+    def value_for(parsed: tuple, value: Any) -> Any:
+        return _absolute(value, folder) if parsed[-1] in PATH_KEYS else value
+
+    fixed_paths = [(key_path("set", k), v) for k, v in fixed.items()]
+    axes = []
+    for text, values in grid.items():
+        parsed = key_path("grid", text)
+        if not isinstance(values, list) or not values:
+            raise ConfigError(
+                f"{lines.where(('grid', text))}: expected a non-empty list of values, got {values!r}"
+            )
+        axes.append((text, parsed, values))
+
+    points: list[Point] = []
+    base_dir = base_path.resolve().parent
+    for combo in itertools.product(*(values for _, _, values in axes)):
+        for rep in range(repeat):
+            point_data = copy.deepcopy(base_data)
+            for parsed, value in fixed_paths:
+                set_key_path(point_data, parsed, value_for(parsed, value))
+            for (_, parsed, _), value in zip(axes, combo, strict=True):
+                set_key_path(point_data, parsed, value_for(parsed, value))
+            seed = point_data.get("seed", 0)
+            if rep:
+                point_data["seed"] = (seed if isinstance(seed, int) else 0) + rep
+            values = {text: value for (text, _, _), value in zip(axes, combo, strict=True)}
+            try:
+                scenario = scenario_from_dict(point_data, base_lines, base_dir=base_dir)
+            except ConfigError as err:
+                shown = ", ".join(f"{k}={v!r}" for k, v in values.items())
+                raise ConfigError(f"{path}: grid point {shown}: {err}") from None
+            points.append(Point(len(points), values, rep, scenario, scenario_hash(scenario)))
+    return Experiment(name, path, tuple(text for text, _, _ in axes), tuple(points))
