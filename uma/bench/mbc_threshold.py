@@ -65,8 +65,8 @@ def measure(name: str, frames: list[np.ndarray], description, truth=None, *, rng
             start[1] += shift * np.sin(angle)
             if rng.random() < 0.3:
                 start[4] += rng.choice([-0.3, 0.3])
-            fit, score, _ = stepper.step(image, start)
-            if mde_px(model, fit.params, result.params) > 3.0:
+            params, score, _ = stepper.step(image, start)
+            if mde_px(model, params, result.params) > 3.0:
                 lost.append(score)
     good_a, lost_a = np.array(good), np.array(lost)
 
