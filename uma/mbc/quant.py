@@ -27,8 +27,9 @@ GLOBAL_STEP_SCALE = 16.0
 # CIF face, a rotation step 0.1 degree.
 DEFAULT_POSE_STEPS = (4.0, 4.0, 3.0, 500.0, 500.0, 150.0)
 # Action units, by the face distance they are measured in (1/1024 of it, `uma.mbc.units`):
-# each moves its most moved vertex by about 1.5 % of ES per step at global step 1 (0.3 px on a
-# CIF face), whichever distance it is counted in.
+# at global step 1 a step moves the mouth's most moved vertex by 0.9 % of ES (0.4 px on a CIF
+# face), the brows' and eyelids' by 0.4 % (0.17 px): the precision chosen (on the held-out
+# halves) before the units were mbcdata's FAPUs, kept in the new units.
 DEFAULT_ACTION_STEPS = (("MNS", 32.0), ("MW", 12.0), ("ENS", 5.0), ("IRISD", 24.0))
 
 
