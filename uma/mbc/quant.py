@@ -21,10 +21,12 @@ __all__ = ["QuantiserConfig", "Quantiser", "GLOBAL_STEP_SCALE"]
 
 # The global step travels in each packet as one byte: code / GLOBAL_STEP_SCALE (1/16 to ~16).
 GLOBAL_STEP_SCALE = 16.0
-# Pose: tx, ty (ES/1024), scale (1/1024), rx, ry, rz (1e-5 rad). Chosen on the talking head at
-# seed 1 and akiyo's second half (not the README's data) so that the face-region loss of the
-# quantised rendering stays near 0.2 dB at global step 1: a translation step is ~0.2 px on a
-# CIF face, a rotation step 0.1 degree.
+# Pose: tx, ty (ES/1024), scale (1/1024), rx, ry, rz (1e-5 rad). At global step 1 a translation
+# step is ~0.17 px on a CIF face, a roll step 0.09 degree; pitch and yaw, which move points
+# about a third as far for an angle (by depth, not radius), 0.29 degree. Chosen with the global
+# step (1.5) on data the README does not quote (talking head seed 1, akiyo's and carphone's
+# frames 150-299): payload 1.27, 1.59, 1.79 kbit/s at 0.18, 0.01, 0.01 dB face-region loss;
+# global step 2 saves 0.04-0.16 kbit/s for 0.36 dB on the talking head.
 DEFAULT_POSE_STEPS = (4.0, 4.0, 3.0, 500.0, 500.0, 150.0)
 # Action units, by the face distance they are measured in (1/1024 of it, `uma.mbc.units`):
 # at global step 1 a step moves the mouth's most moved vertex by 0.9 % of ES (0.4 px on a CIF
