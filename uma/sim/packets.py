@@ -34,6 +34,7 @@ class EncodedUnit:
     height: int
     keyframe: bool
     data: bytes
+    frames: tuple[int, ...] = ()  # every frame the unit carries when several (MBC packets)
 
 
 @dataclass(frozen=True)

@@ -2,8 +2,11 @@
 
 Units: simulation time in seconds; logs in ms, kbit/s and bits as their column names say.
 Each process is a plain generator function over a shared `World` (built by `uma.sim.world`). The
-codec work is real (libx264 and FFmpeg's decoder through PyAV); the time it would take a real
-engine is modelled (`engine.transcode_ms`), never read from the wall clock.
+codec work is real (libx264 and FFmpeg's decoder through PyAV; the model-based codec's tracker
+and parameter coder); the time it would take a real engine is modelled from the operating
+point (`engine.transcode_ms` for H.264; MBC's cost per fitting-cost evaluation), never read
+from the wall clock. The MBC initialisation runs as its own process (a second core of the
+engine), so frames keep flowing as H.264 until it is done.
 """
 
 from __future__ import annotations
@@ -16,7 +19,7 @@ import numpy as np
 import simpy
 
 from uma.config.scenario import Scenario
-from uma.engine.engine import UmaEngine
+from uma.engine.engine import EngineEvent, UmaEngine
 from uma.metrics.framelog import FrameLog
 from uma.sim.capacity import CapacitySchedule
 from uma.sim.links import Downlink, FixedLink, LinkProps, deliver_later
@@ -29,7 +32,14 @@ from uma.sim.packets import (
 )
 from uma.sim.receiver import ReceiverState
 
-__all__ = ["World", "sender_process", "engine_process", "report_process", "display_process"]
+__all__ = [
+    "World",
+    "sender_process",
+    "engine_process",
+    "mbc_init_process",
+    "report_process",
+    "display_process",
+]
 
 
 @dataclass
@@ -59,6 +69,13 @@ class World:
     feedback_lost: int = 0
     playout: Any = None  # uma.sim.playout: FixedPlayout or AdaptivePlayout (None: fixed)
     padding_bits: int = 0
+    points: tuple = ()  # the engine's operating points
+    init_us_per_evaluation: float = 0.0
+    mbc_init_frames: list[int] = field(default_factory=list)  # where initialisations started
+
+    def mbc_init_compute_s(self, evaluations: int) -> float:
+        """Modelled seconds of one MBC initialisation that cost `evaluations`."""
+        return self.init_us_per_evaluation * evaluations / 1e6
 
     def send_feedback(self, item, handler: Callable) -> None:
         """Carry a report or request over the mobile uplink; lost in an outage or at random."""
@@ -91,9 +108,6 @@ def engine_process(env: simpy.Environment, world: World):
     engine = world.engine
     scenario = world.scenario
     oracle = scenario.engine.policy == "oracle"
-    transcode_s = scenario.engine.transcode_ms / 1000.0
-    payload_bytes = scenario.downlink.packet_bytes
-    pad = scenario.engine.estimator.kind == "webrtc"
     log = world.log
     while True:
         index, encoded = yield world.inbox.get()
@@ -105,38 +119,97 @@ def engine_process(env: simpy.Environment, world: World):
         log["estimate_kbps"][index] = engine.estimate_kbps
         log["rung"][index] = decision.rung
         log["scheduled"][index] = int(decision.scheduled)
+        if decision.init_mbc:
+            if picture is None:
+                engine.on_init_done(False, env.now, reason="no decoded picture to start from")
+            else:
+                world.mbc_init_frames.append(index)
+                env.process(mbc_init_process(env, world, picture, index))
         if not decision.send or picture is None:
             continue
-        width, height = world.codec.rung_size(decision.rung)
-        out = world.codec.engine_encode(picture, decision.rung, force_idr=decision.force_idr)
-        yield env.timeout(transcode_s)
-        unit = EncodedUnit(
-            unit_seq=world.next_unit_seq,
-            frame=index,
-            codec="h264",
-            rung=decision.rung,
-            width=width,
-            height=height,
-            keyframe=bool(out.is_keyframe),
-            data=out.data,
+        point = decision.point
+        if world.codec.engine_point not in (-1, decision.rung):
+            leftover = world.codec.engine_flush()  # MBC's open packet, when leaving MBC
+            if leftover is not None and leftover.data:
+                _send(world, leftover, world.points[world.codec.engine_point], index)
+        out = world.codec.engine_encode(
+            picture, decision.rung, force_idr=decision.force_idr, frame=index
         )
-        world.next_unit_seq += 1
-        first_seq = engine.on_packets_sent(packet_sizes_bits(unit, payload_bytes=payload_bytes))
-        for packet in packetize(
-            unit, first_seq=first_seq, payload_bytes=payload_bytes, sent_s=env.now
-        ):
-            world.downlink.offer(packet)
-        if pad:
-            _pad_to_estimate(world, unit, decision.rung, payload_bytes)
-        log["codec"][index] = "h264"
-        log["width"][index] = width
-        log["height"][index] = height
-        log["sent"][index] = 1
-        log["keyframe"][index] = int(unit.keyframe)
-        log["size_bits"][index] = 8 * len(unit.data)
+        if decision.force_idr and out.keyframe:
+            engine.on_keyframe_sent(env.now)
+        compute_s = point.compute_s(out.evaluations)
+        if out.reinitialised or out.failure:
+            # The tracker lost the face and initialised again: that work costs as an init.
+            compute_s = point.compute_s(0) + world.mbc_init_compute_s(out.evaluations)
+        if out.reinitialised:
+            engine.events.append(EngineEvent(env.now, "mbc_reinit", f"frame {index}"))
+        if out.failure:
+            engine.on_track_failed(out.failure, env.now)
+        yield env.timeout(compute_s)
+        if not out.failure:
+            # A frame MBC buffers for its next packet is sent; its bits count with the packet.
+            log["codec"][index] = point.codec
+            log["width"][index] = out.width
+            log["height"][index] = out.height
+            log["sent"][index] = 1
+        if out.data:
+            _send(world, out, point, index)
 
 
-def _pad_to_estimate(world: World, unit: EncodedUnit, rung: int, payload_bytes: int) -> None:
+def _send(world: World, out, point, index: int) -> None:
+    """Put one coded unit on the downlink (and the probe or WebRTC padding behind it)."""
+    engine = world.engine
+    scenario = world.scenario
+    payload_bytes = scenario.downlink.packet_bytes
+    frames = out.frames or (index,)
+    unit = EncodedUnit(
+        unit_seq=world.next_unit_seq,
+        frame=frames[-1],
+        codec=point.codec,
+        rung=world.points.index(point),
+        width=out.width,
+        height=out.height,
+        keyframe=out.keyframe,
+        data=out.data,
+        frames=out.frames,
+    )
+    world.next_unit_seq += 1
+    first_seq = engine.on_packets_sent(packet_sizes_bits(unit, payload_bytes=payload_bytes))
+    for packet in packetize(
+        unit, first_seq=first_seq, payload_bytes=payload_bytes, sent_s=world.env.now
+    ):
+        world.downlink.offer(packet)
+    if scenario.engine.estimator.kind == "webrtc":
+        _pad_to_estimate(world, unit, point, payload_bytes, frames=len(frames))
+    elif point.codec == "mbc" and scenario.engine.mbc.probe and scenario.engine.policy != "oracle":
+        # On MBC the parameters alone (a few kbit/s) would cap the estimate at 3 x that:
+        # padding up to the estimate, no further than the rate that would bring the engine
+        # back to H.264, lets it find the bandwidth to return (the oracle needs no probe).
+        limit_kbps = scenario.engine.switching.to_h264_above_kbps / scenario.engine.safety
+        _pad_to_estimate(
+            world, unit, point, payload_bytes, frames=len(frames), limit_kbps=limit_kbps
+        )
+    world.log["keyframe"][frames[0]] = int(unit.keyframe)
+    world.log["size_bits"][frames[-1]] = 8 * len(unit.data)
+
+
+def mbc_init_process(env: simpy.Environment, world: World, picture: np.ndarray, frame: int):
+    """Initialise the model-based codec on `picture`; done after its modelled compute time."""
+    engine = world.engine
+    result = world.codec.mbc_initialise(picture, engine.mbc_point, frame=frame)
+    yield env.timeout(world.mbc_init_compute_s(result.evaluations))
+    engine.on_init_done(bool(result), env.now, reason=result.reason, evaluations=result.evaluations)
+
+
+def _pad_to_estimate(
+    world: World,
+    unit: EncodedUnit,
+    point,
+    payload_bytes: int,
+    *,
+    frames: int = 1,
+    limit_kbps: float = float("inf"),
+) -> None:
     """Follow a frame with padding up to the estimate's share of the frame interval.
 
     A WebRTC sender encodes at its target rate; uma's ladder sends at most a rung's rate, and
@@ -144,10 +217,11 @@ def _pad_to_estimate(world: World, unit: EncodedUnit, rung: int, payload_bytes: 
     climb to the next rung. The padding stands in for the rate a WebRTC encoder would send.
     """
     engine = world.engine
-    interval_s = 1.0 / min(world.ladder.rungs[rung].fps, world.fps)
+    interval_s = frames / min(point.fps, world.fps)
     sent_bits = sum(packet_sizes_bits(unit, payload_bytes=payload_bytes))
     sizes = padding_sizes_bits(
-        engine.estimate_kbps * 1000.0 * interval_s - sent_bits, payload_bytes=payload_bytes
+        min(engine.estimate_kbps, limit_kbps) * 1000.0 * interval_s - sent_bits,
+        payload_bytes=payload_bytes,
     )
     if not sizes:
         return

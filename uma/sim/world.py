@@ -52,6 +52,11 @@ class RunResult:
     codec_s: float = 0.0
     metrics_s: float = 0.0
     padding_bits: int = 0
+    points: tuple = ()  # the engine's operating points (`uma.engine.points.OperatingPoint`)
+    engine_counts: dict | None = None  # MBC inits, failures, refusals (`UmaEngine.counts`)
+    codec_seconds: dict | None = None  # with `account`: wall-clock codec seconds per codec
+    mbc_init_frames: tuple[int, ...] = ()  # frames on which MBC initialisations started
+    description: object = None  # the content description MBC used, if any
 
 
 def build_capacity(scenario: Scenario, rng: np.random.Generator) -> CapacitySchedule:
@@ -105,6 +110,46 @@ def _handover_events(capacity: CapacitySchedule, end_s: float) -> list[EngineEve
     return events
 
 
+def mbc_description(scenario: Scenario, source) -> tuple[object | None, str]:
+    """The content description MBC needs, or None and why there is none.
+
+    Only a scenario that switches needs one: `engine.mbc.description` (a `uma describe` file),
+    else the source's own (the talking head's astronaut). Without one the engine stays on
+    H.264 and records why when a switch is due.
+    """
+    if scenario.engine.switching.policy == "none":
+        return None, "switching off"
+    if scenario.engine.mbc.description is not None:
+        from uma.face import load_description
+
+        return load_description(scenario.engine.mbc.description), ""
+    own = getattr(source, "description", None)
+    if own is not None:
+        return own, ""
+    return None, "no content description (engine.mbc.description) for this source"
+
+
+def operating_points(scenario: Scenario, ladder, source, *, with_mbc: bool) -> tuple:
+    """The engine's ladder: the MBC point (when it has a description) below the H.264 rungs."""
+    from uma.engine.points import OperatingPoint, h264_points
+
+    points = h264_points(ladder, transcode_ms=scenario.engine.transcode_ms)
+    if not with_mbc:
+        return points
+    mbc = scenario.engine.mbc
+    point = OperatingPoint(
+        codec="mbc",
+        rate_kbps=mbc.rate_kbps,
+        fps=min(mbc.fps, float(source.fps)),
+        width=source.width,
+        height=source.height,
+        compute_ms=mbc.encode_ms,
+        compute_us_per_evaluation=mbc.track_us_per_evaluation,
+        label=f"mbc {mbc.rate_kbps:g}k {source.width}x{source.height}",
+    )
+    return (point, *points)
+
+
 def run_scenario(
     scenario: Scenario,
     *,
@@ -126,20 +171,29 @@ def run_scenario(
     capacity = build_capacity(scenario, route_rng)
     ladder = load_ladder(scenario.engine.ladder)
     source = source if source is not None else open_source(scenario.source, seed=scenario.seed)
+    description, mbc_unavailable = mbc_description(scenario, source)
+    points = operating_points(scenario, ladder, source, with_mbc=description is not None)
     fps = float(source.fps)
     frames = int(round(scenario.run_duration_s * fps))
     log = FrameLog(frames)
     env = simpy.Environment()
     codec = CodecChain(
-        scenario, ladder, width=source.width, height=source.height, fps=fps, account=account
+        scenario,
+        ladder,
+        points,
+        width=source.width,
+        height=source.height,
+        fps=fps,
+        account=account,
+        description=description,
     )
     quality = QualityMeter(scenario.metrics, width=source.width, height=source.height)
     engine = UmaEngine(
         scenario.engine,
-        rung_rates_kbps=tuple(r.rate_kbps for r in ladder.rungs),
-        rung_fps=tuple(r.fps for r in ladder.rungs),
+        points=points,
         source_fps=fps,
         feedback=scenario.feedback,
+        mbc_unavailable=mbc_unavailable,
     )
     props = _link_props(scenario)
     world_ref: list[World] = []
@@ -191,6 +245,8 @@ def run_scenario(
         progress=progress,
         inbox=simpy.Store(env),
         playout=playout,
+        init_us_per_evaluation=scenario.engine.mbc.init_us_per_evaluation,
+        points=points,
     )
     world_ref.append(world)
     env.process(sender_process(env, world))
@@ -220,4 +276,9 @@ def run_scenario(
         codec_s=codec.seconds,
         metrics_s=quality.seconds,
         padding_bits=world.padding_bits,
+        points=points,
+        engine_counts=dict(engine.counts),
+        codec_seconds=dict(codec.codec_seconds),
+        mbc_init_frames=tuple(world.mbc_init_frames),
+        description=description,
     )
