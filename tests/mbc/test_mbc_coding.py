@@ -30,7 +30,7 @@ def test_units_follow_mpeg4_definitions(units: FaceUnits) -> None:
 @pytest.mark.parametrize("global_step", [0.5, 1.0, 2.5])
 def test_quantise_dequantise_within_half_a_step(global_step: float) -> None:
     rng = np.random.default_rng(1)
-    quantiser = Quantiser(13, QuantiserConfig(global_step=global_step))
+    quantiser = Quantiser(("MNS",) * 7, QuantiserConfig(global_step=global_step))
     code = quantiser.config.global_code
     steps = quantiser.steps(code)
     values = rng.normal(0, 500, (200, 13))

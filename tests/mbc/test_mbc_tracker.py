@@ -42,3 +42,19 @@ def test_a_flat_picture_is_a_failure_value(head, head_frames) -> None:
     # The next good picture initialises again.
     again = tracker.track(head_frames[2])
     assert again and again.reinitialised
+
+
+def test_a_face_leaving_the_picture_reinitialises_and_says_so(head, head_frames) -> None:
+    tracker = FaceTracker(head.description, rng=0)
+    reasons = []
+    for k in range(16):
+        # The head slides right 12 px a frame (300 px/s) until it leaves the picture.
+        picture = np.full_like(head_frames[0], 100)
+        shift = 12 * k
+        picture[:, shift:] = head_frames[0][:, : picture.shape[1] - shift]
+        result = tracker.track(picture)
+        reasons.append(result.reason)
+        assert result or k >= 13, result.reason
+    assert reasons[0] == "first picture"
+    assert reasons[1:13] == ["tracked"] * 12  # a fast move, but followed
+    assert all("face leaving the picture" in r for r in reasons[13:]), reasons[13:]

@@ -54,7 +54,7 @@ class ParameterDecoder:
     def __init__(self, units: FaceUnits, config: StreamConfig = StreamConfig()):
         self.units = units
         self.config = config
-        self.quantiser = Quantiser(units.unit.size, config.quantiser)
+        self.quantiser = Quantiser(units.kinds, config.quantiser)
         self.models = AdaptiveModels(units.unit.size, config.coder)
         self._expected_seq: int | None = None
         self._next_frame: int | None = None

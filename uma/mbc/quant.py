@@ -21,12 +21,18 @@ __all__ = ["QuantiserConfig", "Quantiser", "GLOBAL_STEP_SCALE"]
 
 # The global step travels in each packet as one byte: code / GLOBAL_STEP_SCALE (1/16 to ~16).
 GLOBAL_STEP_SCALE = 16.0
-# Pose: tx, ty (ES/1024), scale (1/1024), rx, ry, rz (1e-5 rad). Chosen on the talking head at
-# seed 1 and akiyo's second half (not the README's data) so that the face-region loss of the
-# quantised rendering stays near 0.2 dB at global step 1: a translation step is ~0.2 px on a
-# CIF face, a rotation step 0.1 degree.
+# Pose: tx, ty (ES/1024), scale (1/1024), rx, ry, rz (1e-5 rad). At global step 1 a translation
+# step is ~0.17 px on a CIF face, a roll step 0.09 degree; pitch and yaw, which move points
+# about a third as far for an angle (by depth, not radius), 0.29 degree. Chosen with the global
+# step (1.5) on data the README does not quote (talking head seed 1, akiyo's and carphone's
+# frames 150-299): payload 1.27, 1.59, 1.79 kbit/s at 0.18, 0.01, 0.01 dB face-region loss;
+# global step 2 saves 0.04-0.16 kbit/s for 0.36 dB on the talking head.
 DEFAULT_POSE_STEPS = (4.0, 4.0, 3.0, 500.0, 500.0, 150.0)
-DEFAULT_ACTION_STEP = 12.0  # 1/1024 of the face distance an action unit acts on
+# Action units, by the face distance they are measured in (1/1024 of it, `uma.mbc.units`):
+# at global step 1 a step moves the mouth's most moved vertex by 0.9 % of ES (0.4 px on a CIF
+# face), the brows' and eyelids' by 0.4 % (0.17 px): the precision chosen (on the held-out
+# halves) before the units were mbcdata's FAPUs, kept in the new units.
+DEFAULT_ACTION_STEPS = (("MNS", 32.0), ("MW", 12.0), ("ENS", 5.0), ("IRISD", 24.0))
 
 
 @dataclass(frozen=True)
@@ -34,14 +40,14 @@ class QuantiserConfig:
     """Per-parameter steps (pose, then one for every action unit) and the global step."""
 
     pose_steps: tuple[float, ...] = DEFAULT_POSE_STEPS
-    action_step: float = DEFAULT_ACTION_STEP
+    action_steps: tuple[tuple[str, float], ...] = DEFAULT_ACTION_STEPS
     global_step: float = 1.5
 
     def __post_init__(self) -> None:
         if len(self.pose_steps) != 6 or not all(s > 0 for s in self.pose_steps):
             raise ValueError(f"quantiser: six positive pose steps expected, got {self.pose_steps}")
-        if not self.action_step > 0:
-            raise ValueError(f"quantiser: action_step > 0 expected, got {self.action_step}")
+        if not self.action_steps or not all(step > 0 for _, step in self.action_steps):
+            raise ValueError(f"quantiser: positive action steps expected, got {self.action_steps}")
         code = round(self.global_step * GLOBAL_STEP_SCALE)
         if not 1 <= code <= 255 or abs(code / GLOBAL_STEP_SCALE - self.global_step) > 1e-9:
             raise ValueError(
@@ -56,16 +62,18 @@ class QuantiserConfig:
 
 
 class Quantiser:
-    """Steps for `n_params` parameters; stateless (the reference is passed in)."""
+    """Steps for the pose and one action unit per entry of `kinds` (the face distance each is
+    measured in, `FaceUnits.kinds`; an unknown kind takes MNS's step); stateless (the
+    reference is passed in)."""
 
-    def __init__(self, n_params: int, config: QuantiserConfig = QuantiserConfig()):
-        if n_params < 6:
-            raise ValueError(f"quantiser: at least the 6 pose parameters expected, got {n_params}")
+    def __init__(self, kinds: tuple[str, ...], config: QuantiserConfig = QuantiserConfig()):
+        steps = dict(config.action_steps)
         self.config = config
         self.base = np.array(
-            list(config.pose_steps) + [config.action_step] * (n_params - 6), dtype=np.float64
+            list(config.pose_steps) + [steps.get(k, steps.get("MNS", 1.0)) for k in kinds],
+            dtype=np.float64,
         )
-        self.n_params = n_params
+        self.n_params = self.base.size
 
     def steps(self, global_code: int) -> np.ndarray:
         """Every parameter's step at a global step code (the packet's byte)."""

@@ -53,7 +53,7 @@ class ParameterEncoder:
     def __init__(self, units: FaceUnits, config: StreamConfig = StreamConfig()):
         self.units = units
         self.config = config
-        self.quantiser = Quantiser(units.unit.size, config.quantiser)
+        self.quantiser = Quantiser(units.kinds, config.quantiser)
         self.models = AdaptiveModels(units.unit.size, config.coder)
         self._seq = 0
         self._pending: list[tuple[bool, np.ndarray]] = []

@@ -7,11 +7,12 @@ means the same on any face and any picture size. As in MPEG-4 (ISO/IEC 14496-2, 
 - scale (scale_px) in 1/1024 of the description's scale;
 - rotations in the angle unit AU = 1e-5 rad;
 - an action unit in 1/1024 of the face distance it acts on (MNS mouth-nose for the mouth,
-  MW mouth width for the lip stretch, ENS eye-nose for brows and eyelids), per unit of
-  movement of its most moved vertex: a value of 1024 moves that vertex by one whole distance.
+  MW mouth width for the lip stretch, ENS eye-nose for the brows, IRISD for the eyelids), per
+  unit of movement of its most moved vertex: a value of 1024 moves that vertex by one whole
+  distance.
 
-mbcdata's `uma.face.fap` maps `.fap` files onto the model; this module is the codec's own
-measure (no `fap_units` existed when it was written) and uses the same FAPU definitions.
+The distances are `uma.face.fap.fap_units` of the personal model (the `.fap` reader's), so the
+codec and `.fap` files measure a face alike.
 """
 
 from __future__ import annotations
@@ -33,16 +34,8 @@ FAPU_DIVISOR = 1024.0
 _ACTION_FAPU = {
     "lip_stretch": "MW",
     "brow_raise": "ENS",
-    "eye_close": "ENS",
+    "eye_close": "IRISD",
 }
-
-
-def _distance(model: FaceModel, a: str, b: str, axis: int | None = None) -> float:
-    fp = model.feature_points
-    if a not in fp or b not in fp:
-        raise FaceError(f"{model.name}: feature points {a} and {b} are needed for the FAPUs")
-    delta = model.vertices[fp[a]] - model.vertices[fp[b]]
-    return float(abs(delta[axis]) if axis is not None else np.linalg.norm(delta[:2]))
 
 
 def action_fapu(name: str) -> str:
@@ -56,7 +49,8 @@ class FaceUnits:
 
     unit: np.ndarray  # (6 + A,)
     names: tuple[str, ...]
-    distances: dict[str, float]  # ES, ENS, MNS, MW in model units
+    distances: dict[str, float]  # ES, ENS, MNS, MW, IRISD in model units
+    kinds: tuple[str, ...] = ()  # per action unit, the distance it is measured in
 
     @classmethod
     def of(cls, model: FaceModel, params: np.ndarray) -> FaceUnits:
@@ -67,18 +61,13 @@ class FaceUnits:
                 f"{model.name}: expected {N_POSE + model.n_actions} parameters with a positive "
                 f"scale, got {params.shape}"
             )
-        eyes_y = 0.5 * (
-            model.vertices[model.feature_points.get("3.5", 0), 1]
-            + model.vertices[model.feature_points.get("3.6", 0), 1]
-        )
-        distances = {
-            "ES": _distance(model, "3.5", "3.6"),
-            "MNS": _distance(model, "9.15", "2.2", axis=1),
-            "MW": _distance(model, "8.3", "8.4"),
-        }
-        distances["ENS"] = float(abs(eyes_y - model.vertices[model.feature_points["9.15"], 1]))
-        if min(distances.values()) <= 1e-6:
-            raise FaceError(f"{model.name}: a face distance for the FAPUs is zero: {distances}")
+        from uma.face.fap import fap_units
+
+        try:
+            fapu = fap_units(model)
+        except FaceError as err:
+            raise FaceError(f"{model.name}: the codec's units need its FAPUs: {err}") from None
+        distances = {name: 1024.0 * value for name, value in fapu.by_name.items() if name != "AU"}
         scale = float(params[2])
         unit = [
             distances["ES"] * scale / FAPU_DIVISOR,
@@ -102,7 +91,8 @@ class FaceUnits:
             "rz_rad",
             *model.action_unit_names,
         )
-        return cls(unit=np.array(unit), names=names, distances=distances)
+        kinds = tuple(action_fapu(name) for name in model.action_unit_names)
+        return cls(unit=np.array(unit), names=names, distances=distances, kinds=kinds)
 
     def to_units(self, params: np.ndarray) -> np.ndarray:
         """Parameters (..., 6 + A) in face animation units."""
