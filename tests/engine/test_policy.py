@@ -102,3 +102,25 @@ def test_minimum_dwell_holds_each_codec():
 def test_switch_settings_refuse_an_inverted_band():
     with pytest.raises(ValueError, match="to_mbc_below_kbps"):
         SwitchSettings(to_mbc_below_kbps=60, to_h264_above_kbps=30)
+
+
+def test_predictive_switches_before_a_scripted_boundary_and_holds_through_it():
+    from uma.engine.policy import predictive_switch
+
+    settings = SwitchSettings(min_dwell_s=0.0, lookahead_s=3.0)
+    coverage = ((0.0, "WLAN"), (10.0, "GSM"), (20.0, "3G"))
+
+    def codec_at(now_s, codec="h264", budget_kbps=1000.0):
+        view = SwitchView(now_s, codec, 0.0, budget_kbps, coverage=coverage)
+        return predictive_switch(view, settings)
+
+    assert codec_at(6.9) == "h264"  # the budget is high and GSM is 3.1 s away
+    assert codec_at(7.0) == "mbc"  # 3 s before the boundary, whatever the budget
+    # On MBC inside GSM a budget spike does not bring H.264 back...
+    assert codec_at(15.0, "mbc", budget_kbps=500.0) == "mbc"
+    # ...after GSM (3G) the thresholds decide again.
+    assert codec_at(20.5, "mbc", budget_kbps=500.0) == "h264"
+    assert codec_at(20.5, "mbc", budget_kbps=40.0) == "mbc"  # inside the hysteresis band
+    # Without a coverage map it is the threshold policy.
+    view = SwitchView(7.0, "h264", 0.0, 1000.0)
+    assert predictive_switch(view, settings) == "h264"

@@ -123,3 +123,17 @@ def test_no_face_when_the_switch_is_due_stays_on_the_lowest_rung(tmp_path):
     tech = np.array([str(t) for t in run.log["technology"]])
     rungs = run.log["rung"][(tech == "GSM") & run.log["sent"].astype(bool)]
     assert rungs.size and np.all(rungs[-3:] == 1)  # the lowest H.264 rung, after the MBC point
+
+
+def test_predictive_policy_is_on_mbc_before_the_boundary():
+    run = run_scenario(
+        scenario(switching={"policy": "predictive", "lookahead_ms": 1000.0, "min_dwell_ms": 500.0})
+    )
+    events = {e.kind: e.time_s for e in reversed(run.events)}  # the first of each kind
+    assert 1.9 <= events["mbc_init_start"] < 2.1  # 1 s before GSM begins at 3.0 s
+    switch = next(e for e in run.events if e.kind == "codec_switch")
+    assert switch.detail.startswith("h264->mbc") and switch.time_s < 3.0
+    codec = np.array([str(c) for c in run.log["codec"]])
+    tech = np.array([str(t) for t in run.log["technology"]])
+    sent = run.log["sent"].astype(bool)
+    assert np.all(codec[sent & (tech == "GSM")] == "mbc")

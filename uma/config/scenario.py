@@ -45,7 +45,7 @@ POLICY_NAMES: tuple[str, ...] = ("throughput", "oracle", "fixed")
 # estimator (aiortc's port of webrtc.org's RemoteBitrateEstimator) carried back as a REMB.
 ESTIMATOR_KINDS = ("uma", "webrtc")
 # Switching policies `engine.switching.policy` may name (`uma.engine.policy.SWITCHING`).
-SWITCHING_NAMES: tuple[str, ...] = ("none", "threshold")
+SWITCHING_NAMES: tuple[str, ...] = ("none", "threshold", "predictive")
 
 Num = Annotated[float, Strict(), AllowInfNan(False)]
 PosNum = Annotated[float, Strict(), AllowInfNan(False), Field(gt=0)]
@@ -163,13 +163,18 @@ class SwitchingConfig(_Section):
     `to_mbc_below_kbps`, back when it rises above `to_h264_above_kbps` (the gap is the
     hysteresis), never sooner than `min_dwell_ms` after the last codec change; after a failed
     initialisation the engine stays on the lowest H.264 rung and tries again `retry_ms` later.
+    `predictive`: the thresholds, plus the route's technology segments as a coverage map: to
+    MBC `lookahead_ms` before a segment of `low_technologies` begins, and not back while one
+    is that near or under way.
     """
 
-    policy: Literal["none", "threshold"] = "none"
+    policy: Literal["none", "threshold", "predictive"] = "none"
     to_mbc_below_kbps: PosNum = 30.0
     to_h264_above_kbps: PosNum = 60.0
     min_dwell_ms: NonNeg = 3000.0
     retry_ms: PosNum = 5000.0
+    lookahead_ms: NonNeg = 3000.0
+    low_technologies: tuple[Str, ...] = ("GPRS", "GSM")
 
     @model_validator(mode="after")
     def _hysteresis(self):

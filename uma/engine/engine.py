@@ -90,6 +90,7 @@ class UmaEngine:
         source_fps: float,
         feedback: FeedbackConfig,
         mbc_unavailable: str = "",
+        coverage: tuple[tuple[float, str], ...] = (),
     ) -> None:
         self.config = config
         self.feedback = feedback
@@ -104,7 +105,10 @@ class UmaEngine:
             to_mbc_below_kbps=config.switching.to_mbc_below_kbps,
             to_h264_above_kbps=config.switching.to_h264_above_kbps,
             min_dwell_s=config.switching.min_dwell_ms / 1000.0,
+            lookahead_s=config.switching.lookahead_ms / 1000.0,
+            low_technologies=tuple(config.switching.low_technologies),
         )
+        self.coverage = coverage
         if self.mbc_point is None and not mbc_unavailable:
             mbc_unavailable = "no MBC operating point on the ladder"
         self.mbc_unavailable = mbc_unavailable
@@ -314,7 +318,13 @@ class UmaEngine:
             capacity_kbps if self.config.policy == "oracle" else self.estimator.estimate_kbps
         )
         codec = self.switch_policy(
-            SwitchView(now_s=now_s, codec=on, since_s=self.codec_since_s, budget_kbps=budget_kbps),
+            SwitchView(
+                now_s=now_s,
+                codec=on,
+                since_s=self.codec_since_s,
+                budget_kbps=budget_kbps,
+                coverage=self.coverage,
+            ),
             self.switch_settings,
         )
         if codec == "h264":

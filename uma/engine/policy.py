@@ -28,7 +28,9 @@ __all__ = [
     "SwitchSettings",
     "SWITCHING",
     "threshold_switch",
+    "predictive_switch",
     "no_switch",
+    "low_coverage_in_s",
 ]
 
 
@@ -121,6 +123,9 @@ class SwitchSettings:
     to_mbc_below_kbps: float = 30.0
     to_h264_above_kbps: float = 60.0
     min_dwell_s: float = 3.0
+    # Predictive only: switch this long before a technology in `low_technologies` begins.
+    lookahead_s: float = 3.0
+    low_technologies: tuple[str, ...] = ("GPRS", "GSM")
 
     def __post_init__(self) -> None:
         if not 0 < self.to_mbc_below_kbps < self.to_h264_above_kbps:
@@ -138,6 +143,8 @@ class SwitchView:
     codec: str
     since_s: float  # when the engine arrived on `codec`
     budget_kbps: float  # safety x estimate (or x true capacity for an oracle)
+    # The route's coverage as a coverage map would give it: (start_s, technology), in order.
+    coverage: tuple[tuple[float, str], ...] = ()
 
 
 def threshold_switch(view: SwitchView, settings: SwitchSettings) -> str:
@@ -151,6 +158,33 @@ def threshold_switch(view: SwitchView, settings: SwitchSettings) -> str:
     return view.codec
 
 
+def low_coverage_in_s(
+    coverage: tuple[tuple[float, str], ...], now_s: float, low: tuple[str, ...]
+) -> float | None:
+    """Seconds until the coverage map enters a low technology (0 inside one), None if never."""
+    for index, (start_s, technology) in enumerate(coverage):
+        end_s = coverage[index + 1][0] if index + 1 < len(coverage) else float("inf")
+        if end_s <= now_s or technology not in low:
+            continue
+        return max(0.0, start_s - now_s)
+    return None
+
+
+def predictive_switch(view: SwitchView, settings: SwitchSettings) -> str:
+    """Thresholds, plus the coverage map: to MBC `lookahead_s` before a low-bandwidth area
+    begins (so the initialisation is done at the boundary), and not back to H.264 while one
+    is that near or under way."""
+    if view.now_s - view.since_s < settings.min_dwell_s:
+        return view.codec
+    ahead_s = low_coverage_in_s(view.coverage, view.now_s, settings.low_technologies)
+    near = ahead_s is not None and ahead_s <= settings.lookahead_s
+    if view.codec == "h264" and near:
+        return "mbc"
+    if view.codec == "mbc" and near:
+        return "mbc"
+    return threshold_switch(view, settings)
+
+
 def no_switch(view: SwitchView, settings: SwitchSettings) -> str:
     """H.264 only."""
     return "h264"
@@ -159,4 +193,5 @@ def no_switch(view: SwitchView, settings: SwitchSettings) -> str:
 SWITCHING: dict[str, Callable[[SwitchView, SwitchSettings], str]] = {
     "none": no_switch,
     "threshold": threshold_switch,
+    "predictive": predictive_switch,
 }

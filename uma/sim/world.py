@@ -111,6 +111,15 @@ def _handover_events(capacity: CapacitySchedule, end_s: float) -> list[EngineEve
     return events
 
 
+def coverage_map(scenario: Scenario) -> tuple[tuple[float, str], ...]:
+    """The route's technology segments as a coverage map gives them: (start_s, technology)."""
+    out, start_s = [], 0.0
+    for segment in scenario.route:
+        out.append((start_s, segment.technology))
+        start_s += segment.duration_s
+    return tuple(out)
+
+
 def mbc_description(scenario: Scenario, source) -> tuple[object | None, str]:
     """The content description MBC needs, or None and why there is none.
 
@@ -200,6 +209,7 @@ def run_scenario(
         source_fps=fps,
         feedback=scenario.feedback,
         mbc_unavailable=mbc_unavailable,
+        coverage=coverage_map(scenario),
     )
     props = _link_props(scenario)
     world_ref: list[World] = []
