@@ -137,3 +137,27 @@ def test_predictive_policy_is_on_mbc_before_the_boundary():
     tech = np.array([str(t) for t in run.log["technology"]])
     sent = run.log["sent"].astype(bool)
     assert np.all(codec[sent & (tech == "GSM")] == "mbc")
+
+
+def test_description_delivery_under_a_tiny_capacity_delays_the_first_switch():
+    # Straight into GSM: MBC is wanted at once, but the receiver needs the description
+    # first; its chunks cannot arrive faster than 9.6 kbit/s carries them, and the lowest
+    # H.264 rung keeps flowing beside them (backlog-limited), so slower than that.
+    from uma.sim.packets import HEADER_BYTES
+
+    base = scenario(switching={"policy": "threshold", "min_dwell_ms": 0.0})
+    gsm = base.route[1].model_copy(update={"duration_s": 30.0})
+    run = run_scenario(base.model_copy(update={"route": (gsm,)}))
+    chunks = -(-run.description_bytes // base.downlink.packet_bytes)
+    fastest_s = 8 * chunks * (base.downlink.packet_bytes + HEADER_BYTES) / 9600.0
+    assert fastest_s <= run.description_delivered_s <= 2.5 * fastest_s
+    assert run.description_acked_s > run.description_delivered_s  # a report carried the news
+    events = [(e.time_s, e.kind) for e in run.events]
+    waiting = next(t for t, k in events if k == "mbc_waiting_description")
+    assert waiting < 0.1
+    first_init = next(t for t, k in events if k == "mbc_init_start")
+    first_switch = next(t for t, k in events if k == "codec_switch")
+    assert run.description_acked_s <= first_init < first_switch < 30.0
+    assert run.description_wait_s == pytest.approx(run.description_acked_s - waiting)
+    codec = np.array([str(c) for c in run.log["codec"]])
+    assert np.all(codec[: int(run.description_acked_s * 25)] != "mbc")

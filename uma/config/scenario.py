@@ -202,6 +202,10 @@ class MbcConfig(_Section):
     `rate_kbps` is the point's nominal rate on the ladder (on the wire), `fps` its frame rate;
     `frames_per_packet` frames go in one packet (one packet a frame at 25 frames/s would spend
     8 kbit/s on the 40 header bytes alone, nearly GSM's whole 9.6).
+    `deliver_description`: send the description to the receiver ahead of need, in packets
+    sharing the downlink with the video when the estimate leaves room (false: the receiver is
+    assumed to hold it), using the room the estimate leaves above the point's rate but at least
+    `description_share` of the estimate; MBC is used only once a receiver report confirms it.
     `probe`: while on MBC, follow each parameter packet with padding up to the estimate's
     share of the frame interval, so the estimate can grow back (without it, it stays within
     3 x the parameters' few kbit/s and the engine never returns to H.264).
@@ -215,6 +219,8 @@ class MbcConfig(_Section):
     track_us_per_evaluation: PosNum = 1021.0
     encode_ms: NonNeg = 0.2
     probe: Bool = True
+    deliver_description: Bool = True
+    description_share: Fraction = 0.1
 
 
 class EngineConfig(_Section):

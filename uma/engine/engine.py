@@ -91,6 +91,7 @@ class UmaEngine:
         feedback: FeedbackConfig,
         mbc_unavailable: str = "",
         coverage: tuple[tuple[float, str], ...] = (),
+        description_bits: int = 0,
     ) -> None:
         self.config = config
         self.feedback = feedback
@@ -109,6 +110,12 @@ class UmaEngine:
             low_technologies=tuple(config.switching.low_technologies),
         )
         self.coverage = coverage
+        # The content description to deliver ahead of need (0 bits: nothing to deliver, or
+        # the receiver is assumed to hold it). MBC is used only once a report confirms it.
+        self.description_bits = description_bits
+        self.description_acked_s: float | None = None if description_bits else 0.0
+        self.description_wait_from_s: float | None = None
+        self.description_wait_s = 0.0
         if self.mbc_point is None and not mbc_unavailable:
             mbc_unavailable = "no MBC operating point on the ladder"
         self.mbc_unavailable = mbc_unavailable
@@ -149,6 +156,14 @@ class UmaEngine:
             self.highest_seq = reported_seq
             self.last_progress_s = now_s
         self.last_report_s = now_s
+        if report.description_complete and self.description_acked_s is None:
+            self.description_acked_s = now_s
+            self.events.append(
+                EngineEvent(now_s, "description_delivered", f"{self.description_bits} bits")
+            )
+            if self.description_wait_from_s is not None:
+                self.description_wait_s += now_s - self.description_wait_from_s
+                self.description_wait_from_s = None
         self.estimator = self.update_estimate(
             self.estimator,
             report,
@@ -195,6 +210,11 @@ class UmaEngine:
         if self.rung != self.h264[0]:
             self._switch_to(self.h264[0], now_s, "fallback")
             self.switched_between = True  # the next frame sent starts the new stream
+
+    @property
+    def description_pending(self) -> bool:
+        """The description still has to reach the receiver."""
+        return self.description_acked_s is None
 
     def on_packets_sent(self, sizes_bits: list[int]) -> int:
         """Record packets handed to the downlink; returns the first sequence number given them."""
@@ -328,6 +348,9 @@ class UmaEngine:
             self.switch_settings,
         )
         if codec == "h264":
+            if self.description_wait_from_s is not None:
+                self.description_wait_s += now_s - self.description_wait_from_s
+                self.description_wait_from_s = None
             if self.mbc_state in ("initialising", "ready"):
                 self.events.append(EngineEvent(now_s, "mbc_init_abandoned", "budget recovered"))
             self.mbc_state = "off"
@@ -344,6 +367,14 @@ class UmaEngine:
         reason = self.mbc_unavailable
         if not reason and now_s < self.mbc_blocked_until_s:
             reason = self.mbc_blocked_reason
+        if not reason and self.description_acked_s is None:
+            # Wanted, but the receiver cannot render MBC yet: H.264 meanwhile, time counted.
+            if self.description_wait_from_s is None:
+                self.description_wait_from_s = now_s
+                self.events.append(
+                    EngineEvent(now_s, "mbc_waiting_description", "description not delivered")
+                )
+            return self.policy(view), False
         if reason:
             if not self.mbc_blocked_logged:
                 self.mbc_blocked_logged = True

@@ -24,7 +24,9 @@ from uma.metrics.framelog import FrameLog
 from uma.sim.capacity import CapacitySchedule
 from uma.sim.links import Downlink, FixedLink, LinkProps, deliver_later
 from uma.sim.packets import (
+    HEADER_BYTES,
     EncodedUnit,
+    Packet,
     packet_sizes_bits,
     packetize,
     padding_packets,
@@ -74,6 +76,10 @@ class World:
     points: tuple = ()  # the engine's operating points
     init_us_per_evaluation: float = 0.0
     mbc_init_frames: list[int] = field(default_factory=list)  # where initialisations started
+    description_chunks: int = 0  # packets the content description takes
+    description_next: int = 0
+    description_credit_bits: float = 0.0
+    description_sent_bits: int = 0
 
     def mbc_init_compute_s(self, evaluations: int) -> float:
         """Modelled seconds of one MBC initialisation that cost `evaluations`."""
@@ -128,6 +134,8 @@ def engine_process(env: simpy.Environment, world: World):
             else:
                 world.mbc_init_frames.append(index)
                 env.process(mbc_init_process(env, world, picture, index))
+        if engine.description_pending:
+            _send_description(world, decision.point, capacity_kbps)
         if not decision.send or picture is None:
             continue
         point = decision.point
@@ -157,6 +165,54 @@ def engine_process(env: simpy.Environment, world: World):
             log["sent"][index] = 1
         if out.data:
             _send(world, out, point, index)
+
+
+def _send_description(world: World, point, capacity_kbps: float) -> None:
+    """Send chunks of the content description with the room the budget leaves.
+
+    The budget is the policy's (safety x estimate; x the true capacity for the oracle). Each
+    frame interval earns the larger of (budget - the point's rate) and
+    `engine.mbc.description_share` x budget of credit (the top rung leaves no room), the whole
+    budget while MBC waits for the description; chunks go out while the credit lasts and,
+    unless MBC waits, the downlink is not backlogged, round and round the description until a
+    receiver report says it is complete (a lost chunk comes again).
+    """
+    engine = world.engine
+    scenario = world.scenario
+    payload_bytes = scenario.downlink.packet_bytes
+    # The budget as the policy sees it: safety x estimate (x the true capacity for the oracle).
+    seen_kbps = capacity_kbps if scenario.engine.policy == "oracle" else engine.estimate_kbps
+    budget_kbps = scenario.engine.safety * seen_kbps
+    waiting = engine.description_wait_from_s is not None
+    if waiting:
+        credit_kbps = budget_kbps  # MBC is wanted and waits for it: all the budget
+    else:
+        credit_kbps = max(
+            budget_kbps - point.rate_kbps, scenario.engine.mbc.description_share * budget_kbps
+        )
+    world.description_credit_bits += credit_kbps * 1000.0 / world.fps
+    chunks = world.description_chunks
+    budget_bits = engine.estimate_kbps * scenario.engine.max_backlog_ms / 2.0
+    size_bits = 8 * (payload_bytes + HEADER_BYTES)
+    while world.description_credit_bits >= size_bits and (
+        waiting or engine.outstanding_bits < budget_bits
+    ):
+        chunk = world.description_next % chunks
+        world.description_next += 1
+        world.description_credit_bits -= size_bits
+        seq = engine.on_packets_sent([size_bits])
+        world.downlink.offer(
+            Packet(
+                seq=seq,
+                unit=None,
+                index=chunk,
+                count=chunks,
+                size_bits=size_bits,
+                sent_s=world.env.now,
+                chunk=chunk,
+            )
+        )
+        world.description_sent_bits += size_bits
 
 
 def _send(world: World, out, point, index: int) -> None:

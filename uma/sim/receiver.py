@@ -60,6 +60,10 @@ class ReceiverState:
     bwe: Any = None
     # Told (frame, arrival_s) of every decoded frame: the adaptive playout listens.
     on_decoded: Callable[[int, float], None] | None = None
+    # The content description's chunks received, and when the last one came (cached: MBC
+    # can be rendered from then on).
+    description_chunks: set = field(default_factory=set)
+    description_done_s: float | None = None
 
     def on_packet(self, packet: Packet) -> None:
         now_s = self.now()
@@ -76,6 +80,8 @@ class ReceiverState:
 
         unit = packet.unit
         if unit is None:
+            if packet.chunk >= 0:
+                self._description_chunk(packet, now_s)
             return  # padding: counted and seen by the estimator, nothing to decode
         if unit.unit_seq < self.expected_unit:
             return  # a reordered packet of a unit the chain has passed: too late to use
@@ -108,6 +114,13 @@ class ReceiverState:
             self.log["decoded"][frame] = 1
             if self.on_decoded is not None:
                 self.on_decoded(frame, now_s)
+
+    def _description_chunk(self, packet: Packet, now_s: float) -> None:
+        # The engine sends the description's chunks round and round until a report says it
+        # is complete, so a lost chunk comes again.
+        self.description_chunks.add(packet.chunk)
+        if len(self.description_chunks) == packet.count and self.description_done_s is None:
+            self.description_done_s = now_s
 
     def _chain_broken(self, unit_seq: int) -> None:
         if unit_seq < self.expected_unit and not self.broken:
@@ -145,6 +158,7 @@ class ReceiverState:
             highest_seq=self.highest_seq,
             queue_delay_ms=queue_ms,
             remb_kbps=self.bwe.estimate_kbps if self.bwe is not None else None,
+            description_complete=self.description_done_s is not None,
         )
         self.bits = self.packets = self.lost = 0
         self.owd_sum_s = 0.0

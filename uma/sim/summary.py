@@ -51,7 +51,16 @@ def switching_metrics(result: RunResult) -> dict[str, Any]:
         "reinits": kinds.count("mbc_reinit"),
         "mbc_refused": counts.get("mbc_refused", 0),
         "mbc_refused_reason": refused[0] if refused else None,
+        "description_bytes": result.description_bytes,
+        "kbps_description": round(result.description_sent_bits / result.duration_s / 1000.0, 3),
+        "description_delivered_s": _rounded(result.description_delivered_s),
+        "description_acked_s": _rounded(result.description_acked_s),
+        "description_wait_s": round(result.description_wait_s, 3),
     }
+
+
+def _rounded(value: float | None) -> float | None:
+    return None if value is None else round(value, 3)
 
 
 def playout_metrics(result: RunResult) -> dict[str, Any]:

@@ -57,6 +57,11 @@ class RunResult:
     engine_counts: dict | None = None  # MBC inits, failures, refusals (`UmaEngine.counts`)
     codec_seconds: dict | None = None  # with `account`: wall-clock codec seconds per codec
     mbc_init_frames: tuple[int, ...] = ()  # frames on which MBC initialisations started
+    description_bytes: int = 0  # the content description delivered to the receiver
+    description_sent_bits: int = 0  # on the wire, headers and repeats included
+    description_delivered_s: float | None = None  # when its last chunk reached the receiver
+    description_acked_s: float | None = None  # when a report told the engine
+    description_wait_s: float = 0.0  # time MBC was wanted but the description not there
     description: object = None  # the content description MBC used, if any
 
 
@@ -188,6 +193,10 @@ def run_scenario(
     source = source if source is not None else open_source(scenario.source, seed=scenario.seed)
     description, mbc_unavailable = mbc_description(scenario, source)
     points = operating_points(scenario, ladder, source, with_mbc=description is not None)
+    description_bytes = 0
+    if description is not None and scenario.engine.mbc.deliver_description:
+        description_bytes = len(description.to_bytes())
+    description_bits = 8 * description_bytes
     fps = float(source.fps)
     frames = int(round(scenario.run_duration_s * fps))
     log = FrameLog(frames)
@@ -210,6 +219,7 @@ def run_scenario(
         feedback=scenario.feedback,
         mbc_unavailable=mbc_unavailable,
         coverage=coverage_map(scenario),
+        description_bits=description_bits,
     )
     props = _link_props(scenario)
     world_ref: list[World] = []
@@ -266,6 +276,7 @@ def run_scenario(
         playout=playout,
         init_us_per_evaluation=scenario.engine.mbc.init_us_per_evaluation,
         points=points,
+        description_chunks=-(-description_bytes // scenario.downlink.packet_bytes),
     )
     world_ref.append(world)
     env.process(sender_process(env, world))
@@ -300,5 +311,15 @@ def run_scenario(
         engine_counts=dict(engine.counts),
         codec_seconds=dict(codec.codec_seconds),
         mbc_init_frames=tuple(world.mbc_init_frames),
+        description_bytes=description_bytes,
+        description_sent_bits=world.description_sent_bits,
+        description_delivered_s=receiver.description_done_s,
+        description_acked_s=engine.description_acked_s if description_bytes else None,
+        description_wait_s=engine.description_wait_s
+        + (
+            end_s - engine.description_wait_from_s
+            if engine.description_wait_from_s is not None
+            else 0.0
+        ),
         description=description,
     )
