@@ -166,3 +166,10 @@ def test_dask_local_cluster_gives_the_local_results(folder):
         for name in ("frames.csv", "metrics.json"):
             a = (folder / "local" / "points" / point.hash / name).read_bytes()
             assert a == (folder / "dask" / "points" / point.hash / name).read_bytes()
+
+
+def test_shipped_experiment_loads():
+    from uma.paths import scenarios_dir
+
+    experiment = load_experiment(scenarios_dir() / "experiments" / "policy-playout.yaml")
+    assert len(experiment.points) == 8 and experiment.name == "policy-playout"

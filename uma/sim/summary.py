@@ -113,6 +113,9 @@ def format_summary(metrics: dict[str, Any], out_dir: str | Path) -> str:
             f" ({show('ssim_db', ' dB')})",
             f"  display   frozen {show('freeze_ratio')} of the time, delay median "
             f"{show('delay_median_ms', ' ms')}, p95 {show('delay_p95_ms', ' ms')}",
+            f"  freezes   {show('freeze_count')} (WebRTC's definition), "
+            f"{show('total_freezes_duration_s', ' s')} in all; {show('displayed_fps')} frames/s "
+            f"shown, mean playout delay {show('playout_delay_mean_ms', ' ms')}",
             f"  engine    {metrics['switches']} rung switches, {metrics['handovers']} handovers, "
             f"{metrics['keyframe_requests']} keyframe requests",
             f"  results   {out_dir}",
