@@ -1,5 +1,8 @@
+import pytest
+
 from uma.config import EngineConfig, EstimatorConfig, FeedbackConfig
 from uma.engine import KeyframeRequest, ReceiverReport, UmaEngine
+from uma.engine.points import OperatingPoint
 
 RATES = (30.0, 100.0, 300.0, 1000.0)
 FPS = (5.0, 12.5, 25.0, 25.0)
@@ -9,8 +12,10 @@ def make_engine(**engine_kw):
     config = EngineConfig(estimator=EstimatorConfig(initial_kbps=400.0), safety=1.0, **engine_kw)
     return UmaEngine(
         config,
-        rung_rates_kbps=RATES,
-        rung_fps=FPS,
+        points=tuple(
+            OperatingPoint("h264", rate, fps, 176, 144, compute_ms=4.0)
+            for rate, fps in zip(RATES, FPS, strict=True)
+        ),
         source_fps=25.0,
         feedback=FeedbackConfig(interval_ms=100.0, keyframe_min_interval_ms=300.0),
     )
@@ -33,10 +38,21 @@ def test_keyframe_request_forces_idr_once_and_respects_min_interval():
     engine = make_engine(policy="fixed", fixed_rung=3)
     engine.on_keyframe_request(KeyframeRequest(sent_s=1.0, frame=3), 1.0)
     assert engine.on_frame(25, 1.0).force_idr
+    engine.on_keyframe_sent(1.0)  # the world reports the IDR left
     assert not engine.on_frame(26, 1.04).force_idr
     engine.on_keyframe_request(KeyframeRequest(sent_s=1.1, frame=5), 1.1)
     assert not engine.on_frame(27, 1.1).force_idr  # too soon after the last IDR
     assert engine.on_frame(35, 1.4).force_idr
+
+
+def test_keyframe_request_survives_a_frame_that_was_never_coded():
+    # The engine could not decode the picture, so no IDR left: the request must stay pending.
+    engine = make_engine(policy="fixed", fixed_rung=3)
+    engine.on_keyframe_request(KeyframeRequest(sent_s=1.0, frame=3), 1.0)
+    assert engine.on_frame(25, 1.0).force_idr  # ...but the world had no picture to code
+    assert engine.on_frame(26, 1.04).force_idr
+    engine.on_keyframe_sent(1.04)
+    assert not engine.on_frame(27, 1.08).force_idr
 
 
 def test_switch_down_forces_idr_and_is_logged():
@@ -132,3 +148,76 @@ def test_report_naming_a_sequence_never_sent_is_clamped():
     engine.on_report(_report(0.1, highest_seq=99), 0.1)
     assert engine.highest_seq == 1 and engine.outstanding_bits == 0
     engine.on_frame(3, 0.12)
+
+
+# --- switching to the model-based codec -------------------------------------------------------
+def make_switching_engine(*, mbc_unavailable="", **switching):
+    from uma.config.scenario import SwitchingConfig
+
+    settings = {"policy": "threshold", "min_dwell_ms": 0.0} | switching
+    config = EngineConfig(
+        estimator=EstimatorConfig(initial_kbps=400.0),
+        safety=1.0,
+        policy="oracle",
+        switching=SwitchingConfig(**settings),
+    )
+    points = (OperatingPoint("mbc", 4.8, 25.0, 176, 144, compute_us_per_evaluation=260.0),) + tuple(
+        OperatingPoint("h264", rate, fps, 176, 144, compute_ms=4.0)
+        for rate, fps in zip(RATES, FPS, strict=True)
+    )
+    return UmaEngine(
+        config,
+        points=points,
+        source_fps=25.0,
+        feedback=FeedbackConfig(interval_ms=100.0, keyframe_min_interval_ms=300.0),
+        mbc_unavailable=mbc_unavailable,
+    )
+
+
+def test_switch_to_mbc_waits_for_the_initialisation_then_sends_intra():
+    engine = make_switching_engine()
+    first = engine.on_frame(0, 0.0, capacity_kbps=10.0)
+    assert first.init_mbc and first.codec == "h264" and first.rung == 1  # lowest H.264
+    # Until the world reports the initialisation done, frames stay H.264, no second init.
+    second = engine.on_frame(1, 0.04, capacity_kbps=10.0)
+    assert second.codec == "h264" and not second.init_mbc
+    engine.on_init_done(True, 0.06, reason="first picture", evaluations=600)
+    third = engine.on_frame(2, 0.08, capacity_kbps=10.0)
+    assert third.codec == "mbc" and third.force_idr and third.send
+    assert third.point.compute_s(7) == pytest.approx(7 * 260e-6)
+    # Capacity back: H.264 at the rung the oracle picks, with an IDR.
+    back = engine.on_frame(3, 0.12, capacity_kbps=2000.0)
+    assert back.codec == "h264" and back.rung == 4 and back.force_idr
+    kinds = [e.kind for e in engine.events]
+    assert kinds.count("codec_switch") == 2 and "mbc_init_done" in kinds
+
+
+def test_failed_initialisation_stays_on_the_lowest_rung_and_retries_later():
+    engine = make_switching_engine(retry_ms=1000.0)
+    assert engine.on_frame(0, 0.0, capacity_kbps=10.0).init_mbc
+    engine.on_init_done(False, 0.2, reason="no face found")
+    decision = engine.on_frame(5, 0.2, capacity_kbps=10.0)
+    assert decision.codec == "h264" and decision.rung == 1 and not decision.init_mbc
+    assert not engine.on_frame(6, 0.9, capacity_kbps=10.0).init_mbc  # before retry_ms
+    assert engine.on_frame(30, 1.3, capacity_kbps=10.0).init_mbc
+    failed = [e for e in engine.events if e.kind == "mbc_init_failed"]
+    assert failed and "no face found" in failed[0].detail
+    assert engine.counts["init_failures"] == 1 and engine.counts["inits"] == 2
+
+
+def test_no_description_keeps_the_lowest_rung_and_says_why_once():
+    engine = make_switching_engine(mbc_unavailable="no content description")
+    decisions = [engine.on_frame(i, i / 25.0, capacity_kbps=10.0) for i in range(50)]
+    assert all(d.codec == "h264" and d.rung == 1 and not d.init_mbc for d in decisions)
+    refused = [e for e in engine.events if e.kind == "mbc_refused"]
+    assert len(refused) == 1 and "no content description" in refused[0].detail
+
+
+def test_tracking_failure_falls_back_to_h264():
+    engine = make_switching_engine()
+    engine.on_frame(0, 0.0, capacity_kbps=10.0)
+    engine.on_init_done(True, 0.05, evaluations=600)
+    assert engine.on_frame(2, 0.08, capacity_kbps=10.0).codec == "mbc"
+    engine.on_track_failed("face left the picture", 0.1)
+    decision = engine.on_frame(4, 0.16, capacity_kbps=10.0)  # 5 frames/s: frame 4 is sent
+    assert decision.codec == "h264" and decision.rung == 1 and decision.force_idr

@@ -19,7 +19,7 @@ def make_receiver():
 
     def decode(unit):
         decoded_units.append(unit.unit_seq)
-        return np.full((24, 16), unit.frame, dtype=np.uint8)
+        return {unit.frame: np.full((24, 16), unit.frame, dtype=np.uint8)}
 
     receiver = ReceiverState(
         log=FrameLog(20), decode=decode, request_keyframe=requests.append, now=clock
@@ -114,7 +114,7 @@ def test_padding_packets_are_counted_but_not_assembled():
     log = FrameLog(4)
     now = [1.0]
     receiver = ReceiverState(
-        log=log, decode=lambda unit: None, request_keyframe=lambda r: None, now=lambda: now[0]
+        log=log, decode=lambda unit: {}, request_keyframe=lambda r: None, now=lambda: now[0]
     )
     sizes = padding_sizes_bits(8 * 3000, payload_bytes=1200)
     assert sum(sizes) == 8 * 3000 and max(sizes) == 8 * 1240

@@ -34,6 +34,9 @@ __all__ = [
     "ReorderConfig",
     "SilenceConfig",
     "ESTIMATOR_KINDS",
+    "SwitchingConfig",
+    "MbcConfig",
+    "SWITCHING_NAMES",
 ]
 
 # The rate policies `engine.policy` may name; `uma.engine.policy.POLICIES` implements each.
@@ -41,6 +44,8 @@ POLICY_NAMES: tuple[str, ...] = ("throughput", "oracle", "fixed")
 # Bandwidth estimators the engine can use: its own delay-based one, or WebRTC's receiver-side
 # estimator (aiortc's port of webrtc.org's RemoteBitrateEstimator) carried back as a REMB.
 ESTIMATOR_KINDS = ("uma", "webrtc")
+# Switching policies `engine.switching.policy` may name (`uma.engine.policy.SWITCHING`).
+SWITCHING_NAMES: tuple[str, ...] = ("none", "threshold", "predictive")
 
 Num = Annotated[float, Strict(), AllowInfNan(False)]
 PosNum = Annotated[float, Strict(), AllowInfNan(False), Field(gt=0)]
@@ -151,6 +156,73 @@ class EstimatorConfig(_Section):
         return data
 
 
+class SwitchingConfig(_Section):
+    """When to switch between H.264 and the model-based codec (`uma.engine.policy`).
+
+    `none`: H.264 only. `threshold`: to MBC when safety x estimate falls below
+    `to_mbc_below_kbps`, back when it rises above `to_h264_above_kbps` (the gap is the
+    hysteresis), never sooner than `min_dwell_ms` after the last codec change; after a failed
+    initialisation the engine stays on the lowest H.264 rung and tries again `retry_ms` later.
+    `predictive`: the thresholds, plus the route's technology segments as a coverage map: to
+    MBC `lookahead_ms` before a segment of `low_technologies` begins, and not back while one
+    is that near or under way.
+    """
+
+    policy: Literal["none", "threshold", "predictive"] = "none"
+    to_mbc_below_kbps: PosNum = 30.0
+    to_h264_above_kbps: PosNum = 60.0
+    min_dwell_ms: NonNeg = 3000.0
+    retry_ms: PosNum = 5000.0
+    lookahead_ms: NonNeg = 3000.0
+    low_technologies: tuple[Str, ...] = ("GPRS", "GSM")
+
+    @model_validator(mode="after")
+    def _hysteresis(self):
+        if self.to_mbc_below_kbps >= self.to_h264_above_kbps:
+            raise ValueError(
+                f"to_mbc_below_kbps ({self.to_mbc_below_kbps:g}) must be below "
+                f"to_h264_above_kbps ({self.to_h264_above_kbps:g})"
+            )
+        return self
+
+
+class MbcConfig(_Section):
+    """The model-based codec in the engine: the content description and modelled compute.
+
+    `description`: a file written by `uma describe` (relative to the scenario); the talking
+    head needs none (its description is the astronaut's). Compute is modelled from the
+    tracker's count of fitting-cost evaluations: `init_us_per_evaluation` for an
+    initialisation (detector, SAABs, polish), `track_us_per_evaluation` for a tracking step,
+    plus `encode_ms` per frame (quantise, range-code). Defaults measured on this machine in
+    CPU time by `python -m uma.bench.mbc_cost` (talking head at CIF, seed 2, 120 frames,
+    re-initialised every 30; CPU time because the machine was shared, load about 9 on 2
+    cores, and wall time read 2.5x more): medians 143 us per evaluation over 4
+    initialisations (651 evaluations, 93 ms) and 1,021 us over 116 tracking steps (7
+    evaluations, 7.2 ms).
+    `rate_kbps` is the point's nominal rate on the ladder (on the wire), `fps` its frame rate;
+    `frames_per_packet` frames go in one packet (one packet a frame at 25 frames/s would spend
+    8 kbit/s on the 40 header bytes alone, nearly GSM's whole 9.6).
+    `deliver_description`: send the description to the receiver ahead of need, in packets
+    sharing the downlink with the video when the estimate leaves room (false: the receiver is
+    assumed to hold it), using the room the estimate leaves above the point's rate but at least
+    `description_share` of the estimate; MBC is used only once a receiver report confirms it.
+    `probe`: while on MBC, follow each parameter packet with padding up to the estimate's
+    share of the frame interval, so the estimate can grow back (without it, it stays within
+    3 x the parameters' few kbit/s and the engine never returns to H.264).
+    """
+
+    description: Str | None = None
+    rate_kbps: PosNum = 4.8
+    fps: PosNum = 25.0
+    frames_per_packet: Annotated[int, Strict(), Field(ge=1, le=255)] = 4
+    init_us_per_evaluation: PosNum = 143.0
+    track_us_per_evaluation: PosNum = 1021.0
+    encode_ms: NonNeg = 0.2
+    probe: Bool = True
+    deliver_description: Bool = True
+    description_share: Fraction = 0.1
+
+
 class EngineConfig(_Section):
     """The UMA engine: rate policy by name, ladder file, modelled compute cost."""
 
@@ -161,6 +233,8 @@ class EngineConfig(_Section):
     fixed_rung: NonNegInt | None = None
     transcode_ms: NonNeg = 4.0
     estimator: EstimatorConfig = Field(default_factory=EstimatorConfig)
+    switching: SwitchingConfig = Field(default_factory=SwitchingConfig)
+    mbc: MbcConfig = Field(default_factory=MbcConfig)
     # Tuning (see `uma.engine.engine`): reports missing for this many intervals mean an outage;
     # no more than this much sending time in flight; unacknowledged packets presumed lost after
     # this long; while backlogged, a probe frame this often.
@@ -293,7 +367,10 @@ class Scenario(_Section):
             segment.model_copy(update={"trace": absolute(segment.trace)}) for segment in self.route
         )
         source = self.source.model_copy(update={"path": absolute(self.source.path)})
-        engine = self.engine.model_copy(update={"ladder": absolute(self.engine.ladder)})
+        mbc = self.engine.mbc.model_copy(
+            update={"description": absolute(self.engine.mbc.description)}
+        )
+        engine = self.engine.model_copy(update={"ladder": absolute(self.engine.ladder), "mbc": mbc})
         return self.model_copy(update={"route": route, "source": source, "engine": engine})
 
     def with_seed(self, seed: int) -> Scenario:

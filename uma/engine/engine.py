@@ -3,7 +3,17 @@
 Units: times in seconds, rates in kbit/s, sizes in bits.
 
 The SimPy world feeds it receiver reports, keyframe requests and the sender's frames, and carries
-out what it returns (skip the frame, or transcode it at a rung, as an IDR or not). The engine keeps
+out what it returns (skip the frame, or code it at an operating point of the ladder, as an IDR
+or not; start the model-based codec's initialisation). The outcomes of those actions come back
+as events: `on_keyframe_sent` (a keyframe request is settled only when an IDR really left, so a
+frame the engine could not decode never swallows one), `on_init_done` (the MBC initialisation
+succeeded or failed, after its modelled compute time) and `on_track_failed`.
+
+Switching (`engine.switching`): the switching policy names the codec to be on. A switch to MBC
+first starts an initialisation on the engine's current decoded picture; frames keep flowing as
+H.264 until it is done, then the engine moves to the MBC point. Without a content description
+(`mbc_unavailable`), or after a failed initialisation, the engine stays on the lowest H.264 rung
+while the policy wants MBC, and says why in its events (retrying after `retry_ms`). The engine keeps
 what it needs to judge the downlink: the bandwidth estimate, the bits still in flight (sent
 after the highest sequence number the receiver has reported), and when it last switched rung.
 
@@ -22,7 +32,15 @@ from dataclasses import dataclass
 from uma.config.scenario import EngineConfig, FeedbackConfig
 from uma.engine.estimator import EstimatorState, initial_estimate, stale_decrease
 from uma.engine.estimators import ESTIMATORS
-from uma.engine.policy import POLICIES, PolicyView, highest_fitting
+from uma.engine.points import OperatingPoint, codec_indices
+from uma.engine.policy import (
+    POLICIES,
+    SWITCHING,
+    PolicyView,
+    SwitchSettings,
+    SwitchView,
+    highest_fitting,
+)
 from uma.engine.reports import KeyframeRequest, ReceiverReport
 
 __all__ = ["UmaEngine", "FrameDecision", "EngineEvent"]
@@ -32,9 +50,12 @@ __all__ = ["UmaEngine", "FrameDecision", "EngineEvent"]
 class FrameDecision:
     """What to do with one source frame.
 
-    `scheduled` is False when the rung's frame rate leaves this frame out (no freeze: the rate is
-    lower by design); `send` is False also when the engine skips a scheduled frame because the
-    downlink is backlogged (the display will freeze).
+    `rung` is the index of the operating point `point` in the engine's ladder (on an H.264-only
+    ladder, the H.264 rung); `point` names the codec and the compute it models.
+    `scheduled` is False when the point's frame rate leaves this frame out (no freeze: the rate
+    is lower by design); `send` is False also when the engine skips a scheduled frame because
+    the downlink is backlogged (the display will freeze). `init_mbc`: start the model-based
+    codec's initialisation on this frame's decoded picture (then call `on_init_done`).
     """
 
     frame: int
@@ -43,6 +64,12 @@ class FrameDecision:
     send: bool
     force_idr: bool
     reason: str = ""
+    point: OperatingPoint | None = None
+    init_mbc: bool = False
+
+    @property
+    def codec(self) -> str:
+        return self.point.codec if self.point is not None else "h264"
 
 
 @dataclass(frozen=True)
@@ -59,25 +86,56 @@ class UmaEngine:
         self,
         config: EngineConfig,
         *,
-        rung_rates_kbps: tuple[float, ...],
-        rung_fps: tuple[float, ...],
+        points: tuple[OperatingPoint, ...],
         source_fps: float,
         feedback: FeedbackConfig,
+        mbc_unavailable: str = "",
+        coverage: tuple[tuple[float, str], ...] = (),
+        description_bits: int = 0,
     ) -> None:
         self.config = config
         self.feedback = feedback
-        self.rung_rates_kbps = rung_rates_kbps
-        self.rung_fps = rung_fps
+        self.points = points
+        self.h264 = codec_indices(points, "h264")
+        mbc = codec_indices(points, "mbc")
+        self.mbc_point = mbc[0] if mbc else None
         self.source_fps = source_fps
         self.policy = POLICIES[config.policy]
+        self.switch_policy = SWITCHING[config.switching.policy]
+        self.switch_settings = SwitchSettings(
+            to_mbc_below_kbps=config.switching.to_mbc_below_kbps,
+            to_h264_above_kbps=config.switching.to_h264_above_kbps,
+            min_dwell_s=config.switching.min_dwell_ms / 1000.0,
+            lookahead_s=config.switching.lookahead_ms / 1000.0,
+            low_technologies=tuple(config.switching.low_technologies),
+        )
+        self.coverage = coverage
+        # The content description to deliver ahead of need (0 bits: nothing to deliver, or
+        # the receiver is assumed to hold it). MBC is used only once a report confirms it.
+        self.description_bits = description_bits
+        self.description_acked_s: float | None = None if description_bits else 0.0
+        self.description_wait_from_s: float | None = None
+        self.description_wait_s = 0.0
+        if self.mbc_point is None and not mbc_unavailable:
+            mbc_unavailable = "no MBC operating point on the ladder"
+        self.mbc_unavailable = mbc_unavailable
         self.estimator: EstimatorState = initial_estimate(config.estimator)
         self.update_estimate = ESTIMATORS[config.estimator.kind]
+        rates = tuple(points[i].rate_kbps for i in self.h264)
         if config.policy == "fixed" and config.fixed_rung is not None:
-            self.rung = min(config.fixed_rung, len(rung_rates_kbps) - 1)
+            self.rung = self.h264[min(config.fixed_rung, len(self.h264) - 1)]
         else:
-            self.rung = highest_fitting(
-                rung_rates_kbps, config.safety * self.estimator.estimate_kbps
-            )
+            self.rung = self.h264[
+                highest_fitting(rates, config.safety * self.estimator.estimate_kbps)
+            ]
+        # Switching state: "off" (H.264), "initialising", "on" (sending MBC).
+        self.mbc_state = "off"
+        self.switched_between = False
+        self.codec_since_s = 0.0
+        self.mbc_blocked_until_s = float("-inf")
+        self.mbc_blocked_reason = ""
+        self.mbc_blocked_logged = False
+        self.counts = {"inits": 0, "init_failures": 0, "track_failures": 0, "mbc_refused": 0}
         self.last_switch_s = 0.0
         self.last_report_s = 0.0
         self.last_stale_decrease_s = 0.0
@@ -98,6 +156,14 @@ class UmaEngine:
             self.highest_seq = reported_seq
             self.last_progress_s = now_s
         self.last_report_s = now_s
+        if report.description_complete and self.description_acked_s is None:
+            self.description_acked_s = now_s
+            self.events.append(
+                EngineEvent(now_s, "description_delivered", f"{self.description_bits} bits")
+            )
+            if self.description_wait_from_s is not None:
+                self.description_wait_s += now_s - self.description_wait_from_s
+                self.description_wait_from_s = None
         self.estimator = self.update_estimate(
             self.estimator,
             report,
@@ -109,6 +175,46 @@ class UmaEngine:
     def on_keyframe_request(self, request: KeyframeRequest, now_s: float) -> None:
         self.idr_pending = True
         self.events.append(EngineEvent(now_s, "keyframe_request", f"frame {request.frame}"))
+
+    def on_keyframe_sent(self, now_s: float) -> None:
+        """An IDR (or intra parameter set) the engine asked for really left."""
+        self.idr_pending = False
+        self.last_idr_s = now_s
+
+    def on_init_done(self, ok: bool, now_s: float, *, reason: str = "", evaluations: int = 0):
+        """The MBC initialisation finished (after its modelled compute time)."""
+        if self.mbc_state != "initialising":
+            return
+        if ok:
+            self.mbc_state = "ready"
+            self.events.append(
+                EngineEvent(now_s, "mbc_init_done", f"{evaluations} evaluations; {reason}")
+            )
+            return
+        self.counts["init_failures"] += 1
+        self._block_mbc(now_s, f"initialisation failed: {reason}", "mbc_init_failed")
+
+    def on_track_failed(self, reason: str, now_s: float) -> None:
+        """Tracking lost the face and could not re-initialise: back to the lowest H.264 rung."""
+        if self.mbc_state != "on":
+            return
+        self.counts["track_failures"] += 1
+        self._block_mbc(now_s, f"tracking failed: {reason}", "mbc_track_failed")
+
+    def _block_mbc(self, now_s: float, reason: str, kind: str) -> None:
+        self.mbc_state = "off"
+        self.mbc_blocked_until_s = now_s + self.config.switching.retry_ms / 1000.0
+        self.mbc_blocked_reason = reason
+        self.mbc_blocked_logged = True
+        self.events.append(EngineEvent(now_s, kind, reason))
+        if self.rung != self.h264[0]:
+            self._switch_to(self.h264[0], now_s, "fallback")
+            self.switched_between = True  # the next frame sent starts the new stream
+
+    @property
+    def description_pending(self) -> bool:
+        """The description still has to reach the receiver."""
+        return self.description_acked_s is None
 
     def on_packets_sent(self, sizes_bits: list[int]) -> int:
         """Record packets handed to the downlink; returns the first sequence number given them."""
@@ -142,8 +248,8 @@ class UmaEngine:
             self.last_progress_s = now_s
         view = PolicyView(
             now_s=now_s,
-            rung_rates_kbps=self.rung_rates_kbps,
-            current_rung=self.rung,
+            points=self.points,
+            current=self.rung,
             last_switch_s=self.last_switch_s,
             estimate_kbps=self.estimator.estimate_kbps,
             safety=self.config.safety,
@@ -151,43 +257,140 @@ class UmaEngine:
             capacity_kbps=capacity_kbps,
             fixed_rung=self.config.fixed_rung,
         )
-        wanted = self.policy(view)
-        switched = wanted != self.rung
-        if switched:
-            self.events.append(
-                EngineEvent(
-                    now_s,
-                    "rung_switch",
-                    f"{self.rung}->{wanted} estimate {self.estimator.estimate_kbps:.1f} kbps",
-                )
-            )
-            self.rung = wanted
-            self.last_switch_s = now_s
+        wanted, init_mbc = self._choose(view, now_s, capacity_kbps)
+        switched = wanted != self.rung or self.switched_between
+        if wanted != self.rung:
+            self._switch_to(wanted, now_s, "rung_switch")
 
+        point = self.points[self.rung]
         if not self._scheduled(frame):
             return FrameDecision(
-                frame, self.rung, scheduled=False, send=False, force_idr=False, reason="fps"
+                frame,
+                self.rung,
+                scheduled=False,
+                send=False,
+                force_idr=False,
+                reason="fps",
+                point=point,
+                init_mbc=init_mbc,
             )
         budget_bits = self.estimator.estimate_kbps * self.config.max_backlog_ms
         probe_due = now_s - self.last_sent_s >= self.config.probe_interval_ms / 1000.0
-        if self.outstanding_bits > budget_bits and not switched and not probe_due:
+        # MBC frames are never skipped for backlog: the parameters' few kbit/s are below any
+        # link the switch chooses MBC for, and a skipped frame breaks a packet's prediction.
+        backlogged = self.outstanding_bits > budget_bits and point.codec != "mbc"
+        if backlogged and not switched and not probe_due:
             return FrameDecision(
-                frame, self.rung, scheduled=True, send=False, force_idr=False, reason="backlog"
+                frame,
+                self.rung,
+                scheduled=True,
+                send=False,
+                force_idr=False,
+                reason="backlog",
+                point=point,
+                init_mbc=init_mbc,
             )
 
         force_idr = switched
+        self.switched_between = False
         min_gap_s = self.feedback.keyframe_min_interval_ms / 1000.0
         if self.idr_pending and now_s - self.last_idr_s >= min_gap_s:
             force_idr = True
-        if force_idr:
-            self.idr_pending = False
-            self.last_idr_s = now_s
         self.last_sent_s = now_s
-        return FrameDecision(frame, self.rung, scheduled=True, send=True, force_idr=force_idr)
+        return FrameDecision(
+            frame,
+            self.rung,
+            scheduled=True,
+            send=True,
+            force_idr=force_idr,
+            point=point,
+            init_mbc=init_mbc,
+        )
+
+    def _switch_to(self, wanted: int, now_s: float, kind: str) -> None:
+        old, new = self.points[self.rung], self.points[wanted]
+        if old.codec != new.codec:
+            self.codec_since_s = now_s
+            self.events.append(
+                EngineEvent(
+                    now_s,
+                    "codec_switch",
+                    f"{old.codec}->{new.codec} estimate {self.estimator.estimate_kbps:.1f} kbps",
+                )
+            )
+        else:
+            self.events.append(
+                EngineEvent(
+                    now_s,
+                    kind,
+                    f"{self.rung}->{wanted} estimate {self.estimator.estimate_kbps:.1f} kbps",
+                )
+            )
+        self.rung = wanted
+        self.last_switch_s = now_s
+
+    def _choose(self, view: PolicyView, now_s: float, capacity_kbps: float | None):
+        """The point to be on, and whether to start an MBC initialisation now."""
+        if self.config.switching.policy == "none":
+            return self.policy(view), False
+        on = self.points[self.rung].codec
+        budget_kbps = self.config.safety * (
+            capacity_kbps if self.config.policy == "oracle" else self.estimator.estimate_kbps
+        )
+        codec = self.switch_policy(
+            SwitchView(
+                now_s=now_s,
+                codec=on,
+                since_s=self.codec_since_s,
+                budget_kbps=budget_kbps,
+                coverage=self.coverage,
+            ),
+            self.switch_settings,
+        )
+        if codec == "h264":
+            if self.description_wait_from_s is not None:
+                self.description_wait_s += now_s - self.description_wait_from_s
+                self.description_wait_from_s = None
+            if self.mbc_state in ("initialising", "ready"):
+                self.events.append(EngineEvent(now_s, "mbc_init_abandoned", "budget recovered"))
+            self.mbc_state = "off"
+            self.mbc_blocked_logged = False
+            return self.policy(view), False
+        if self.mbc_state == "on":
+            return self.mbc_point, False
+        if self.mbc_state == "ready":
+            self.mbc_state = "on"
+            return self.mbc_point, False
+        if self.mbc_state == "initialising":
+            return self.policy(view), False
+        # Wanted, not yet started: refused (no description), waiting to retry, or begin now.
+        reason = self.mbc_unavailable
+        if not reason and now_s < self.mbc_blocked_until_s:
+            reason = self.mbc_blocked_reason
+        if not reason and self.description_acked_s is None:
+            # Wanted, but the receiver cannot render MBC yet: H.264 meanwhile, time counted.
+            if self.description_wait_from_s is None:
+                self.description_wait_from_s = now_s
+                self.events.append(
+                    EngineEvent(now_s, "mbc_waiting_description", "description not delivered")
+                )
+            return self.policy(view), False
+        if reason:
+            if not self.mbc_blocked_logged:
+                self.mbc_blocked_logged = True
+                self.counts["mbc_refused"] += 1
+                self.events.append(
+                    EngineEvent(now_s, "mbc_refused", f"{reason}; lowest H.264 rung")
+                )
+            return self.h264[0], False
+        self.mbc_state = "initialising"
+        self.counts["inits"] += 1
+        self.events.append(EngineEvent(now_s, "mbc_init_start", f"budget {budget_kbps:.1f} kbps"))
+        return self.policy(view), True
 
     def _scheduled(self, frame: int) -> bool:
-        # Keep frame i when the rung's frame clock ticks between i and i + 1 of the source's.
-        ratio = min(1.0, self.rung_fps[self.rung] / self.source_fps)
+        # Keep frame i when the point's frame clock ticks between i and i + 1 of the source's.
+        ratio = min(1.0, self.points[self.rung].fps / self.source_fps)
         return int((frame + 1) * ratio + 1e-9) > int(frame * ratio + 1e-9)
 
     def _check_stale(self, now_s: float) -> None:

@@ -1,14 +1,21 @@
-"""Rate policies: which rung of the H.264 ladder to send, as pure functions of the engine's state.
+"""Rate and switching policies, as pure functions of what the engine knows.
 
-Units: rates in kbit/s, times in seconds. A policy takes a `PolicyView` and returns a rung index
-(0 = lowest rate). Policies are looked up by name from the scenario (`engine.policy`), so a new
-one is a function plus a line in `POLICIES`.
+Units: rates in kbit/s, times in seconds.
+
+A rate policy takes a `PolicyView` and returns the index of an operating point of the engine's
+ladder (`uma.engine.points`); rate policies choose among its H.264 points only (the lowest
+first), so on an H.264-only ladder the index is the H.264 rung. Rate policies are looked up by
+name from the scenario (`engine.policy`), so a new one is a function plus a line in `POLICIES`.
+A switching policy (`engine.switching.policy`, `SWITCHING`) says which codec the engine should
+be on; the engine then asks the rate policy for an H.264 point or takes the MBC point.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+
+from uma.engine.points import OperatingPoint, codec_indices
 
 __all__ = [
     "PolicyView",
@@ -17,26 +24,43 @@ __all__ = [
     "oracle_policy",
     "fixed_policy",
     "highest_fitting",
+    "SwitchView",
+    "SwitchSettings",
+    "SWITCHING",
+    "threshold_switch",
+    "predictive_switch",
+    "no_switch",
+    "low_coverage_in_s",
 ]
 
 
 @dataclass(frozen=True)
 class PolicyView:
-    """All a policy may look at.
+    """All a rate policy may look at.
 
     `capacity_kbps` is the true current downlink capacity, known only to the oracle (None for
-    real policies); `rung_rates_kbps` ascend.
+    real policies); `points` is the engine's ladder, `current` the index of the point in use;
+    `fixed_rung` counts H.264 points only.
     """
 
     now_s: float
-    rung_rates_kbps: tuple[float, ...]
-    current_rung: int
+    points: tuple[OperatingPoint, ...]
+    current: int
     last_switch_s: float
     estimate_kbps: float
     safety: float
     up_hold_s: float
     capacity_kbps: float | None = None
     fixed_rung: int | None = None
+
+    @property
+    def h264(self) -> tuple[int, ...]:
+        """Indices of the H.264 points, lowest rate first."""
+        return codec_indices(self.points, "h264")
+
+    @property
+    def h264_rates_kbps(self) -> tuple[float, ...]:
+        return tuple(self.points[i].rate_kbps for i in self.h264)
 
 
 def highest_fitting(rates_kbps: tuple[float, ...], budget_kbps: float) -> int:
@@ -49,31 +73,125 @@ def highest_fitting(rates_kbps: tuple[float, ...], budget_kbps: float) -> int:
 
 
 def throughput_policy(view: PolicyView) -> int:
-    """Down at once to what the estimate carries; up one rung at a time after `up_hold_s`."""
-    target = highest_fitting(view.rung_rates_kbps, view.safety * view.estimate_kbps)
-    if target < view.current_rung:
-        return target
-    if target > view.current_rung and view.now_s - view.last_switch_s >= view.up_hold_s:
-        return view.current_rung + 1
-    return view.current_rung
+    """Down at once to what the estimate carries; up one rung at a time after `up_hold_s`.
+
+    From a point that is not H.264 (the MBC one), straight to the highest rung that fits.
+    """
+    h264 = view.h264
+    target = highest_fitting(view.h264_rates_kbps, view.safety * view.estimate_kbps)
+    if view.current not in h264:
+        return h264[target]
+    current = h264.index(view.current)
+    if target < current:
+        return h264[target]
+    if target > current and view.now_s - view.last_switch_s >= view.up_hold_s:
+        return h264[current + 1]
+    return view.current
 
 
 def oracle_policy(view: PolicyView) -> int:
     """Knows the true capacity: the highest rung within `safety` of it, no hold (an upper bound)."""
     if view.capacity_kbps is None:
         raise ValueError("oracle policy needs the true capacity")
-    return highest_fitting(view.rung_rates_kbps, view.safety * view.capacity_kbps)
+    return view.h264[highest_fitting(view.h264_rates_kbps, view.safety * view.capacity_kbps)]
 
 
 def fixed_policy(view: PolicyView) -> int:
-    """Always the configured rung: the non-adaptive baseline."""
+    """Always the configured H.264 rung: the non-adaptive baseline."""
     if view.fixed_rung is None:
         raise ValueError("fixed policy needs fixed_rung")
-    return min(view.fixed_rung, len(view.rung_rates_kbps) - 1)
+    h264 = view.h264
+    return h264[min(view.fixed_rung, len(h264) - 1)]
 
 
 POLICIES: dict[str, Callable[[PolicyView], int]] = {
     "throughput": throughput_policy,
     "oracle": oracle_policy,
     "fixed": fixed_policy,
+}
+
+
+@dataclass(frozen=True)
+class SwitchSettings:
+    """Thresholds on the safety-scaled estimate, with hysteresis and a minimum dwell.
+
+    Go to MBC when the budget falls below `to_mbc_below_kbps`; back to H.264 when it rises
+    above `to_h264_above_kbps` (higher: the gap is the hysteresis); never leave a codec less
+    than `min_dwell_s` after arriving on it.
+    """
+
+    to_mbc_below_kbps: float = 30.0
+    to_h264_above_kbps: float = 60.0
+    min_dwell_s: float = 3.0
+    # Predictive only: switch this long before a technology in `low_technologies` begins.
+    lookahead_s: float = 3.0
+    low_technologies: tuple[str, ...] = ("GPRS", "GSM")
+
+    def __post_init__(self) -> None:
+        if not 0 < self.to_mbc_below_kbps < self.to_h264_above_kbps:
+            raise ValueError(
+                "switching: expected 0 < to_mbc_below_kbps < to_h264_above_kbps, got "
+                f"{self.to_mbc_below_kbps} and {self.to_h264_above_kbps}"
+            )
+
+
+@dataclass(frozen=True)
+class SwitchView:
+    """All a switching policy may look at: the codec in use and since when, the budget."""
+
+    now_s: float
+    codec: str
+    since_s: float  # when the engine arrived on `codec`
+    budget_kbps: float  # safety x estimate (or x true capacity for an oracle)
+    # The route's coverage as a coverage map would give it: (start_s, technology), in order.
+    coverage: tuple[tuple[float, str], ...] = ()
+
+
+def threshold_switch(view: SwitchView, settings: SwitchSettings) -> str:
+    """The codec to be on: thresholds with hysteresis and a minimum dwell on each codec."""
+    if view.now_s - view.since_s < settings.min_dwell_s:
+        return view.codec
+    if view.codec == "h264" and view.budget_kbps < settings.to_mbc_below_kbps:
+        return "mbc"
+    if view.codec == "mbc" and view.budget_kbps > settings.to_h264_above_kbps:
+        return "h264"
+    return view.codec
+
+
+def low_coverage_in_s(
+    coverage: tuple[tuple[float, str], ...], now_s: float, low: tuple[str, ...]
+) -> float | None:
+    """Seconds until the coverage map enters a low technology (0 inside one), None if never."""
+    for index, (start_s, technology) in enumerate(coverage):
+        end_s = coverage[index + 1][0] if index + 1 < len(coverage) else float("inf")
+        if end_s <= now_s or technology not in low:
+            continue
+        return max(0.0, start_s - now_s)
+    return None
+
+
+def predictive_switch(view: SwitchView, settings: SwitchSettings) -> str:
+    """Thresholds, plus the coverage map: to MBC `lookahead_s` before a low-bandwidth area
+    begins (so the initialisation is done at the boundary), and not back to H.264 while one
+    is that near or under way."""
+    if view.now_s - view.since_s < settings.min_dwell_s:
+        return view.codec
+    ahead_s = low_coverage_in_s(view.coverage, view.now_s, settings.low_technologies)
+    near = ahead_s is not None and ahead_s <= settings.lookahead_s
+    if view.codec == "h264" and near:
+        return "mbc"
+    if view.codec == "mbc" and near:
+        return "mbc"
+    return threshold_switch(view, settings)
+
+
+def no_switch(view: SwitchView, settings: SwitchSettings) -> str:
+    """H.264 only."""
+    return "h264"
+
+
+SWITCHING: dict[str, Callable[[SwitchView, SwitchSettings], str]] = {
+    "none": no_switch,
+    "threshold": threshold_switch,
+    "predictive": predictive_switch,
 }

@@ -28,6 +28,7 @@ class ReceiverReport:
     highest_seq: int
     queue_delay_ms: float | None
     remb_kbps: float | None = None
+    description_complete: bool = False  # the receiver holds the whole content description
 
     @property
     def received_kbps(self) -> float:

@@ -1,38 +1,230 @@
-"""The real codec work of a run, in one place: sender encode, engine decode and re-encode,
-receiver decode (libx264 and FFmpeg through PyAV), with optional wall-clock accounting for
-`uma bench sim` (the accounting never feeds back into the simulation).
+"""The codec registry: one encoder and one decoder per codec name, and the codec work of a run.
+
+Units: pictures are planar YUV 4:2:0 arrays (H * 3 // 2, W) uint8; sizes in pixels; bytes out.
+
+Every engine-side encoder has `encode(picture, *, intra, frame) -> Coded` (bytes and what it
+cost, in fitting-cost evaluations, so the engine can model compute time); every receiver-side
+decoder has `decode(unit) -> picture | None`. `ENCODERS` and `DECODERS` map a codec name
+(`uma.engine.points.CODECS`) to a factory. `CodecChain` holds the codecs along the path:
+the sender's H.264 encoder, the engine's decoder of it, one engine encoder for the operating
+point in use (a new one on a change of point), and the receiver's decoders, which dispatch on
+the unit's codec and start a new reference chain (a fresh decoder) when the codec changes.
+`uma bench sim` replays a run through the same chain. With `account`, wall-clock seconds spent
+in codecs are summed for the benchmark; they never feed back into the simulation.
 """
 
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from uma.config.scenario import Scenario
+from uma.engine.points import OperatingPoint
 from uma.sim.packets import EncodedUnit
 
-__all__ = ["CodecChain"]
+__all__ = [
+    "CodecChain",
+    "Coded",
+    "H264PointEncoder",
+    "H264UnitDecoder",
+    "MbcPointEncoder",
+    "MbcUnitDecoder",
+    "ENCODERS",
+    "DECODERS",
+]
+
+
+@dataclass(frozen=True)
+class Coded:
+    """One coded picture: its bytes, whether it is intra, what it cost; `failure` (a reason)
+    when the codec could not code it (MBC lost the face), with `data` empty."""
+
+    data: bytes
+    keyframe: bool
+    width: int
+    height: int
+    evaluations: int = 0
+    failure: str = ""
+    reinitialised: bool = False
+    frames: tuple[int, ...] = ()  # frames in `data` when several; () with no data: buffered
+
+
+def _frames(packets) -> tuple[int, ...]:
+    """The source frames MBC packets carry (their first frame numbers are the run's: the
+    stream is fed the run's frame indices)."""
+    return tuple(f for p in packets for f in range(p.first_frame, p.first_frame + p.count))
+
+
+def _luma(picture: np.ndarray) -> np.ndarray:
+    return picture[: picture.shape[0] * 2 // 3]
+
+
+class H264PointEncoder:
+    """libx264 at one operating point: its rate, size (never above the source's) and rate."""
+
+    def __init__(self, point: OperatingPoint, *, source_size, source_fps, settings, context=None):
+        from uma.video import H264Encoder
+
+        self.width = min(point.width, source_size[0])
+        self.height = min(point.height, source_size[1])
+        self.encoder = H264Encoder(
+            self.width,
+            self.height,
+            min(point.fps, source_fps),
+            point.rate_kbps,
+            **settings.kwargs(),
+        )
+
+    def encode(self, picture: np.ndarray, *, intra: bool, frame: int = -1) -> Coded:
+        from uma.video import resize_yuv420
+
+        if (picture.shape[1], picture.shape[0] * 2 // 3) != (self.width, self.height):
+            picture = resize_yuv420(picture, self.width, self.height)
+        out = self.encoder.encode(picture, force_idr=intra)
+        return Coded(out.data, bool(out.is_keyframe), self.width, self.height)
+
+
+class H264UnitDecoder:
+    """FFmpeg's H.264 decoder: {frame: picture}, or {} for a unit it cannot decode."""
+
+    def __init__(self, *, context=None) -> None:
+        from uma.video import H264Decoder
+
+        self.decoder = H264Decoder()
+
+    def decode(self, unit: EncodedUnit) -> dict[int, np.ndarray]:
+        from uma.errors import VideoError
+
+        try:
+            picture = self.decoder.decode(unit.data)
+        except VideoError:
+            return {}
+        return {} if picture is None else {unit.frame: picture}
+
+
+class MbcPointEncoder:
+    """The model-based codec at the engine: track the face, code its parameters, one packet
+    every `frames_per_packet` frames (a frame that finishes none returns no data: it is
+    buffered). `initialise` runs the automatic initialisation (the tracker's first picture)."""
+
+    def __init__(self, point: OperatingPoint, *, source_size, source_fps, settings, context):
+        from uma.mbc import FaceTracker, FaceUnits, ParameterEncoder
+
+        description = context["description"]
+        self.width, self.height = source_size
+        self.tracker = context.get("tracker") or FaceTracker(description, rng=context["seed"])
+        units = FaceUnits.of(description.model, description.params)
+        self.stream = ParameterEncoder(units, context["stream"])
+
+    def initialise(self, picture: np.ndarray, *, frame: int):
+        """A fresh track from `picture`: a `TrackResult`, or a `TrackFailure` with its reason."""
+        self.tracker.reset()
+        return self.tracker.track(_luma(picture), frame=frame)
+
+    def encode(self, picture: np.ndarray, *, intra: bool, frame: int) -> Coded:
+        result = self.tracker.track(_luma(picture), frame=frame)
+        if not result:
+            # The open packet still goes out, short; then the engine leaves MBC.
+            packets = self.stream.push(frame, None)
+            return Coded(
+                b"".join(packet.to_bytes() for packet in packets),
+                bool(packets and packets[0].intra),
+                self.width,
+                self.height,
+                result.evaluations,
+                failure=result.reason,
+                frames=_frames(packets),
+            )
+        if intra:
+            self.stream.request_intra()
+        packets = self.stream.push(frame, result.params)
+        data = b"".join(packet.to_bytes() for packet in packets)
+        frames = _frames(packets)
+        return Coded(
+            data,
+            bool(packets and packets[0].intra),
+            self.width,
+            self.height,
+            result.evaluations,
+            reinitialised=result.reinitialised,
+            frames=frames,
+        )
+
+    def flush(self) -> Coded:
+        """The open packet, short (the engine leaves MBC)."""
+        packets = self.stream.flush()
+        data = b"".join(packet.to_bytes() for packet in packets)
+        intra = bool(packets and packets[0].intra)
+        return Coded(data, intra, self.width, self.height, 0, frames=_frames(packets))
+
+
+class MbcUnitDecoder:
+    """Decodes parameter packets and renders the description's face over the last picture the
+    receiver showed before the switch (its chroma kept), at the source's size."""
+
+    def __init__(self, *, context) -> None:
+        from uma.mbc import FaceRenderer, FaceUnits, ParameterDecoder
+        from uma.video import resize_yuv420
+
+        description = context["description"]
+        width, height = context["source_size"]
+        units = FaceUnits.of(description.model, description.params)
+        self.decoder = ParameterDecoder(units, context["stream"])
+        background = context.get("background")
+        if background is not None:
+            background = resize_yuv420(background, width, height)
+            self.chroma = background[height:]
+            self.renderer = FaceRenderer(
+                description, (width, height), background=np.ascontiguousarray(background[:height])
+            )
+        else:
+            self.chroma = np.full((height // 2, width), 128, dtype=np.uint8)
+            self.renderer = FaceRenderer(description, (width, height))
+
+    def decode(self, unit: EncodedUnit) -> dict[int, np.ndarray]:
+        from uma.mbc import PacketError
+
+        try:
+            out = self.decoder.decode(unit.data)
+        except PacketError:
+            return {}
+        # Packet frame numbers wrap (`uma.mbc.packets`); the unit knows the run's numbers.
+        frames = unit.frames or (unit.frame,)
+        pictures = {}
+        for frame, (_, params) in zip(frames[-len(out.frames) :], out.frames, strict=False):
+            luma, _ = self.renderer.render(params)
+            pictures[frame] = np.concatenate([luma, self.chroma])
+        return pictures
+
+
+ENCODERS: dict[str, Callable[..., Any]] = {"h264": H264PointEncoder, "mbc": MbcPointEncoder}
+DECODERS: dict[str, Callable[..., Any]] = {"h264": H264UnitDecoder, "mbc": MbcUnitDecoder}
 
 
 class CodecChain:
-    """Encoders and decoders along the path; one engine encoder per rung, made on a switch."""
+    """The codecs along the path; one engine encoder per operating point, made on a change."""
 
     def __init__(
         self,
         scenario: Scenario,
         ladder,
+        points: tuple[OperatingPoint, ...],
         *,
         width: int,
         height: int,
         fps: float,
         account: bool = False,
+        description=None,
     ) -> None:
         from uma.video import H264Decoder, H264Encoder
 
-        self._encoder_cls = H264Encoder
         self.scenario = scenario
         self.ladder = ladder
+        self.points = points
         self.fps = fps
         self.width, self.height = width, height
         self.sender_encoder = H264Encoder(
@@ -44,59 +236,98 @@ class CodecChain:
             keyint_frames=scenario.sender.keyint_frames,
         )
         self.engine_decoder = H264Decoder()
-        self.receiver_decoder = H264Decoder()
+        self.context: dict[str, Any] = {
+            "description": description,
+            "seed": scenario.seed,
+            "source_size": (width, height),
+            "stream": None,
+        }
+        if description is not None:
+            from uma.mbc import StreamConfig
+
+            self.context["stream"] = StreamConfig(
+                frames_per_packet=scenario.engine.mbc.frames_per_packet
+            )
         self.engine_encoder = None
-        self.engine_rung = -1
+        self.engine_point = -1
+        self.pending_mbc = None  # the MBC encoder an initialisation is preparing
+        self.receiver_decoder = None
+        self.receiver_codec = ""
+        self.receiver_last: np.ndarray | None = None
         self.account = account
         self.seconds = 0.0
+        self.codec_seconds: dict[str, float] = {}
 
-    def _timed(self, fn, *args, **kwargs):
+    def _timed(self, codec: str, fn, *args, **kwargs):
         if not self.account:
             return fn(*args, **kwargs)
         start = time.perf_counter()
         try:
             return fn(*args, **kwargs)
         finally:
-            self.seconds += time.perf_counter() - start
+            spent = time.perf_counter() - start
+            self.seconds += spent
+            self.codec_seconds[codec] = self.codec_seconds.get(codec, 0.0) + spent
 
     def sender_encode(self, frame: np.ndarray):
-        return self._timed(self.sender_encoder.encode, frame)
+        return self._timed("h264", self.sender_encoder.encode, frame)
 
     def engine_decode(self, encoded) -> np.ndarray | None:
-        return self._timed(self.engine_decoder.decode, encoded.data)
+        return self._timed("h264", self.engine_decoder.decode, encoded.data)
 
-    def rung_size(self, rung_index: int) -> tuple[int, int]:
-        """The rung's picture size, never larger than the source's (upscaling adds only bits)."""
-        rung = self.ladder.rungs[rung_index]
-        return min(rung.width, self.width), min(rung.height, self.height)
+    def rung_size(self, index: int) -> tuple[int, int]:
+        """The point's picture size, never larger than the source's (upscaling adds only bits)."""
+        point = self.points[index]
+        return min(point.width, self.width), min(point.height, self.height)
 
-    def engine_encode(self, picture: np.ndarray, rung_index: int, *, force_idr: bool):
-        return self._timed(self._engine_encode, picture, rung_index, force_idr)
+    def _make_encoder(self, index: int):
+        point = self.points[index]
+        return ENCODERS[point.codec](
+            point,
+            source_size=(self.width, self.height),
+            source_fps=self.fps,
+            settings=self.ladder.encoder,
+            context=self.context,
+        )
 
-    def _engine_encode(self, picture: np.ndarray, rung_index: int, force_idr: bool):
-        from uma.video import resize_yuv420
+    def mbc_initialise(self, picture: np.ndarray, index: int, *, frame: int):
+        """Initialise a new MBC encoder for point `index` on `picture`; it is used from the
+        first frame coded at that point."""
+        encoder = self._make_encoder(index)
+        result = self._timed("mbc", encoder.initialise, picture, frame=frame)
+        self.pending_mbc = encoder if result else None
+        return result
 
-        rung = self.ladder.rungs[rung_index]
-        width, height = self.rung_size(rung_index)
-        if rung_index != self.engine_rung:
-            # A new rung is a new stream: new size and rate, starting with an IDR.
-            self.engine_encoder = self._encoder_cls(
-                width,
-                height,
-                min(rung.fps, self.fps),
-                rung.rate_kbps,
-                **self.ladder.encoder.kwargs(),
-            )
-            self.engine_rung = rung_index
+    def engine_encode(
+        self, picture: np.ndarray, index: int, *, force_idr: bool, frame: int = -1
+    ) -> Coded:
+        point = self.points[index]
+        if index != self.engine_point:
+            # A new point is a new stream: new codec, size or rate, starting intra.
+            if point.codec == "mbc" and self.pending_mbc is not None:
+                self.engine_encoder, self.pending_mbc = self.pending_mbc, None
+            else:
+                self.engine_encoder = self._timed(point.codec, self._make_encoder, index)
+            self.engine_point = index
             force_idr = True
-        if (picture.shape[1], picture.shape[0] * 2 // 3) != (width, height):
-            picture = resize_yuv420(picture, width, height)
-        return self.engine_encoder.encode(picture, force_idr=force_idr)
+        return self._timed(
+            point.codec, self.engine_encoder.encode, picture, intra=force_idr, frame=frame
+        )
 
-    def receiver_decode(self, unit: EncodedUnit) -> np.ndarray | None:
-        from uma.errors import VideoError
+    def receiver_decode(self, unit: EncodedUnit) -> dict[int, np.ndarray]:
+        if unit.codec != self.receiver_codec:
+            # A new codec is a new reference chain, rendered over the last picture shown.
+            self.context["background"] = self.receiver_last
+            self.receiver_decoder = DECODERS[unit.codec](context=self.context)
+            self.receiver_codec = unit.codec
+        pictures = self._timed(unit.codec, self.receiver_decoder.decode, unit)
+        if pictures:
+            self.receiver_last = pictures[max(pictures)]
+        return pictures
 
-        try:
-            return self._timed(self.receiver_decoder.decode, unit.data)
-        except VideoError:
+    def engine_flush(self) -> Coded | None:
+        """What the engine's encoder still holds (MBC's open packet) when it leaves its point."""
+        flush = getattr(self.engine_encoder, "flush", None)
+        if flush is None:
             return None
+        return self._timed(self.points[self.engine_point].codec, flush)

@@ -34,11 +34,13 @@ class EncodedUnit:
     height: int
     keyframe: bool
     data: bytes
+    frames: tuple[int, ...] = ()  # every frame the unit carries when several (MBC packets)
 
 
 @dataclass(frozen=True)
 class Packet:
-    """One packet on the downlink; `unit` is None for a padding-only packet (RTP padding)."""
+    """One packet on the downlink; `unit` is None for a padding-only packet (RTP padding) and
+    for a chunk of the content description (`chunk` >= 0: its index of `count` chunks)."""
 
     seq: int
     unit: EncodedUnit | None
@@ -46,6 +48,7 @@ class Packet:
     count: int
     size_bits: int
     sent_s: float
+    chunk: int = -1
 
 
 def packetize(

@@ -2,8 +2,11 @@
 
 Units: simulation time in seconds; logs in ms, kbit/s and bits as their column names say.
 Each process is a plain generator function over a shared `World` (built by `uma.sim.world`). The
-codec work is real (libx264 and FFmpeg's decoder through PyAV); the time it would take a real
-engine is modelled (`engine.transcode_ms`), never read from the wall clock.
+codec work is real (libx264 and FFmpeg's decoder through PyAV; the model-based codec's tracker
+and parameter coder); the time it would take a real engine is modelled from the operating
+point (`engine.transcode_ms` for H.264; MBC's cost per fitting-cost evaluation), never read
+from the wall clock. The MBC initialisation runs as its own process (a second core of the
+engine), so frames keep flowing as H.264 until it is done.
 """
 
 from __future__ import annotations
@@ -16,12 +19,14 @@ import numpy as np
 import simpy
 
 from uma.config.scenario import Scenario
-from uma.engine.engine import UmaEngine
+from uma.engine.engine import EngineEvent, UmaEngine
 from uma.metrics.framelog import FrameLog
 from uma.sim.capacity import CapacitySchedule
 from uma.sim.links import Downlink, FixedLink, LinkProps, deliver_later
 from uma.sim.packets import (
+    HEADER_BYTES,
     EncodedUnit,
+    Packet,
     packet_sizes_bits,
     packetize,
     padding_packets,
@@ -29,7 +34,14 @@ from uma.sim.packets import (
 )
 from uma.sim.receiver import ReceiverState
 
-__all__ = ["World", "sender_process", "engine_process", "report_process", "display_process"]
+__all__ = [
+    "World",
+    "sender_process",
+    "engine_process",
+    "mbc_init_process",
+    "report_process",
+    "display_process",
+]
 
 
 @dataclass
@@ -61,6 +73,17 @@ class World:
     faults: Any = None  # uma.sim.faults.Faults: feedback silence
     playout: Any = None  # uma.sim.playout: FixedPlayout or AdaptivePlayout (None: fixed)
     padding_bits: int = 0
+    points: tuple = ()  # the engine's operating points
+    init_us_per_evaluation: float = 0.0
+    mbc_init_frames: list[int] = field(default_factory=list)  # where initialisations started
+    description_chunks: int = 0  # packets the content description takes
+    description_next: int = 0
+    description_credit_bits: float = 0.0
+    description_sent_bits: int = 0
+
+    def mbc_init_compute_s(self, evaluations: int) -> float:
+        """Modelled seconds of one MBC initialisation that cost `evaluations`."""
+        return self.init_us_per_evaluation * evaluations / 1e6
 
     def send_feedback(self, item, handler: Callable) -> None:
         """Carry a report or request over the mobile uplink; lost in an outage or at random."""
@@ -94,9 +117,6 @@ def engine_process(env: simpy.Environment, world: World):
     engine = world.engine
     scenario = world.scenario
     oracle = scenario.engine.policy == "oracle"
-    transcode_s = scenario.engine.transcode_ms / 1000.0
-    payload_bytes = scenario.downlink.packet_bytes
-    pad = scenario.engine.estimator.kind == "webrtc"
     log = world.log
     while True:
         index, encoded = yield world.inbox.get()
@@ -108,38 +128,147 @@ def engine_process(env: simpy.Environment, world: World):
         log["estimate_kbps"][index] = engine.estimate_kbps
         log["rung"][index] = decision.rung
         log["scheduled"][index] = int(decision.scheduled)
+        if decision.init_mbc:
+            if picture is None:
+                engine.on_init_done(False, env.now, reason="no decoded picture to start from")
+            else:
+                world.mbc_init_frames.append(index)
+                env.process(mbc_init_process(env, world, picture, index))
+        if engine.description_pending:
+            _send_description(world, decision.point, capacity_kbps)
         if not decision.send or picture is None:
             continue
-        width, height = world.codec.rung_size(decision.rung)
-        out = world.codec.engine_encode(picture, decision.rung, force_idr=decision.force_idr)
-        yield env.timeout(transcode_s)
-        unit = EncodedUnit(
-            unit_seq=world.next_unit_seq,
-            frame=index,
-            codec="h264",
-            rung=decision.rung,
-            width=width,
-            height=height,
-            keyframe=bool(out.is_keyframe),
-            data=out.data,
+        point = decision.point
+        if world.codec.engine_point not in (-1, decision.rung):
+            leftover = world.codec.engine_flush()  # MBC's open packet, when leaving MBC
+            if leftover is not None and leftover.data:
+                _send(world, leftover, world.points[world.codec.engine_point], index)
+        out = world.codec.engine_encode(
+            picture, decision.rung, force_idr=decision.force_idr, frame=index
         )
-        world.next_unit_seq += 1
-        first_seq = engine.on_packets_sent(packet_sizes_bits(unit, payload_bytes=payload_bytes))
-        for packet in packetize(
-            unit, first_seq=first_seq, payload_bytes=payload_bytes, sent_s=env.now
-        ):
-            world.downlink.offer(packet)
-        if pad:
-            _pad_to_estimate(world, unit, decision.rung, payload_bytes)
-        log["codec"][index] = "h264"
-        log["width"][index] = width
-        log["height"][index] = height
-        log["sent"][index] = 1
-        log["keyframe"][index] = int(unit.keyframe)
-        log["size_bits"][index] = 8 * len(unit.data)
+        if decision.force_idr and out.keyframe:
+            engine.on_keyframe_sent(env.now)
+        compute_s = point.compute_s(out.evaluations)
+        if out.reinitialised or out.failure:
+            # The tracker lost the face and initialised again: that work costs as an init.
+            compute_s = point.compute_s(0) + world.mbc_init_compute_s(out.evaluations)
+        if out.reinitialised:
+            engine.events.append(EngineEvent(env.now, "mbc_reinit", f"frame {index}"))
+        if out.failure:
+            engine.on_track_failed(out.failure, env.now)
+        yield env.timeout(compute_s)
+        if not out.failure:
+            # A frame MBC buffers for its next packet is sent; its bits count with the packet.
+            log["codec"][index] = point.codec
+            log["width"][index] = out.width
+            log["height"][index] = out.height
+            log["sent"][index] = 1
+        if out.data:
+            _send(world, out, point, index)
 
 
-def _pad_to_estimate(world: World, unit: EncodedUnit, rung: int, payload_bytes: int) -> None:
+def _send_description(world: World, point, capacity_kbps: float) -> None:
+    """Send chunks of the content description with the room the budget leaves.
+
+    The budget is the policy's (safety x estimate; x the true capacity for the oracle). Each
+    frame interval earns the larger of (budget - the point's rate) and
+    `engine.mbc.description_share` x budget of credit (the top rung leaves no room), the whole
+    budget while MBC waits for the description; chunks go out while the credit lasts and,
+    unless MBC waits, the downlink is not backlogged, round and round the description until a
+    receiver report says it is complete (a lost chunk comes again).
+    """
+    engine = world.engine
+    scenario = world.scenario
+    payload_bytes = scenario.downlink.packet_bytes
+    # The budget as the policy sees it: safety x estimate (x the true capacity for the oracle).
+    seen_kbps = capacity_kbps if scenario.engine.policy == "oracle" else engine.estimate_kbps
+    budget_kbps = scenario.engine.safety * seen_kbps
+    waiting = engine.description_wait_from_s is not None
+    if waiting:
+        credit_kbps = budget_kbps  # MBC is wanted and waits for it: all the budget
+    else:
+        credit_kbps = max(
+            budget_kbps - point.rate_kbps, scenario.engine.mbc.description_share * budget_kbps
+        )
+    world.description_credit_bits += credit_kbps * 1000.0 / world.fps
+    chunks = world.description_chunks
+    budget_bits = engine.estimate_kbps * scenario.engine.max_backlog_ms / 2.0
+    size_bits = 8 * (payload_bytes + HEADER_BYTES)
+    while world.description_credit_bits >= size_bits and (
+        waiting or engine.outstanding_bits < budget_bits
+    ):
+        chunk = world.description_next % chunks
+        world.description_next += 1
+        world.description_credit_bits -= size_bits
+        seq = engine.on_packets_sent([size_bits])
+        world.downlink.offer(
+            Packet(
+                seq=seq,
+                unit=None,
+                index=chunk,
+                count=chunks,
+                size_bits=size_bits,
+                sent_s=world.env.now,
+                chunk=chunk,
+            )
+        )
+        world.description_sent_bits += size_bits
+
+
+def _send(world: World, out, point, index: int) -> None:
+    """Put one coded unit on the downlink (and the probe or WebRTC padding behind it)."""
+    engine = world.engine
+    scenario = world.scenario
+    payload_bytes = scenario.downlink.packet_bytes
+    frames = out.frames or (index,)
+    unit = EncodedUnit(
+        unit_seq=world.next_unit_seq,
+        frame=frames[-1],
+        codec=point.codec,
+        rung=world.points.index(point),
+        width=out.width,
+        height=out.height,
+        keyframe=out.keyframe,
+        data=out.data,
+        frames=out.frames,
+    )
+    world.next_unit_seq += 1
+    first_seq = engine.on_packets_sent(packet_sizes_bits(unit, payload_bytes=payload_bytes))
+    for packet in packetize(
+        unit, first_seq=first_seq, payload_bytes=payload_bytes, sent_s=world.env.now
+    ):
+        world.downlink.offer(packet)
+    if scenario.engine.estimator.kind == "webrtc":
+        _pad_to_estimate(world, unit, point, payload_bytes, frames=len(frames))
+    elif point.codec == "mbc" and scenario.engine.mbc.probe and scenario.engine.policy != "oracle":
+        # On MBC the parameters alone (a few kbit/s) would cap the estimate at 3 x that:
+        # padding up to the estimate, no further than the rate that would bring the engine
+        # back to H.264, lets it find the bandwidth to return (the oracle needs no probe).
+        limit_kbps = scenario.engine.switching.to_h264_above_kbps / scenario.engine.safety
+        _pad_to_estimate(
+            world, unit, point, payload_bytes, frames=len(frames), limit_kbps=limit_kbps
+        )
+    world.log["keyframe"][frames[0]] = int(unit.keyframe)
+    world.log["size_bits"][frames[-1]] = 8 * len(unit.data)
+
+
+def mbc_init_process(env: simpy.Environment, world: World, picture: np.ndarray, frame: int):
+    """Initialise the model-based codec on `picture`; done after its modelled compute time."""
+    engine = world.engine
+    result = world.codec.mbc_initialise(picture, engine.mbc_point, frame=frame)
+    yield env.timeout(world.mbc_init_compute_s(result.evaluations))
+    engine.on_init_done(bool(result), env.now, reason=result.reason, evaluations=result.evaluations)
+
+
+def _pad_to_estimate(
+    world: World,
+    unit: EncodedUnit,
+    point,
+    payload_bytes: int,
+    *,
+    frames: int = 1,
+    limit_kbps: float = float("inf"),
+) -> None:
     """Follow a frame with padding up to the estimate's share of the frame interval.
 
     A WebRTC sender encodes at its target rate; uma's ladder sends at most a rung's rate, and
@@ -147,10 +276,11 @@ def _pad_to_estimate(world: World, unit: EncodedUnit, rung: int, payload_bytes: 
     climb to the next rung. The padding stands in for the rate a WebRTC encoder would send.
     """
     engine = world.engine
-    interval_s = 1.0 / min(world.ladder.rungs[rung].fps, world.fps)
+    interval_s = frames / min(point.fps, world.fps)
     sent_bits = sum(packet_sizes_bits(unit, payload_bytes=payload_bytes))
     sizes = padding_sizes_bits(
-        engine.estimate_kbps * 1000.0 * interval_s - sent_bits, payload_bytes=payload_bytes
+        min(engine.estimate_kbps, limit_kbps) * 1000.0 * interval_s - sent_bits,
+        payload_bytes=payload_bytes,
     )
     if not sizes:
         return

@@ -3,8 +3,10 @@
 Units: simulation time in seconds; delays in ms in reports and logs; sizes in bits.
 
 A unit (encoded frame) is decodable when all its packets arrived and the reference chain is
-intact: it is a keyframe, or it directly follows the last decoded unit. A lost packet breaks the
-chain until the next IDR, and the receiver asks for one. Each source frame has a display deadline
+intact: it is a keyframe, or it directly follows the last decoded unit of the same codec. A
+change of codec starts a new chain, which must begin with a keyframe (an IDR, or an intra
+parameter set for MBC); `decode` dispatches on the unit's codec. A lost packet breaks the chain
+until the next keyframe, and the receiver asks for one. Each source frame has a display deadline
 (capture time + playout delay); at that instant the display shows the newest decoded frame not
 newer than it. The display is frozen when that is not the frame the engine meant to be seen then
 (the last frame the rung's frame rate scheduled): a late, lost, undecodable or backlog-skipped
@@ -32,7 +34,8 @@ class ReceiverState:
     """Everything the receiver knows; packet and timer handlers are its methods."""
 
     log: FrameLog
-    decode: Callable[[EncodedUnit], np.ndarray | None]
+    # The unit's pictures by frame (one for H.264, each frame of an MBC packet); {}: undecodable.
+    decode: Callable[[EncodedUnit], dict[int, np.ndarray]]
     request_keyframe: Callable[[KeyframeRequest], None]
     now: Callable[[], float]
     # Tuning from `ReceiverConfig`: ask again for an IDR when none came this long after the last
@@ -42,6 +45,7 @@ class ReceiverState:
     assembling: dict[int, list] = field(default_factory=dict)  # unit_seq -> [unit, packets got]
     expected_unit: int = 0
     broken: bool = False
+    codec: str = "h264"  # the codec of the current reference chain
     last_request_s: float = float("-inf")
     decoded: dict[int, np.ndarray] = field(default_factory=dict)  # frame -> picture
     # Report counters since the previous report.
@@ -56,6 +60,10 @@ class ReceiverState:
     bwe: Any = None
     # Told (frame, arrival_s) of every decoded frame: the adaptive playout listens.
     on_decoded: Callable[[int, float], None] | None = None
+    # The content description's chunks received, and when the last one came (cached: MBC
+    # can be rendered from then on).
+    description_chunks: set = field(default_factory=set)
+    description_done_s: float | None = None
 
     def on_packet(self, packet: Packet) -> None:
         now_s = self.now()
@@ -72,6 +80,8 @@ class ReceiverState:
 
         unit = packet.unit
         if unit is None:
+            if packet.chunk >= 0:
+                self._description_chunk(packet, now_s)
             return  # padding: counted and seen by the estimator, nothing to decode
         if unit.unit_seq < self.expected_unit:
             return  # a reordered packet of a unit the chain has passed: too late to use
@@ -86,20 +96,31 @@ class ReceiverState:
             self._complete(unit, now_s)
 
     def _complete(self, unit: EncodedUnit, now_s: float) -> None:
-        if not unit.keyframe and (self.broken or unit.unit_seq != self.expected_unit):
+        if not unit.keyframe and (
+            self.broken or unit.unit_seq != self.expected_unit or unit.codec != self.codec
+        ):
             self._chain_broken(unit.unit_seq)
             return
-        picture = self.decode(unit)
-        if picture is None:
+        pictures = self.decode(unit)
+        if not pictures:
             self._chain_broken(unit.unit_seq)
             return
         self.broken = False
+        self.codec = unit.codec
         self.expected_unit = unit.unit_seq + 1
-        self.decoded[unit.frame] = picture
-        self.log["arrival_ms"][unit.frame] = now_s * 1000.0
-        self.log["decoded"][unit.frame] = 1
-        if self.on_decoded is not None:
-            self.on_decoded(unit.frame, now_s)
+        for frame, picture in pictures.items():
+            self.decoded[frame] = picture
+            self.log["arrival_ms"][frame] = now_s * 1000.0
+            self.log["decoded"][frame] = 1
+            if self.on_decoded is not None:
+                self.on_decoded(frame, now_s)
+
+    def _description_chunk(self, packet: Packet, now_s: float) -> None:
+        # The engine sends the description's chunks round and round until a report says it
+        # is complete, so a lost chunk comes again.
+        self.description_chunks.add(packet.chunk)
+        if len(self.description_chunks) == packet.count and self.description_done_s is None:
+            self.description_done_s = now_s
 
     def _chain_broken(self, unit_seq: int) -> None:
         if unit_seq < self.expected_unit and not self.broken:
@@ -137,6 +158,7 @@ class ReceiverState:
             highest_seq=self.highest_seq,
             queue_delay_ms=queue_ms,
             remb_kbps=self.bwe.estimate_kbps if self.bwe is not None else None,
+            description_complete=self.description_done_s is not None,
         )
         self.bits = self.packets = self.lost = 0
         self.owd_sum_s = 0.0

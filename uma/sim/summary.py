@@ -33,7 +33,34 @@ def run_metrics(result: RunResult) -> dict[str, Any]:
         event_kinds=[event.kind for event in result.events],
     )
     body["feedback_lost"] = result.feedback_lost
+    body |= switching_metrics(result)
     return head | body | playout_metrics(result)
+
+
+def switching_metrics(result: RunResult) -> dict[str, Any]:
+    """Codec switches and the model-based codec's initialisations, failures and refusals."""
+    counts = result.engine_counts or {}
+    kinds = [event.kind for event in result.events]
+    refused = [event.detail for event in result.events if event.kind == "mbc_refused"]
+    return {
+        "switching": result.scenario.engine.switching.policy,
+        "codec_switches": kinds.count("codec_switch"),
+        "inits": counts.get("inits", 0),
+        "init_failures": counts.get("init_failures", 0),
+        "track_failures": counts.get("track_failures", 0),
+        "reinits": kinds.count("mbc_reinit"),
+        "mbc_refused": counts.get("mbc_refused", 0),
+        "mbc_refused_reason": refused[0] if refused else None,
+        "description_bytes": result.description_bytes,
+        "kbps_description": round(result.description_sent_bits / result.duration_s / 1000.0, 3),
+        "description_delivered_s": _rounded(result.description_delivered_s),
+        "description_acked_s": _rounded(result.description_acked_s),
+        "description_wait_s": round(result.description_wait_s, 3),
+    }
+
+
+def _rounded(value: float | None) -> float | None:
+    return None if value is None else round(value, 3)
 
 
 def playout_metrics(result: RunResult) -> dict[str, Any]:

@@ -53,6 +53,16 @@ class RunResult:
     codec_s: float = 0.0
     metrics_s: float = 0.0
     padding_bits: int = 0
+    points: tuple = ()  # the engine's operating points (`uma.engine.points.OperatingPoint`)
+    engine_counts: dict | None = None  # MBC inits, failures, refusals (`UmaEngine.counts`)
+    codec_seconds: dict | None = None  # with `account`: wall-clock codec seconds per codec
+    mbc_init_frames: tuple[int, ...] = ()  # frames on which MBC initialisations started
+    description_bytes: int = 0  # the content description delivered to the receiver
+    description_sent_bits: int = 0  # on the wire, headers and repeats included
+    description_delivered_s: float | None = None  # when its last chunk reached the receiver
+    description_acked_s: float | None = None  # when a report told the engine
+    description_wait_s: float = 0.0  # time MBC was wanted but the description not there
+    description: object = None  # the content description MBC used, if any
 
 
 def build_capacity(scenario: Scenario, rng: np.random.Generator) -> CapacitySchedule:
@@ -106,6 +116,55 @@ def _handover_events(capacity: CapacitySchedule, end_s: float) -> list[EngineEve
     return events
 
 
+def coverage_map(scenario: Scenario) -> tuple[tuple[float, str], ...]:
+    """The route's technology segments as a coverage map gives them: (start_s, technology)."""
+    out, start_s = [], 0.0
+    for segment in scenario.route:
+        out.append((start_s, segment.technology))
+        start_s += segment.duration_s
+    return tuple(out)
+
+
+def mbc_description(scenario: Scenario, source) -> tuple[object | None, str]:
+    """The content description MBC needs, or None and why there is none.
+
+    Only a scenario that switches needs one: `engine.mbc.description` (a `uma describe` file),
+    else the source's own (the talking head's astronaut). Without one the engine stays on
+    H.264 and records why when a switch is due.
+    """
+    if scenario.engine.switching.policy == "none":
+        return None, "switching off"
+    if scenario.engine.mbc.description is not None:
+        from uma.face import load_description
+
+        return load_description(scenario.engine.mbc.description), ""
+    own = getattr(source, "description", None)
+    if own is not None:
+        return own, ""
+    return None, "no content description (engine.mbc.description) for this source"
+
+
+def operating_points(scenario: Scenario, ladder, source, *, with_mbc: bool) -> tuple:
+    """The engine's ladder: the MBC point (when it has a description) below the H.264 rungs."""
+    from uma.engine.points import OperatingPoint, h264_points
+
+    points = h264_points(ladder, transcode_ms=scenario.engine.transcode_ms)
+    if not with_mbc:
+        return points
+    mbc = scenario.engine.mbc
+    point = OperatingPoint(
+        codec="mbc",
+        rate_kbps=mbc.rate_kbps,
+        fps=min(mbc.fps, float(source.fps)),
+        width=source.width,
+        height=source.height,
+        compute_ms=mbc.encode_ms,
+        compute_us_per_evaluation=mbc.track_us_per_evaluation,
+        label=f"mbc {mbc.rate_kbps:g}k {source.width}x{source.height}",
+    )
+    return (point, *points)
+
+
 def run_scenario(
     scenario: Scenario,
     *,
@@ -132,20 +191,35 @@ def run_scenario(
     capacity = with_outages(capacity, scenario.faults.outages)
     ladder = load_ladder(scenario.engine.ladder)
     source = source if source is not None else open_source(scenario.source, seed=scenario.seed)
+    description, mbc_unavailable = mbc_description(scenario, source)
+    points = operating_points(scenario, ladder, source, with_mbc=description is not None)
+    description_bytes = 0
+    if description is not None and scenario.engine.mbc.deliver_description:
+        description_bytes = len(description.to_bytes())
+    description_bits = 8 * description_bytes
     fps = float(source.fps)
     frames = int(round(scenario.run_duration_s * fps))
     log = FrameLog(frames)
     env = simpy.Environment()
     codec = CodecChain(
-        scenario, ladder, width=source.width, height=source.height, fps=fps, account=account
+        scenario,
+        ladder,
+        points,
+        width=source.width,
+        height=source.height,
+        fps=fps,
+        account=account,
+        description=description,
     )
     quality = QualityMeter(scenario.metrics, width=source.width, height=source.height)
     engine = UmaEngine(
         scenario.engine,
-        rung_rates_kbps=tuple(r.rate_kbps for r in ladder.rungs),
-        rung_fps=tuple(r.fps for r in ladder.rungs),
+        points=points,
         source_fps=fps,
         feedback=scenario.feedback,
+        mbc_unavailable=mbc_unavailable,
+        coverage=coverage_map(scenario),
+        description_bits=description_bits,
     )
     props = _link_props(scenario)
     world_ref: list[World] = []
@@ -200,6 +274,9 @@ def run_scenario(
         on_display=on_display,
         faults=faults if faults.active else None,
         playout=playout,
+        init_us_per_evaluation=scenario.engine.mbc.init_us_per_evaluation,
+        points=points,
+        description_chunks=-(-description_bytes // scenario.downlink.packet_bytes),
     )
     world_ref.append(world)
     env.process(sender_process(env, world))
@@ -230,4 +307,19 @@ def run_scenario(
         codec_s=codec.seconds,
         metrics_s=quality.seconds,
         padding_bits=world.padding_bits,
+        points=points,
+        engine_counts=dict(engine.counts),
+        codec_seconds=dict(codec.codec_seconds),
+        mbc_init_frames=tuple(world.mbc_init_frames),
+        description_bytes=description_bytes,
+        description_sent_bits=world.description_sent_bits,
+        description_delivered_s=receiver.description_done_s,
+        description_acked_s=engine.description_acked_s if description_bytes else None,
+        description_wait_s=engine.description_wait_s
+        + (
+            end_s - engine.description_wait_from_s
+            if engine.description_wait_from_s is not None
+            else 0.0
+        ),
+        description=description,
     )
