@@ -4,7 +4,8 @@ Units: seconds of wall clock. The grid is `engine.policy` (throughput, oracle) x
 `receiver.playout_delay_ms` (150, 300, 600) x two seeds (`repeat: 2` from `--seed`) over a base scenario cut
 to `seconds` of simulated time. Each timing covers starting the worker processes, every run,
 and writing the table, into a fresh folder (nothing is skipped as already complete); the two
-tables must be identical, or the bench fails.
+tables must be identical, or the bench fails. `cores1`/`cores2` are the worker processes' CPU
+seconds over the wall-clock seconds: on a machine others share, how many cores each run got.
 """
 
 from __future__ import annotations
@@ -39,10 +40,17 @@ def run_sweep_bench(
     *, scenario: Path, seconds: float, seed: int = 0, workers: tuple[int, int] = (1, 2)
 ) -> dict[str, Any]:
     """Time the sweep on `workers[0]` and on `workers[1]` local processes (seeds seed, seed + 1)."""
+    import resource
+
     from uma.errors import RunError
     from uma.experiments import LocalExecutor, load_experiment, run_sweep
 
+    def children_cpu_s() -> float:
+        usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+        return usage.ru_utime + usage.ru_stime
+
     times: list[float] = []
+    cpu: list[float] = []
     tables: list[bytes] = []
     with tempfile.TemporaryDirectory(prefix="uma-bench-sweep-") as folder:
         path = Path(folder) / "experiment.yaml"
@@ -50,13 +58,14 @@ def run_sweep_bench(
         experiment = load_experiment(path)
         for count in workers:
             out = Path(folder) / f"out-{count}"
-            start = time.perf_counter()
+            start, start_cpu = time.perf_counter(), children_cpu_s()
             executor = LocalExecutor(count)
             try:
                 result = run_sweep(experiment, out, executor)
             finally:
-                executor.close()
+                executor.close()  # waits for the workers, so their CPU time is counted
             times.append(time.perf_counter() - start)
+            cpu.append(children_cpu_s() - start_cpu)
             if result.failed:
                 bad = next(r for r in result.rows if r["status"] != "ok")
                 raise RunError(f"bench sweep: point {bad['point']} failed: {bad['error']}")
@@ -71,6 +80,12 @@ def run_sweep_bench(
         "t2_s": round(times[1], 3),
         "speedup": round(times[0] / times[1], 3),
         "identical": True,
+        # CPU seconds the worker processes got, and the cores that is on average: on a shared
+        # machine the two-worker run may get far fewer than two.
+        "cpu1_s": round(cpu[0], 3),
+        "cpu2_s": round(cpu[1], 3),
+        "cores1": round(cpu[0] / times[0], 2),
+        "cores2": round(cpu[1] / times[1], 2),
     }
 
 
@@ -79,8 +94,8 @@ def format_table(result: dict[str, Any]) -> str:
         [
             f"uma bench sweep: {result['points']} points (2 policies x 3 playout delays x 2 seeds),"
             f" {result['seconds_per_run']:g} s of simulation each",
-            f"  1 worker   {result['t1_s']:8.2f} s",
-            f"  2 workers  {result['t2_s']:8.2f} s",
+            f"  1 worker   {result['t1_s']:8.2f} s   ({result['cores1']:.2f} cores of CPU on average)",
+            f"  2 workers  {result['t2_s']:8.2f} s   ({result['cores2']:.2f} cores of CPU on average)",
             f"  speed-up   {result['speedup']:8.2f}x   (tables identical)",
         ]
     )

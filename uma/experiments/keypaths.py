@@ -48,14 +48,11 @@ def check_key_path(key_path: tuple[str | int, ...], base: dict[str, Any]) -> Non
             node, data = get_args(node)[0], items[part]
             walked += f"[{part}]"
             continue
-        model = _model_of(node)
-        if model is None and get_origin(node) is dict:
-            node, data = (
-                get_args(node)[1],
-                (data or {}).get(part) if isinstance(data, dict) else None,
-            )
+        if get_origin(node) is dict:  # e.g. downlink.technologies.GPRS: any name is a key
+            node, data = get_args(node)[1], (data.get(part) if isinstance(data, dict) else None)
             walked += f".{part}" if walked else part
             continue
+        model = _model_of(node)
         if model is None or part not in model.model_fields:
             known = ", ".join(sorted(model.model_fields)) if model is not None else "none"
             where = walked or "the scenario"
