@@ -116,3 +116,29 @@ def test_keep_freed_memory_changes_speed_not_values():
     if sys.platform.startswith("linux") and "glibc" in " ".join(platform.libc_ver()):
         assert applied
     assert ssim(ref, test) == before
+
+
+def test_face_region_scores_see_only_the_face_box():
+    import math
+
+    from uma.face import Box
+    from uma.metrics.quality import PSNR_CAP_DB, psnr_db, region_scores, ssim
+
+    rng = np.random.default_rng(0)
+    reference = rng.integers(0, 256, (72, 88), dtype=np.uint8)
+    box = Box(20, 10, 30, 40)
+    assert region_scores(reference, reference.copy(), box) == (psnr_db(reference, reference), 1.0)
+    assert region_scores(reference, reference, box)[0] == PSNR_CAP_DB
+    outside = reference.copy()
+    outside[:, 60:] = 0  # changed, but right of the box
+    assert region_scores(reference, outside, box) == (PSNR_CAP_DB, 1.0)
+    assert psnr_db(reference, outside) < PSNR_CAP_DB
+    inside = reference.copy()
+    inside[20:30, 25:35] = 255 - inside[20:30, 25:35]
+    face_psnr, face_ssim = region_scores(reference, inside, box)
+    assert face_psnr < 30 and face_ssim < 0.95
+    assert face_ssim == ssim(reference[10:50, 20:50], inside[10:50, 20:50])
+    nan_psnr, nan_ssim = region_scores(reference, inside, None)
+    assert math.isnan(nan_psnr) and math.isnan(nan_ssim)
+    off = region_scores(reference, inside, box, with_psnr=False, with_ssim=False)
+    assert all(math.isnan(v) for v in off)

@@ -158,3 +158,38 @@ def test_estimators_and_playouts_on_a_constant_link(tmp_path, estimator, playout
     late = [float(r["estimate_kbps"]) for r in rows[-250:] if r["estimate_kbps"]]
     # The estimate ends near the 600 kbit/s link (the ladder's rungs cap what is sent).
     assert 0.5 * 600 <= float(np.median(late)) <= 1.5 * 600
+
+
+HEAD = """\
+name: head
+seed: 2
+source: {kind: talking-head, width: 176, height: 144, fps: 25}
+route:
+  - {technology: WLAN, duration_s: 1}
+  - {technology: GPRS, duration_s: 1}
+"""
+
+
+def test_face_region_metrics_and_by_technology(tmp_path):
+    path = tmp_path / "head.yaml"
+    path.write_text(HEAD)
+    metrics = run(path, tmp_path / "r")
+    assert 10 < metrics["psnr_face_db"] <= 100 and 0 < metrics["ssim_face"] <= 1
+    assert set(metrics["by_technology"]) == {"WLAN", "GPRS"}
+    for values in metrics["by_technology"].values():
+        assert set(values) == {"freeze_ratio", "psnr_face_db", "ssim_face"}
+        assert 0 <= values["freeze_ratio"] <= 1
+    lines = (tmp_path / "r" / "frames.csv").read_text().splitlines()
+    header = lines[0].split(",")
+    for column in ("psnr_face_db", "ssim_face", "shown_codec"):
+        assert column in header
+    face = [row.split(",")[header.index("ssim_face")] for row in lines[1:]]
+    assert all(cell != "" for cell in face)  # the talking head has a face in every frame
+    codecs = {row.split(",")[header.index("shown_codec")] for row in lines[1:]}
+    assert codecs <= {"", "h264", "mbc"} and "h264" in codecs
+
+
+def test_pattern_source_has_null_face_metrics(short, tmp_path):
+    metrics = run(short, tmp_path / "r")
+    assert metrics["psnr_face_db"] is None and metrics["ssim_face"] is None
+    assert all(v["psnr_face_db"] is None for v in metrics["by_technology"].values())

@@ -49,6 +49,12 @@ class _ListSource:
         self.fps, self.width, self.height = source.fps, source.width, source.height
         self.name, self.frame_count = source.name, len(frames)
         self.description = getattr(source, "description", None)  # the talking head's, for MBC
+        from uma.face.region import face_mode
+
+        # The run's face boxes, as the source itself would give them.
+        self.face_mode = face_mode(source)
+        self.ground_truth = getattr(source, "ground_truth", None)
+        self.clip_frames = getattr(source, "clip_frames", None)
 
     def frames(self):
         return iter(self._frames)
@@ -126,7 +132,8 @@ def _replay(scenario: Scenario, result, source: _ListSource) -> tuple[float, flo
                 )
                 decoded.update(chain.receiver_decode(unit))
         shown = int(log["shown_frame"][index])
-        meter.submit(index, frame, shown, decoded.get(shown))
+        box = result.face_boxes[index] if index < len(result.face_boxes) else None
+        meter.submit(index, frame, shown, decoded.get(shown), box=box)
         for old in [k for k in decoded if k < shown]:
             del decoded[old]
     return chain.seconds, meter.seconds, dict(chain.codec_seconds)

@@ -28,6 +28,7 @@ from uma.face.landmarks import IBUG68_TO_MPEG4, read_dlib_xml, read_pts, to_mpeg
 from uma.face.load import load_model
 from uma.face.model import FaceModel, save_model
 from uma.face.points import PointsFile, load_points
+from uma.face.region import FaceBoxes, points_box
 from uma.face.render import Raster, RenderResult, rasterize, render, sample_bilinear, warp_points
 from uma.face.talking_head import Motion, TalkingHeadSource
 from uma.face.wfm import read_wfm
@@ -78,4 +79,6 @@ __all__ = [
     "detect_face",
     "Motion",
     "TalkingHeadSource",
+    "FaceBoxes",
+    "points_box",
 ]

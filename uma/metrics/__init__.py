@@ -8,8 +8,17 @@ from uma.metrics.quality import (
     SSIM_DB_CAP,
     keep_freed_memory,
     psnr_db,
+    region_scores,
     ssim,
     ssim_db,
 )
 
-__all__ = ["psnr_db", "ssim", "ssim_db", "keep_freed_memory", "PSNR_CAP_DB", "SSIM_DB_CAP"]
+__all__ = [
+    "psnr_db",
+    "region_scores",
+    "ssim",
+    "ssim_db",
+    "keep_freed_memory",
+    "PSNR_CAP_DB",
+    "SSIM_DB_CAP",
+]

@@ -3,7 +3,10 @@
 Units are in the key names: kbit/s, bits, ms, dB; ratios are fractions of 1. Percentiles use
 numpy's default (linear) interpolation. PSNR and SSIM are means over every display instant,
 frozen ones included (a frozen display is what the user sees); `ssim_db` = -10 log10(1 - SSIM)
-of that mean, as Salsify reports it.
+of that mean, as Salsify reports it. Face-region scores (`psnr_face_db`, `ssim_face`) are means
+over the display instants whose source frame has a face box (NaN cells are left out; null when
+none has). `by_technology` gives, per access technology of the display instants, their freeze
+ratio and face-region means.
 """
 
 from __future__ import annotations
@@ -18,7 +21,7 @@ import numpy as np
 from uma.metrics.delay import display_delays_ms
 from uma.metrics.framelog import FrameLog
 
-__all__ = ["aggregate", "ssim_to_db"]
+__all__ = ["aggregate", "by_technology", "ssim_to_db"]
 
 
 def ssim_to_db(ssim: float) -> float:
@@ -31,6 +34,24 @@ def ssim_to_db(ssim: float) -> float:
 def _stat(values: np.ndarray, fn) -> float | None:
     values = values[np.isfinite(values)]
     return round(float(fn(values)), 4) if values.size else None
+
+
+def by_technology(log: FrameLog, technologies: np.ndarray) -> dict[str, dict[str, Any]]:
+    """Freeze ratio and face-region means of the display instants of each technology.
+
+    `technologies[i]` is the access technology at display instant i; keys are sorted, and an
+    empty technology (no coverage) is left out.
+    """
+    technologies = np.asarray(technologies).astype(str)
+    out: dict[str, dict[str, Any]] = {}
+    for technology in sorted(set(technologies.tolist()) - {""}):
+        rows = technologies == technology
+        out[technology] = {
+            "freeze_ratio": round(float(log["frozen"][rows].mean()), 4),
+            "psnr_face_db": _stat(log["psnr_face_db"][rows], np.mean),
+            "ssim_face": _stat(log["ssim_face"][rows], np.mean),
+        }
+    return out
 
 
 def aggregate(
@@ -71,6 +92,8 @@ def aggregate(
         "psnr_db": _stat(log["psnr_db"], np.mean),
         "ssim": _stat(log["ssim"], np.mean),
         "ssim_db": ssim_db,
+        "psnr_face_db": _stat(log["psnr_face_db"], np.mean),
+        "ssim_face": _stat(log["ssim_face"], np.mean),
         "delay_median_ms": _stat(delays, np.median),
         "delay_p95_ms": _stat(delays, p95),
         "arrival_delay_median_ms": _stat(arrival, np.median),

@@ -31,10 +31,13 @@ COLUMNS: dict[str, tuple[str, float]] = {
     "arrival_ms": ("f8", np.nan),
     "decoded": ("i8", 0),
     "shown_frame": ("i8", -1),
+    "shown_codec": ("U8", ""),
     "frozen": ("i8", 0),
     "delay_ms": ("f8", np.nan),
     "psnr_db": ("f8", np.nan),
     "ssim": ("f8", np.nan),
+    "psnr_face_db": ("f8", np.nan),
+    "ssim_face": ("f8", np.nan),
 }
 
 

@@ -33,7 +33,15 @@ import math
 
 import numpy as np
 
-__all__ = ["psnr_db", "ssim", "ssim_db", "keep_freed_memory", "PSNR_CAP_DB", "SSIM_DB_CAP"]
+__all__ = [
+    "psnr_db",
+    "ssim",
+    "ssim_db",
+    "region_scores",
+    "keep_freed_memory",
+    "PSNR_CAP_DB",
+    "SSIM_DB_CAP",
+]
 
 PSNR_CAP_DB = 100.0
 SSIM_DB_CAP = 100.0
@@ -84,6 +92,28 @@ def ssim(reference: np.ndarray, test: np.ndarray, *, scale: int = 1) -> float:
     if min(ref.shape) < 7:
         raise ValueError(f"SSIM needs planes of at least 7x7, got {ref.shape} at scale {scale}")
     return float(structural_similarity(ref, tst, data_range=255.0))
+
+
+def region_scores(
+    reference: np.ndarray, test: np.ndarray, box, *, with_psnr: bool = True, with_ssim: bool = True
+) -> tuple[float, float]:
+    """(PSNR dB, SSIM) of two planes over `box` only (x, y, width, height, clipped to the plane).
+
+    NaN for a metric switched off, without a box, and SSIM NaN for a box under 7x7 pixels.
+    """
+    nan = float("nan")
+    if box is None:
+        return nan, nan
+    _same_shape(reference, test, "face-region scores")
+    x0, y0 = max(0, int(box.x)), max(0, int(box.y))
+    x1 = min(reference.shape[1], int(box.x) + int(box.width))
+    y1 = min(reference.shape[0], int(box.y) + int(box.height))
+    if x1 <= x0 or y1 <= y0:
+        return nan, nan
+    ref, tst = reference[y0:y1, x0:x1], test[y0:y1, x0:x1]
+    face_psnr = psnr_db(ref, tst) if with_psnr else nan
+    face_ssim = ssim(ref, tst) if with_ssim and min(ref.shape) >= 7 else nan
+    return face_psnr, face_ssim
 
 
 def ssim_db(similarity: float) -> float:

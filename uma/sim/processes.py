@@ -77,6 +77,7 @@ class World:
     init_us_per_evaluation: float = 0.0
     mbc_init_frames: list[int] = field(default_factory=list)  # where initialisations started
     description_chunks: int = 0  # packets the content description takes
+    face_boxes: list = field(default_factory=list)  # per source frame read: `uma.face.Box` | None
     description_next: int = 0
     description_credit_bits: float = 0.0
     description_sent_bits: int = 0
@@ -315,9 +316,12 @@ def display_process(env: simpy.Environment, world: World):
         log["display_ms"][index] = deadline_s * 1000.0
         log["shown_frame"][index] = shown
         log["frozen"][index] = int(shown < 0 or shown != last_scheduled)
+        if shown >= 0:
+            log["shown_codec"][index] = log["codec"][shown]
         source = world.source_frames.pop(index)
         if world.on_display is not None:
             world.on_display(index, source, shown, picture)
-        world.quality.submit(index, source, shown, picture)
+        box = world.face_boxes[index] if index < len(world.face_boxes) else None
+        world.quality.submit(index, source, shown, picture, box=box)
         if world.progress is not None:
             world.progress(index + 1, world.frames)

@@ -2,7 +2,8 @@
 
 Units: PSNR in dB, SSIM unitless in [-1, 1]. Scores are on luma at the source's resolution: a
 picture decoded at a lower rung is upscaled first (bilinear), as a receiver's display would.
-Before the first picture arrives the display is mid-grey.
+Before the first picture arrives the display is mid-grey. Face-region scores are the same
+metrics over the source frame's face box only (`uma.face.region`); NaN without a box.
 
 SSIM costs more than the whole codec chain (scikit-image, ~4-5 ms per CIF plane), and its
 filters release the GIL, so scoring runs on a small thread pool beside the simulation; the
@@ -38,7 +39,7 @@ class QualityMeter:
         self.seconds = 0.0  # wall time inside scoring calls, summed over threads
         self._pool = ThreadPoolExecutor(config.workers) if config.workers > 0 else None
         self._pending: deque[tuple[int, Future]] = deque()
-        self.results: dict[int, tuple[float, float]] = {}
+        self.results: dict[int, tuple[float, float, float, float]] = {}
 
     def shown_luma(self, shown: int, picture: np.ndarray | None) -> np.ndarray:
         if picture is None:
@@ -53,37 +54,47 @@ class QualityMeter:
         self._cached_index, self._cached_luma = shown, luma
         return luma
 
-    def _score(self, reference: np.ndarray, test: np.ndarray) -> tuple[float, float, float]:
-        from uma.metrics.quality import psnr_db, ssim
+    def _score(self, reference: np.ndarray, test: np.ndarray, box) -> tuple[float, ...]:
+        from uma.metrics.quality import psnr_db, region_scores, ssim
 
         start = time.perf_counter()
         psnr = psnr_db(reference, test) if self.config.psnr else float("nan")
         similarity = ssim(reference, test) if self.config.ssim else float("nan")
-        return psnr, similarity, time.perf_counter() - start
+        face_psnr, face_ssim = region_scores(
+            reference, test, box, with_psnr=self.config.psnr, with_ssim=self.config.ssim
+        )
+        return psnr, similarity, face_psnr, face_ssim, time.perf_counter() - start
 
     def submit(
-        self, index: int, source: np.ndarray, shown: int, picture: np.ndarray | None
+        self,
+        index: int,
+        source: np.ndarray,
+        shown: int,
+        picture: np.ndarray | None,
+        *,
+        box=None,
     ) -> None:
-        """Score display instant `index`: `source` frame against the `shown` picture."""
+        """Score display instant `index`: `source` frame against the `shown` picture, whole and
+        over the face `box` (a `uma.face.Box` of the source frame, or None)."""
         reference = source[: self.height]
         test = self.shown_luma(shown, picture)
         if self._pool is None:
-            psnr, similarity, spent = self._score(reference, test)
+            *scores, spent = self._score(reference, test, box)
             self.seconds += spent
-            self.results[index] = (psnr, similarity)
+            self.results[index] = tuple(scores)
             return
-        self._pending.append((index, self._pool.submit(self._score, reference, test)))
+        self._pending.append((index, self._pool.submit(self._score, reference, test, box)))
         while len(self._pending) > MAX_PENDING or (self._pending and self._pending[0][1].done()):
             self._collect_one()
 
     def _collect_one(self) -> None:
         index, future = self._pending.popleft()
-        psnr, similarity, spent = future.result()
+        *scores, spent = future.result()
         self.seconds += spent
-        self.results[index] = (psnr, similarity)
+        self.results[index] = tuple(scores)
 
-    def finish(self) -> dict[int, tuple[float, float]]:
-        """Wait for every score; returns {display instant: (psnr_db, ssim)}."""
+    def finish(self) -> dict[int, tuple[float, float, float, float]]:
+        """Wait for every score; returns {instant: (psnr_db, ssim, psnr_face_db, ssim_face)}."""
         while self._pending:
             self._collect_one()
         if self._pool is not None:

@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from uma.metrics.aggregate import aggregate, ssim_to_db
+from uma.metrics.aggregate import aggregate, by_technology, ssim_to_db
 from uma.metrics.freezes import freeze_stats
 from uma.metrics.results import events_csv, write_results
 from uma.sim.world import RunResult
@@ -32,9 +32,22 @@ def run_metrics(result: RunResult) -> dict[str, Any]:
         link=asdict(result.link),
         event_kinds=[event.kind for event in result.events],
     )
+    body["by_technology"] = by_technology(result.log, display_technologies(result))
     body["feedback_lost"] = result.feedback_lost
     body |= switching_metrics(result)
     return head | body | playout_metrics(result)
+
+
+def display_technologies(result: RunResult) -> np.ndarray:
+    """The access technology at each display instant (empty where none was displayed)."""
+    display_ms = result.log["display_ms"]
+    return np.array(
+        [
+            "" if not np.isfinite(t_ms) else result.capacity.technology_at(t_ms / 1000.0)
+            for t_ms in display_ms.tolist()
+        ],
+        dtype=object,
+    )
 
 
 def switching_metrics(result: RunResult) -> dict[str, Any]:

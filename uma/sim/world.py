@@ -15,6 +15,7 @@ import simpy
 
 from uma.config.scenario import Scenario
 from uma.engine.engine import EngineEvent, UmaEngine
+from uma.face.region import FaceBoxes
 from uma.metrics.framelog import FrameLog
 from uma.sim.capacity import CapacitySchedule
 from uma.sim.codecs import CodecChain
@@ -63,6 +64,7 @@ class RunResult:
     description_acked_s: float | None = None  # when a report told the engine
     description_wait_s: float = 0.0  # time MBC was wanted but the description not there
     description: object = None  # the content description MBC used, if any
+    face_boxes: tuple = ()  # the face box (`uma.face.Box` or None) of each source frame read
 
 
 def build_capacity(scenario: Scenario, rng: np.random.Generator) -> CapacitySchedule:
@@ -212,6 +214,7 @@ def run_scenario(
         description=description,
     )
     quality = QualityMeter(scenario.metrics, width=source.width, height=source.height)
+    face_boxes = FaceBoxes(source)
     engine = UmaEngine(
         scenario.engine,
         points=points,
@@ -255,7 +258,7 @@ def run_scenario(
         scenario=scenario,
         frames=frames,
         fps=fps,
-        source_iter=iter(source.frames()),
+        source_iter=face_boxes.wrap(source.frames()),
         ladder=ladder,
         engine=engine,
         capacity=capacity,
@@ -277,6 +280,7 @@ def run_scenario(
         init_us_per_evaluation=scenario.engine.mbc.init_us_per_evaluation,
         points=points,
         description_chunks=-(-description_bytes // scenario.downlink.packet_bytes),
+        face_boxes=face_boxes.boxes,
     )
     world_ref.append(world)
     env.process(sender_process(env, world))
@@ -285,9 +289,11 @@ def run_scenario(
     env.process(report_process(env, world))
     display = env.process(display_process(env, world))
     env.run(until=display)
-    for index, (psnr, similarity) in quality.finish().items():
+    for index, (psnr, similarity, face_psnr, face_ssim) in quality.finish().items():
         log["psnr_db"][index] = psnr
         log["ssim"][index] = similarity
+        log["psnr_face_db"][index] = face_psnr
+        log["ssim_face"][index] = face_ssim
 
     downlink.stats.packets_queued_at_end = len(downlink.queue)
     end_s = frames / fps
@@ -322,4 +328,5 @@ def run_scenario(
             else 0.0
         ),
         description=description,
+        face_boxes=tuple(face_boxes.boxes),
     )

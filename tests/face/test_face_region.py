@@ -1,0 +1,65 @@
+"""Face boxes of a source's frames: ground truth for the talking head, none for the pattern."""
+
+import numpy as np
+
+from uma.face import TalkingHeadSource
+from uma.face.region import FaceBoxes, face_mode, points_box
+from uma.video import PatternSource
+
+
+def test_talking_head_box_contains_its_projected_points():
+    source = TalkingHeadSource(width=176, height=144, seed=3, frame_count=12)
+    boxes = FaceBoxes(source)
+    frames = list(boxes.wrap(source.frames()))
+    assert len(boxes.boxes) == len(frames) == 12
+    assert boxes.mode == "truth"
+    for index, box in enumerate(boxes.boxes):
+        points = source.ground_truth(index)["points"]
+        inside = points[
+            (points[:, 0] >= 0) & (points[:, 0] < 176) & (points[:, 1] >= 0) & (points[:, 1] < 144)
+        ]
+        assert box is not None
+        assert np.all(inside[:, 0] >= box.x) and np.all(inside[:, 0] <= box.x + box.width)
+        assert np.all(inside[:, 1] >= box.y) and np.all(inside[:, 1] <= box.y + box.height)
+        # a small margin, not the whole frame
+        assert box.width * box.height < 0.9 * 176 * 144
+
+
+def test_points_box_adds_a_margin_and_clips_to_the_frame():
+    box = points_box(np.array([[10.0, 20.0], [30.0, 60.0]]), 100, 100, margin=0.1)
+    assert (box.x, box.y) == (8, 16)
+    assert box.x + box.width >= 32 and box.y + box.height >= 64
+    edge = points_box(np.array([[-5.0, -5.0], [99.0, 99.0]]), 100, 100)
+    assert (edge.x, edge.y, edge.x + edge.width, edge.y + edge.height) == (0, 0, 100, 100)
+
+
+def test_pattern_source_has_no_face_box():
+    source = PatternSource(64, 48, 25, seed=0, frame_count=3)
+    boxes = FaceBoxes(source)
+    list(boxes.wrap(source.frames()))
+    assert face_mode(source) == "none" and boxes.boxes == [None, None, None]
+
+
+class _Clip:
+    """A looped 'file' clip of two frames: a face-like frame that the detector may miss."""
+
+    name, width, height, clip_frames = "clip.y4m", 64, 48, 2
+
+
+def test_detection_is_cached_by_clip_frame_and_falls_back_to_the_last_box(monkeypatch):
+    import uma.face.detect as detect
+    from uma.failure import Failure
+
+    calls = []
+
+    def fake_detect(gray):
+        calls.append(int(gray[0, 0]))
+        return detect.Box(1, 2, 30, 30) if gray[0, 0] == 1 else Failure("no face detected")
+
+    monkeypatch.setattr(detect, "detect_face", fake_detect)
+    frames = [np.full((72, 64), v, np.uint8) for v in (2, 1, 2, 1, 2)]  # looped: 0 1 0 1 0
+    boxes = FaceBoxes(_Clip())
+    list(boxes.wrap(frames))
+    assert calls == [2, 1]  # once per distinct clip frame
+    assert boxes.boxes[0] is None  # no face found yet
+    assert boxes.boxes[1:] == [detect.Box(1, 2, 30, 30)] * 4
