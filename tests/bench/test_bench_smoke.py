@@ -65,6 +65,19 @@ def test_bench_init_json_keys(capsys):
             assert key in stats and key in stats["large_pose"]
 
 
+def test_bench_sweep_json_keys(capsys, tmp_path):
+    scenario = tmp_path / "s.yaml"
+    scenario.write_text(
+        "name: s\nsource: {kind: pattern, width: 64, height: 48}\n"
+        "route:\n  - {technology: 3G, duration_s: 5}\n"
+    )
+    args = ["bench", "sweep", "--scenario", str(scenario), "--seconds", "0.4", "--json"]
+    assert main(args) == 0
+    result = json.loads(capsys.readouterr().out)
+    assert result["points"] == 12 and result["identical"] is True
+    assert result["speedup"] == round(result["t1_s"] / result["t2_s"], 3)
+
+
 def test_bench_salsify_json_keys(capsys, shared_data):
     import pytest
 

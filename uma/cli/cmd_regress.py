@@ -99,7 +99,7 @@ def handle(args: argparse.Namespace) -> int:
             return 1
         if baseline is not None:
             try:
-                checks = compare(suite, baseline, now)
+                checks = compare(suite, baseline, {k: v for k, v in now.items() if k in baseline})
                 print(format_checks(checks))
             except ConfigError as err:
                 print(f"(previous baseline incomplete: {err})")

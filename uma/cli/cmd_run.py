@@ -14,7 +14,8 @@ across WLAN, 3G, GPRS, GSM). Without SCENARIO, runs scenarios/stockholm-uppsala.
 
 Writes results/<scenario>/ (or --out DIR): metrics.json (aggregates), frames.csv (one row
 per displayed frame), events.csv (rung switches, handovers, keyframe requests) and the
-resolved scenario.yaml that repeats the run. Exit status: 0 done, 2 bad input."""
+resolved scenario.yaml that repeats the run; with --report also timeline.png (see
+`uma report`). Exit status: 0 done, 2 bad input."""
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -28,6 +29,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--out", metavar="DIR", help="results folder (default results/<scenario>)")
     parser.add_argument("--seed", type=int, help="random seed, overriding the scenario's")
     parser.add_argument("--quiet", action="store_true", help="no progress bar or summary")
+    parser.add_argument(
+        "--report", action="store_true", help="draw timeline.png in the results folder too"
+    )
     parser.set_defaults(func=handle)
 
 
@@ -65,4 +69,10 @@ def handle(args: argparse.Namespace) -> int:
     metrics = save_run(result, out_dir)
     if not args.quiet:
         print(format_summary(metrics, out_dir))
+    if args.report:
+        from uma.report.timeline import draw_timeline
+
+        picture = draw_timeline(out_dir)
+        if not args.quiet:
+            print(f"  timeline  {picture}")
     return 0

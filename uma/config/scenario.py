@@ -28,6 +28,11 @@ __all__ = [
     "AdaptivePlayoutConfig",
     "MetricsConfig",
     "POLICY_NAMES",
+    "FaultsConfig",
+    "LossBurstConfig",
+    "OutageConfig",
+    "ReorderConfig",
+    "SilenceConfig",
     "ESTIMATOR_KINDS",
 ]
 
@@ -208,6 +213,46 @@ class MetricsConfig(_Section):
     workers: NonNegInt = 2
 
 
+class LossBurstConfig(_Section):
+    """Gilbert-Elliott loss bursts: a good and a bad state, stepped once per packet leaving the
+    downlink; a packet is lost with the state's probability (on top of the random loss)."""
+
+    p_good_to_bad: Fraction = 0.01
+    p_bad_to_good: Fraction = 0.3
+    loss_good: Fraction = 0.0
+    loss_bad: Fraction = 1.0
+
+
+class OutageConfig(_Section):
+    """Zero downlink capacity from `start_s` for `duration_s` (it may outlast the run)."""
+
+    start_s: NonNeg
+    duration_s: PosNum
+
+
+class ReorderConfig(_Section):
+    """Each packet, with `probability`, arrives `delay_ms` late and is overtaken by later ones."""
+
+    probability: Fraction = 0.05
+    delay_ms: PosNum = 50.0
+
+
+class SilenceConfig(_Section):
+    """The feedback channel (reports, keyframe requests) carries nothing for a stretch."""
+
+    start_s: NonNeg
+    duration_s: PosNum
+
+
+class FaultsConfig(_Section):
+    """Link faults injected into the run (see `uma.sim.faults`); none by default."""
+
+    loss_bursts: LossBurstConfig | None = None
+    outages: tuple[OutageConfig, ...] = ()
+    reorder: ReorderConfig | None = None
+    feedback_silence: tuple[SilenceConfig, ...] = ()
+
+
 class Scenario(_Section):
     """A whole experiment; `Scenario.load(path)` is the way in (`uma.config.load_scenario`)."""
 
@@ -224,6 +269,7 @@ class Scenario(_Section):
     engine: EngineConfig = Field(default_factory=EngineConfig)
     receiver: ReceiverConfig = Field(default_factory=ReceiverConfig)
     metrics: MetricsConfig = Field(default_factory=MetricsConfig)
+    faults: FaultsConfig = Field(default_factory=FaultsConfig)
 
     @property
     def route_duration_s(self) -> float:

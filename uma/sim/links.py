@@ -5,7 +5,8 @@ Units: simulation time in seconds; sizes in bits and bytes as named; delays in m
 Downlink: a drop-tail queue limited in bytes (the packet being sent still occupies it), served at
 the capacity of a `CapacitySchedule`, then a propagation delay and a random loss that depend on
 the technology in use when the packet leaves. Delivery stays in order: a packet never overtakes
-one sent before it, even when a handover shortens the propagation delay.
+one sent before it, even when a handover shortens the propagation delay (unless the scenario
+injects reordering, `uma.sim.faults`).
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ import math
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import simpy
@@ -37,10 +39,15 @@ class LinkStats:
     packets_sent: int = 0
     packets_dropped_queue: int = 0
     packets_lost_random: int = 0
+    packets_lost_burst: int = 0
+    packets_reordered: int = 0
     packets_delivered: int = 0
     bits_offered: int = 0
     bits_delivered: int = 0
     max_queue_bytes: int = 0
+    # Still queued when the run ended (an outage that outlasts it): sent = dropped + lost +
+    # delivered + queued at the end.
+    packets_queued_at_end: int = 0
 
 
 @dataclass
@@ -58,6 +65,7 @@ class Downlink:
     last_delivery_s: float = 0.0
     stats: LinkStats = field(default_factory=LinkStats)
     wakeup: simpy.Event | None = None
+    faults: Any = None  # uma.sim.faults.Faults: loss bursts and reordering
 
     def offer(self, packet: Packet) -> bool:
         """Enqueue `packet`, or drop it when the queue has no room (drop-tail)."""
@@ -93,8 +101,17 @@ def downlink_process(env: simpy.Environment, link: Downlink):
         if link.rng.random() < props.loss_rate:
             link.stats.packets_lost_random += 1
             continue
-        arrive_s = max(env.now + props.delay_s, link.last_delivery_s)
-        link.last_delivery_s = arrive_s
+        if link.faults is not None and link.faults.burst_lost():
+            link.stats.packets_lost_burst += 1
+            continue
+        held_s = link.faults.reorder_delay_s() if link.faults is not None else 0.0
+        if held_s > 0.0:
+            # Held back in the network: later packets overtake it (the in-order floor is not raised).
+            arrive_s = env.now + props.delay_s + held_s
+            link.stats.packets_reordered += 1
+        else:
+            arrive_s = max(env.now + props.delay_s, link.last_delivery_s)
+            link.last_delivery_s = arrive_s
         link.stats.packets_delivered += 1
         link.stats.bits_delivered += packet.size_bits
         _deliver_at(env, arrive_s, link.deliver, packet)

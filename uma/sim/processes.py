@@ -57,13 +57,16 @@ class World:
     inbox: simpy.Store | None = None
     next_unit_seq: int = 0
     feedback_lost: int = 0
+    on_display: Callable | None = None  # (index, source, shown, picture): `uma report --video`
+    faults: Any = None  # uma.sim.faults.Faults: feedback silence
     playout: Any = None  # uma.sim.playout: FixedPlayout or AdaptivePlayout (None: fixed)
     padding_bits: int = 0
 
     def send_feedback(self, item, handler: Callable) -> None:
         """Carry a report or request over the mobile uplink; lost in an outage or at random."""
         now_s = self.env.now
-        if self.capacity.rate_kbps_at(now_s) <= 0.0:
+        silent = self.faults is not None and self.faults.feedback_silent(now_s)
+        if silent or self.capacity.rate_kbps_at(now_s) <= 0.0:
             self.feedback_lost += 1
             return
         props = self.link_props(self.capacity.technology_at(now_s))
@@ -182,6 +185,9 @@ def display_process(env: simpy.Environment, world: World):
         log["display_ms"][index] = deadline_s * 1000.0
         log["shown_frame"][index] = shown
         log["frozen"][index] = int(shown < 0 or shown != last_scheduled)
-        world.quality.submit(index, world.source_frames.pop(index), shown, picture)
+        source = world.source_frames.pop(index)
+        if world.on_display is not None:
+            world.on_display(index, source, shown, picture)
+        world.quality.submit(index, source, shown, picture)
         if world.progress is not None:
             world.progress(index + 1, world.frames)

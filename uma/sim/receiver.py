@@ -73,6 +73,8 @@ class ReceiverState:
         unit = packet.unit
         if unit is None:
             return  # padding: counted and seen by the estimator, nothing to decode
+        if unit.unit_seq < self.expected_unit:
+            return  # a reordered packet of a unit the chain has passed: too late to use
         # The link is FIFO: a packet of a later unit means earlier incomplete units are lost.
         for seq in [s for s in self.assembling if s < unit.unit_seq]:
             del self.assembling[seq]

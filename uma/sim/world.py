@@ -18,6 +18,7 @@ from uma.engine.engine import EngineEvent, UmaEngine
 from uma.metrics.framelog import FrameLog
 from uma.sim.capacity import CapacitySchedule
 from uma.sim.codecs import CodecChain
+from uma.sim.faults import Faults, fault_rng, with_outages
 from uma.sim.links import Downlink, FixedLink, LinkProps, LinkStats, downlink_process
 from uma.sim.playout import make_playout
 from uma.sim.processes import (
@@ -111,12 +112,15 @@ def run_scenario(
     progress: Callable[[int, int], None] | None = None,
     account: bool = False,
     source=None,
+    on_display: Callable[[int, np.ndarray, int, np.ndarray | None], None] | None = None,
 ) -> RunResult:
     """Simulate `scenario`; `progress(done, total)` is told of each displayed frame.
 
     With `account`, the wall-clock seconds spent in codecs and quality metrics are summed for
     `uma bench sim`; they are measured, never used by the simulation. `source` replaces the
     scenario's frame source (a benchmark passes frames it prepared beforehand).
+    `on_display(index, source, shown, picture)` sees each display instant's source frame and
+    the picture shown (None before the first), for `uma report --video`.
     """
     from uma.video import load_ladder
 
@@ -124,6 +128,8 @@ def run_scenario(
         np.random.default_rng(s) for s in np.random.SeedSequence(scenario.seed).spawn(3)
     )
     capacity = build_capacity(scenario, route_rng)
+    faults = Faults(scenario.faults, rng=fault_rng(scenario.seed))
+    capacity = with_outages(capacity, scenario.faults.outages)
     ladder = load_ladder(scenario.engine.ladder)
     source = source if source is not None else open_source(scenario.source, seed=scenario.seed)
     fps = float(source.fps)
@@ -160,6 +166,7 @@ def run_scenario(
         props=props,
         rng=loss_rng,
         deliver=receiver.on_packet,
+        faults=faults if faults.active else None,
     )
     playout = make_playout(scenario.receiver)
     receiver.on_decoded = lambda frame, arrival_s: playout.on_decoded(
@@ -190,6 +197,8 @@ def run_scenario(
         quality=quality,
         progress=progress,
         inbox=simpy.Store(env),
+        on_display=on_display,
+        faults=faults if faults.active else None,
         playout=playout,
     )
     world_ref.append(world)
@@ -203,6 +212,7 @@ def run_scenario(
         log["psnr_db"][index] = psnr
         log["ssim"][index] = similarity
 
+    downlink.stats.packets_queued_at_end = len(downlink.queue)
     end_s = frames / fps
     events = sorted(_handover_events(capacity, end_s) + engine.events, key=lambda e: e.time_s)
     return RunResult(

@@ -1,0 +1,139 @@
+"""The timeline of one run as a PNG: capacity and technology, estimate, bit rate, quality, freezes.
+
+Units: time in seconds on the x axis; rates in kbit/s (log scale); PSNR in dB. Three panels
+share the time axis: (1) the trace's capacity over coloured technology bands, the engine's
+estimate and the bit rate sent per codec (1 s windows); (2) displayed PSNR with frozen display
+instants marked; (3) the rung, with rung switches, handovers and keyframe requests.
+Drawn with matplotlib's object API on the Agg canvas (no global pyplot state, no display).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from uma.report.results import RunFiles, read_run
+
+__all__ = ["draw_timeline", "TECH_COLOURS"]
+
+TECH_COLOURS = {
+    "WLAN": "#cfe8cf",
+    "5G": "#cde0f5",
+    "LTE": "#d8e6f7",
+    "3G": "#e4ecfa",
+    "EDGE": "#f6ead2",
+    "GPRS": "#f8e2c8",
+    "GSM": "#f6d0c8",
+    "": "#eeeeee",
+}
+CODEC_COLOURS = {"h264": "#1f5fbf", "mbc": "#c0392b"}
+
+
+def _bands(ax, time_s: np.ndarray, technology: np.ndarray) -> None:
+    """Shade each stretch of one technology; label it once per stretch."""
+    if time_s.size == 0:
+        return
+    start = 0
+    for i in range(1, time_s.size + 1):
+        if i == time_s.size or technology[i] != technology[start]:
+            end_s = time_s[i] if i < time_s.size else time_s[-1]
+            tech = str(technology[start])
+            ax.axvspan(time_s[start], end_s, color=TECH_COLOURS.get(tech, "#eeeeee"), lw=0)
+            if end_s - time_s[start] > 0.04 * (time_s[-1] - time_s[0] + 1e-9):
+                ax.text(
+                    (time_s[start] + end_s) / 2, 0.97, tech or "?", transform=ax.get_xaxis_transform(),
+                    ha="center", va="top", fontsize=8, color="#555555",
+                )  # fmt: skip
+            start = i
+
+
+def _rate_kbps(time_s: np.ndarray, bits: np.ndarray, window_s: float = 1.0) -> np.ndarray:
+    """Bits sent in the trailing `window_s` before each frame, as kbit/s."""
+    cumulative = np.concatenate([[0.0], np.cumsum(bits)])
+    first = np.searchsorted(time_s, time_s - window_s, side="right")
+    return (cumulative[np.arange(1, time_s.size + 1)] - cumulative[first]) / window_s / 1000.0
+
+
+def _figure(run: RunFiles):
+    from matplotlib.figure import Figure
+
+    f = run.frames
+    t_s = f["capture_ms"] / 1000.0
+    shown_s = f["display_ms"] / 1000.0
+    fig = Figure(figsize=(11, 7.5), dpi=100, layout="constrained")
+    rates, quality, rungs = fig.subplots(3, 1, sharex=True, height_ratios=[3, 2, 1.2])
+    name = run.metrics.get("scenario", run.folder.name)
+    fig.suptitle(
+        f"{name}: freeze {run.metrics.get('freeze_ratio')}, PSNR {run.metrics.get('psnr_db')} dB, "
+        f"{run.metrics.get('kbps_h264')} kbit/s H.264, delay p95 {run.metrics.get('delay_p95_ms')} ms",
+        fontsize=10,
+    )
+    technology = f.get("technology", np.array([""] * t_s.size))
+    for ax in (rates, quality, rungs):
+        _bands(ax, t_s, technology)
+
+    capacity = np.maximum(np.nan_to_num(f.get("capacity_kbps", np.zeros_like(t_s))), 0.1)
+    rates.step(t_s, capacity, where="post", color="#333333", lw=1.2, label="capacity")
+    if "estimate_kbps" in f:
+        rates.plot(t_s, f["estimate_kbps"], color="#e67e22", lw=1, label="estimate")
+    codec = f.get("codec", np.array([""] * t_s.size))
+    size = np.nan_to_num(f.get("size_bits", np.zeros_like(t_s)))
+    for name_, colour in CODEC_COLOURS.items():
+        mask = codec == name_
+        if mask.any():
+            rate = _rate_kbps(t_s, np.where(mask, size, 0.0))
+            rates.plot(t_s, np.maximum(rate, 0.1), color=colour, lw=1, label=f"sent {name_}")
+    rates.set_yscale("log")
+    rates.set_ylabel("kbit/s")
+    rates.legend(loc="lower left", fontsize=8, ncols=4)
+
+    frozen = f["frozen"] > 0
+    if "psnr_db" in f:
+        quality.plot(shown_s, f["psnr_db"], color="#2c3e50", lw=0.8, label="displayed PSNR")
+    quality.set_ylabel("PSNR dB")
+    low = np.nanmin(f["psnr_db"]) if "psnr_db" in f and np.isfinite(f["psnr_db"]).any() else 0
+    quality.scatter(
+        shown_s[frozen], np.full(int(frozen.sum()), low - 1), marker="|", s=30,
+        color="#c0392b", label=f"frozen ({frozen.mean():.0%})" if frozen.size else "frozen",
+    )  # fmt: skip
+    quality.legend(loc="lower left", fontsize=8, ncols=2)
+
+    if "rung" in f:
+        rungs.step(t_s, f["rung"], where="post", color="#1f5fbf", lw=1)
+    styles = {"rung_switch": ("#1f5fbf", ":"), "handover": ("#555555", "--")}
+    for time_ms, kind, _detail in run.events:
+        if kind in styles:
+            colour, style = styles[kind]
+            rungs.axvline(time_ms / 1000.0, color=colour, ls=style, lw=0.6)
+        elif kind == "keyframe_request":
+            rungs.plot(time_ms / 1000.0, -0.5, marker="v", color="#c0392b", ms=3)
+    from matplotlib.ticker import MaxNLocator
+
+    rungs.yaxis.set_major_locator(MaxNLocator(integer=True))
+    rungs.set_ylabel("rung")
+    rungs.set_xlabel("time s (capture; PSNR at display)")
+    rungs.set_title(
+        "rung; dotted: switches, dashed: handovers, triangles: keyframe requests",
+        fontsize=8, loc="left",
+    )  # fmt: skip
+    rates.set_xlim(0, max(float(t_s[-1]) if t_s.size else 1.0, 1e-3))
+    return fig
+
+
+def draw_timeline(results_dir: str | Path, out_png: str | Path | None = None) -> Path:
+    """Draw `results_dir/timeline.png` (or `out_png`) atomically; returns its path."""
+    import io
+
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from uma.atomic import atomic_write_bytes
+
+    run = read_run(results_dir)
+    out = Path(out_png) if out_png is not None else run.folder / "timeline.png"
+    fig = _figure(run)
+    FigureCanvasAgg(fig)
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png")
+    atomic_write_bytes(out, buffer.getvalue())
+    return out
