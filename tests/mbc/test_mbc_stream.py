@@ -184,3 +184,33 @@ def test_damaged_streams_then_an_intra_packet_resynchronise(ops) -> None:
     )
     out = decoder.decode(renumbered.to_bytes())
     assert np.array_equal(out.frames[-1][1], expected[19])
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    st.lists(st.integers(0, 2**32 - 1), max_size=12),
+    st.booleans(),
+    st.integers(1, 8),
+    st.integers(1, 255),
+)
+def test_well_formed_packets_with_random_payloads_decode_or_raise_the_typed_error(
+    words, intra, count, code
+) -> None:
+    # A valid header and checksum around words no encoder wrote: the range decoder must not
+    # let anything but `PacketError` or finite parameters with a positive scale out.
+    packet = Packet(
+        seq=0,
+        first_frame=0,
+        count=count,
+        intra=intra,
+        global_code=code,
+        words=np.array(words, dtype=np.uint32),
+    )
+    decoder = ParameterDecoder(UNITS, CONFIG)
+    try:
+        out = decoder.decode(packet.to_bytes())
+    except PacketError:
+        assert decoder.needs_intra
+        return
+    for _, params in out.frames:
+        assert np.all(np.isfinite(params)) and params[2] > 0
