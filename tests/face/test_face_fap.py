@@ -7,19 +7,13 @@ from hypothesis import strategies as st
 
 from uma.errors import FaceError
 from uma.face import describe_clip, load_model
-from uma.face.fap import (
-    FAP_NAMES,
+from uma.face.fap import FAP_NAMES, N_FAPS, FapSequence, format_fap, parse_fap, read_fap, write_fap
+from uma.face.fap_map import (
     FAP_TABLE,
-    N_FAPS,
-    FapSequence,
     fap_matrix,
     fap_units,
     faps_to_parameters,
-    format_fap,
     parameters_to_faps,
-    parse_fap,
-    read_fap,
-    write_fap,
 )
 from uma.face.geometry import N_POSE
 from uma.paths import codecs_dir
@@ -227,7 +221,7 @@ def test_bad_sequences():
 
 
 def test_a_track_becomes_a_fap_file_and_back(person, tmp_path):
-    from uma.face.fap import fap_sequence
+    from uma.face.fap_map import fap_sequence
 
     model, units = person
     rng = np.random.default_rng(3)

@@ -4,15 +4,13 @@ description, and a talking-head source with ground truth. OpenCV is imported whe
 from uma.face.clip import describe_clip, picture_of, read_picture, shipped_points
 from uma.face.describe import ContentDescription, describe, load_description, read_points
 from uma.face.detect import Box, detect_face
-from uma.face.fap import (
-    FapSequence,
+from uma.face.fap import FapSequence, read_fap, write_fap
+from uma.face.fap_map import (
     FapUnits,
     fap_sequence,
     fap_units,
     faps_to_parameters,
     parameters_to_faps,
-    read_fap,
-    write_fap,
 )
 from uma.face.fit_points import PointFit, fit_points
 from uma.face.geometry import (

@@ -15,7 +15,7 @@ model points and light of frame i, exactly those used to render it.
 
 Driven by an MPEG-4 `.fap` file instead (`fap=`, `uma source synth --fap FILE`), frame i takes
 the file's frame i: head rotation from FAPs 48-50 and action units from the low-level FAPs
-(`uma.face.fap`), added to the template's own pose and expression, which are MPEG-4's neutral
+(`uma.face.fap`, `uma.face.fap_map`), added to the template's own pose and expression, which are MPEG-4's neutral
 face here. Everything the file does not say is held still: no drift in position or scale, no
 speech or blinks of our own, the template's light (gain 1, frontal); sensor noise stays.
 Past the file's last frame the last one holds.
@@ -29,7 +29,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from uma.face.describe import ContentDescription, read_points
-from uma.face.fap import FapSequence, fap_units, faps_to_parameters
+from uma.face.fap import FapSequence
+from uma.face.fap_map import fap_units, faps_to_parameters
 from uma.face.geometry import N_POSE, project
 from uma.face.render import barycentric_affine, triangle_labels
 from uma.face.scene import SceneMesh

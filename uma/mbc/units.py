@@ -11,7 +11,7 @@ means the same on any face and any picture size. As in MPEG-4 (ISO/IEC 14496-2, 
   unit of movement of its most moved vertex: a value of 1024 moves that vertex by one whole
   distance.
 
-The distances are `uma.face.fap.fap_units` of the personal model (the `.fap` reader's), so the
+The distances are `uma.face.fap_map.fap_units` of the personal model (the `.fap` reader's), so the
 codec and `.fap` files measure a face alike.
 """
 
@@ -61,7 +61,7 @@ class FaceUnits:
                 f"{model.name}: expected {N_POSE + model.n_actions} parameters with a positive "
                 f"scale, got {params.shape}"
             )
-        from uma.face.fap import fap_units
+        from uma.face.fap_map import fap_units
 
         try:
             fapu = fap_units(model)
