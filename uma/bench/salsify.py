@@ -181,6 +181,18 @@ def run_salsify_bench(config: SalsifyBenchConfig) -> dict[str, Any]:
     return result
 
 
+def _estimator_row(kind: str, row: dict) -> str:
+    """One line of the table: uma's H.264 path with estimator `kind`."""
+    return (
+        f"  {'uma H.264, ' + kind + ' estimator':<26}{_fmt(row['delay_p95_ms'], '13,.0f')}"
+        f"{_fmt(row['ssim_db'], '9.2f')}{_fmt(row['ssim_db_unfrozen'], '9.2f')}"
+        f"{_fmt(row['freeze_ratio'], '8.3f')}"
+        f"{_fmt(row['kbps_h264'], '9.1f')}{_fmt(row['freeze_count'], '8d')}"
+        f"{_fmt(row['total_freezes_duration_s'], '9.1f')}{_fmt(row['displayed_fps'], '6.1f')}"
+        f"{_fmt(row['playout_delay_mean_ms'], '11,.0f')}"
+    )
+
+
 def _fmt(value: Any, spec: str) -> str:
     return "n/a" if value is None else format(value, spec)
 
@@ -200,15 +212,7 @@ def format_table(result: dict[str, Any]) -> str:
         f"  {'system':<26}{'delay p95 ms':>13}{'SSIM dB':>9}{'unfrozen':>9}{'frozen':>8}{'kbit/s':>9}"
         f"{'freezes':>8}{'frozen s':>9}{'fps':>6}{'playout ms':>11}",
     ]
-    for kind, row in result["estimators"].items():
-        rows.append(
-            f"  {'uma H.264, ' + kind + ' estimator':<26}{_fmt(row['delay_p95_ms'], '13,.0f')}"
-            f"{_fmt(row['ssim_db'], '9.2f')}{_fmt(row['ssim_db_unfrozen'], '9.2f')}"
-            f"{_fmt(row['freeze_ratio'], '8.3f')}"
-            f"{_fmt(row['kbps_h264'], '9.1f')}{_fmt(row['freeze_count'], '8d')}"
-            f"{_fmt(row['total_freezes_duration_s'], '9.1f')}{_fmt(row['displayed_fps'], '6.1f')}"
-            f"{_fmt(row['playout_delay_mean_ms'], '11,.0f')}"
-        )
+    rows += [_estimator_row(kind, row) for kind, row in result["estimators"].items()]
     names = {
         "salsify_1c": "Salsify-1c",
         "webrtc": "WebRTC",
@@ -223,15 +227,7 @@ def format_table(result: dict[str, Any]) -> str:
     default = result.get("default_scenario")
     if default is not None:
         rows += ["", f"  default scenario {default['scenario']}:"]
-        for kind, row in default["estimators"].items():
-            rows.append(
-                f"  {'uma H.264, ' + kind + ' estimator':<26}{_fmt(row['delay_p95_ms'], '13,.0f')}"
-                f"{_fmt(row['ssim_db'], '9.2f')}{_fmt(row['ssim_db_unfrozen'], '9.2f')}"
-                f"{_fmt(row['freeze_ratio'], '8.3f')}"
-                f"{_fmt(row['kbps_h264'], '9.1f')}{_fmt(row['freeze_count'], '8d')}"
-                f"{_fmt(row['total_freezes_duration_s'], '9.1f')}{_fmt(row['displayed_fps'], '6.1f')}"
-                f"{_fmt(row['playout_delay_mean_ms'], '11,.0f')}"
-            )
+        rows += [_estimator_row(kind, row) for kind, row in default["estimators"].items()]
     step = result["webrtc_step"]
     targets = result["targets"]
     rows += [

@@ -264,32 +264,14 @@ class UmaEngine:
 
         point = self.points[self.rung]
         if not self._scheduled(frame):
-            return FrameDecision(
-                frame,
-                self.rung,
-                scheduled=False,
-                send=False,
-                force_idr=False,
-                reason="fps",
-                point=point,
-                init_mbc=init_mbc,
-            )
+            return self._hold(frame, point, init_mbc, scheduled=False, reason="fps")
         budget_bits = self.estimator.estimate_kbps * self.config.max_backlog_ms
         probe_due = now_s - self.last_sent_s >= self.config.probe_interval_ms / 1000.0
         # MBC frames are never skipped for backlog: the parameters' few kbit/s are below any
         # link the switch chooses MBC for, and a skipped frame breaks a packet's prediction.
         backlogged = self.outstanding_bits > budget_bits and point.codec != "mbc"
         if backlogged and not switched and not probe_due:
-            return FrameDecision(
-                frame,
-                self.rung,
-                scheduled=True,
-                send=False,
-                force_idr=False,
-                reason="backlog",
-                point=point,
-                init_mbc=init_mbc,
-            )
+            return self._hold(frame, point, init_mbc, scheduled=True, reason="backlog")
 
         force_idr = switched
         self.switched_between = False
@@ -303,6 +285,21 @@ class UmaEngine:
             scheduled=True,
             send=True,
             force_idr=force_idr,
+            point=point,
+            init_mbc=init_mbc,
+        )
+
+    def _hold(
+        self, frame: int, point: OperatingPoint, init_mbc: bool, *, scheduled: bool, reason: str
+    ) -> FrameDecision:
+        """A decision not to send `frame`, saying why."""
+        return FrameDecision(
+            frame,
+            self.rung,
+            scheduled=scheduled,
+            send=False,
+            force_idr=False,
+            reason=reason,
             point=point,
             init_mbc=init_mbc,
         )
