@@ -16,7 +16,9 @@ from hypothesis import settings
 from uma.paths import shared_data_dir
 
 settings.register_profile("ci", derandomize=True, database=None, print_blob=True)
-settings.register_profile("dev")
+# Explicit: with `CI` set, Hypothesis loads its own derandomised `ci` profile at import, and a
+# profile registered without values would inherit it.
+settings.register_profile("dev", derandomize=False)
 settings.load_profile(
     os.environ.get("HYPOTHESIS_PROFILE") or ("ci" if os.environ.get("CI") else "dev")
 )

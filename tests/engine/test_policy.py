@@ -124,3 +124,21 @@ def test_predictive_switches_before_a_scripted_boundary_and_holds_through_it():
     # Without a coverage map it is the threshold policy.
     view = SwitchView(7.0, "h264", 0.0, 1000.0)
     assert predictive_switch(view, settings) == "h264"
+
+
+def test_oracle_switches_before_the_capacity_falls_and_returns_when_the_window_clears():
+    from uma.engine.policy import oracle_switch
+
+    settings = SwitchSettings(to_mbc_below_kbps=30, to_h264_above_kbps=60, min_dwell_s=5.0)
+
+    def codec_at(ahead_kbps, codec="h264"):
+        view = SwitchView(1.0, codec, 0.0, 1000.0, budget_ahead_kbps=ahead_kbps)
+        return oracle_switch(view, settings)
+
+    # The budget now is 1000 kbit/s; only the window ahead counts (and no dwell holds it).
+    assert codec_at(20.0) == "mbc"
+    assert codec_at(45.0) == "h264"  # on H.264, a window inside the band keeps H.264
+    assert codec_at(45.0, "mbc") == "mbc"  # on MBC it keeps MBC until the window clears
+    assert codec_at(61.0, "mbc") == "h264"
+    with pytest.raises(ValueError, match="capacity ahead"):
+        oracle_switch(SwitchView(1.0, "h264", 0.0, 1000.0), settings)

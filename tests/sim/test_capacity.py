@@ -58,3 +58,12 @@ def test_rejects_bad_schedules():
         CapacitySchedule([0.0], [-1.0])
     with pytest.raises(ValueError):
         CapacitySchedule([0.0], [float("nan")])
+
+
+def test_min_rate_over_a_window_sees_every_step_it_touches():
+    schedule = CapacitySchedule([0.0, 1.0, 2.0, 3.0], [500e3, 40e3, 300e3, 0.0])
+    assert schedule.min_rate_kbps(0.0, 0.5) == 500.0
+    assert schedule.min_rate_kbps(0.5, 1.0) == 40.0  # the step starting at the window's end
+    assert schedule.min_rate_kbps(1.5, 2.5) == 40.0
+    assert schedule.min_rate_kbps(2.0, 2.9) == 300.0
+    assert schedule.min_rate_kbps(2.5, 9.0) == 0.0  # after the last start its rate holds

@@ -165,10 +165,12 @@ class SwitchingConfig(_Section):
     initialisation the engine stays on the lowest H.264 rung and tries again `retry_ms` later.
     `predictive`: the thresholds, plus the route's technology segments as a coverage map: to
     MBC `lookahead_ms` before a segment of `low_technologies` begins, and not back while one
-    is that near or under way.
+    is that near or under way. `oracle`: knows the trace (an upper bound): on MBC while the
+    true capacity anywhere in the next `lookahead_ms` is below `to_mbc_below_kbps`, back once
+    all of that window is above `to_h264_above_kbps`; it scales the capacity by `safety`.
     """
 
-    policy: Literal["none", "threshold", "predictive"] = "none"
+    policy: Literal["none", "threshold", "predictive", "oracle"] = "none"
     to_mbc_below_kbps: PosNum = 30.0
     to_h264_above_kbps: PosNum = 60.0
     min_dwell_ms: NonNeg = 3000.0

@@ -236,9 +236,19 @@ class UmaEngine:
 
     # --- decisions out ---------------------------------------------------------------------
     def on_frame(
-        self, frame: int, now_s: float, *, capacity_kbps: float | None = None
+        self,
+        frame: int,
+        now_s: float,
+        *,
+        capacity_kbps: float | None = None,
+        capacity_ahead_kbps: float | None = None,
     ) -> FrameDecision:
-        """Decide for source frame `frame`, arriving from the sender at `now_s`."""
+        """Decide for source frame `frame`, arriving from the sender at `now_s`.
+
+        `capacity_kbps` (the true capacity now) is for the oracle rate policy;
+        `capacity_ahead_kbps` (the lowest true capacity over `switching.lookahead_ms`) for the
+        oracle switching policy.
+        """
         self._check_stale(now_s)
         if (
             self.outstanding_bits
@@ -257,7 +267,7 @@ class UmaEngine:
             capacity_kbps=capacity_kbps,
             fixed_rung=self.config.fixed_rung,
         )
-        wanted, init_mbc = self._choose(view, now_s, capacity_kbps)
+        wanted, init_mbc = self._choose(view, now_s, capacity_kbps, capacity_ahead_kbps)
         switched = wanted != self.rung or self.switched_between
         if wanted != self.rung:
             self._switch_to(wanted, now_s, "rung_switch")
@@ -326,7 +336,13 @@ class UmaEngine:
         self.rung = wanted
         self.last_switch_s = now_s
 
-    def _choose(self, view: PolicyView, now_s: float, capacity_kbps: float | None):
+    def _choose(
+        self,
+        view: PolicyView,
+        now_s: float,
+        capacity_kbps: float | None,
+        capacity_ahead_kbps: float | None,
+    ):
         """The point to be on, and whether to start an MBC initialisation now."""
         if self.config.switching.policy == "none":
             return self.policy(view), False
@@ -341,6 +357,9 @@ class UmaEngine:
                 since_s=self.codec_since_s,
                 budget_kbps=budget_kbps,
                 coverage=self.coverage,
+                budget_ahead_kbps=None
+                if capacity_ahead_kbps is None
+                else self.config.safety * capacity_ahead_kbps,
             ),
             self.switch_settings,
         )

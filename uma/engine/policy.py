@@ -29,6 +29,7 @@ __all__ = [
     "SWITCHING",
     "threshold_switch",
     "predictive_switch",
+    "oracle_switch",
     "no_switch",
     "low_coverage_in_s",
 ]
@@ -145,6 +146,8 @@ class SwitchView:
     budget_kbps: float  # safety x estimate (or x true capacity for an oracle)
     # The route's coverage as a coverage map would give it: (start_s, technology), in order.
     coverage: tuple[tuple[float, str], ...] = ()
+    # Oracle only: the lowest true capacity from now to `lookahead_s` ahead (x safety).
+    budget_ahead_kbps: float | None = None
 
 
 def threshold_switch(view: SwitchView, settings: SwitchSettings) -> str:
@@ -185,6 +188,20 @@ def predictive_switch(view: SwitchView, settings: SwitchSettings) -> str:
     return threshold_switch(view, settings)
 
 
+def oracle_switch(view: SwitchView, settings: SwitchSettings) -> str:
+    """Knows the trace: on MBC while the true capacity anywhere in the next `lookahead_s` is
+    below `to_mbc_below_kbps` (so the initialisation starts before the drop), back to H.264
+    once all of that window carries `to_h264_above_kbps`. No dwell: looking ahead is what
+    keeps it from flapping. An upper bound for real switching policies."""
+    if view.budget_ahead_kbps is None:
+        raise ValueError("oracle switching needs the true capacity ahead")
+    if view.budget_ahead_kbps < settings.to_mbc_below_kbps:
+        return "mbc"
+    if view.codec == "mbc" and view.budget_ahead_kbps <= settings.to_h264_above_kbps:
+        return "mbc"
+    return "h264"
+
+
 def no_switch(view: SwitchView, settings: SwitchSettings) -> str:
     """H.264 only."""
     return "h264"
@@ -194,4 +211,5 @@ SWITCHING: dict[str, Callable[[SwitchView, SwitchSettings], str]] = {
     "none": no_switch,
     "threshold": threshold_switch,
     "predictive": predictive_switch,
+    "oracle": oracle_switch,
 }

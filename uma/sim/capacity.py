@@ -73,6 +73,11 @@ class CapacitySchedule:
     def rate_kbps_at(self, t_s: float) -> float:
         return float(self.rates_bps[self._step(t_s)]) / 1000.0
 
+    def min_rate_kbps(self, start_s: float, end_s: float) -> float:
+        """The lowest capacity anywhere in [start_s, end_s] (the oracle's look ahead)."""
+        first, last = self._step(start_s), self._step(max(start_s, end_s))
+        return float(self.rates_bps[first : last + 1].min()) / 1000.0
+
     def technology_at(self, t_s: float) -> str:
         return self.technologies[self._step(t_s)]
 

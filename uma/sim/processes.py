@@ -118,12 +118,21 @@ def engine_process(env: simpy.Environment, world: World):
     engine = world.engine
     scenario = world.scenario
     oracle = scenario.engine.policy == "oracle"
+    switching = scenario.engine.switching
+    lookahead_s = switching.lookahead_ms / 1000.0 if switching.policy == "oracle" else None
     log = world.log
     while True:
         index, encoded = yield world.inbox.get()
         picture = world.codec.engine_decode(encoded)
         capacity_kbps = world.capacity.rate_kbps_at(env.now)
-        decision = engine.on_frame(index, env.now, capacity_kbps=capacity_kbps if oracle else None)
+        decision = engine.on_frame(
+            index,
+            env.now,
+            capacity_kbps=capacity_kbps if oracle else None,
+            capacity_ahead_kbps=None
+            if lookahead_s is None
+            else world.capacity.min_rate_kbps(env.now, env.now + lookahead_s),
+        )
         log["technology"][index] = world.capacity.technology_at(env.now)
         log["capacity_kbps"][index] = capacity_kbps
         log["estimate_kbps"][index] = engine.estimate_kbps
