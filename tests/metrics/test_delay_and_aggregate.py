@@ -66,7 +66,7 @@ def test_aggregate_counts():
         link=link,
         event_kinds=["rung_switch", "handover", "rung_switch"],
     )
-    assert out["bits_sent"] == {"h264": 16000, "mbc": 0}
+    assert out["bits_sent"] == {"h264": 16000, "h264-face": 0, "mbc": 0}
     assert out["kbps_h264"] == pytest.approx(100.0)
     assert out["link_utilisation"] == 0.5
     assert out["freeze_ratio"] == 0.25

@@ -36,6 +36,8 @@ __all__ = [
     "ESTIMATOR_KINDS",
     "SwitchingConfig",
     "MbcConfig",
+    "FaceRegionConfig",
+    "FaceRungConfig",
     "SWITCHING_NAMES",
 ]
 
@@ -225,6 +227,61 @@ class MbcConfig(_Section):
     description_share: Fraction = 0.1
 
 
+class FaceRungConfig(_Section):
+    """One face-region rung: the H.264 rate (on the wire, header included), the coded size
+    of the face crop in pixels (even) and the frame rate."""
+
+    rate_kbps: PosNum
+    width: PosInt
+    height: PosInt
+    fps: PosNum
+
+    @model_validator(mode="after")
+    def _even(self) -> FaceRungConfig:
+        if self.width % 2 or self.height % 2 or self.width < 16 or self.height < 16:
+            raise ValueError(
+                f"width and height must be even and at least 16, got {self.width}x{self.height}"
+            )
+        return self
+
+
+class FaceRegionConfig(_Section):
+    """Object-level adaptation: rungs that code only the face region (`uma.sim.face_region`).
+
+    `enabled`: put `rungs` on the rate ladder, below the lowest full-frame H.264 rung (their
+    rates must be lower; checked against the ladder file when the run starts). The crop is
+    the detected face box widened by `margin` of its size on each side, shaped like the rung's
+    coded size; the detector (OpenCV's Haar cascade on the engine's decoded picture, scaled to
+    at most 176 pixels wide) runs on a rung's first frame and then every
+    `detect_every_frames` source frames, its box centre smoothed with weight `smoothing` on
+    the new detection. `detect_us_per_pixel` models the detector's compute per pixel it
+    scans; default measured on this machine by `python -m uma.experiments.face_rung --cost`
+    (CPU time, median over akiyo, carphone and the talking head at QCIF detection size).
+    With no face found, the engine leaves the face rungs for the lowest full-frame rung for
+    `retry_ms` and says why in its events.
+    """
+
+    enabled: Bool = False
+    rungs: tuple[FaceRungConfig, ...] = (
+        FaceRungConfig(rate_kbps=8.0, width=96, height=96, fps=5.0),
+        FaceRungConfig(rate_kbps=12.0, width=96, height=96, fps=5.0),
+    )
+    margin: Annotated[float, Strict(), AllowInfNan(False), Field(ge=0, le=1)] = 0.2
+    detect_every_frames: PosInt = 25
+    smoothing: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, le=1)] = 0.5
+    detect_us_per_pixel: PosNum = 0.6
+    retry_ms: PosNum = 5000.0
+
+    @model_validator(mode="after")
+    def _rungs(self) -> FaceRegionConfig:
+        if self.enabled and not self.rungs:
+            raise ValueError("rungs: expected at least one face-region rung when enabled")
+        rates = [rung.rate_kbps for rung in self.rungs]
+        if rates != sorted(set(rates)):
+            raise ValueError(f"rungs: expected rates strictly increasing, got {rates}")
+        return self
+
+
 class EngineConfig(_Section):
     """The UMA engine: rate policy by name, ladder file, modelled compute cost."""
 
@@ -237,6 +294,7 @@ class EngineConfig(_Section):
     estimator: EstimatorConfig = Field(default_factory=EstimatorConfig)
     switching: SwitchingConfig = Field(default_factory=SwitchingConfig)
     mbc: MbcConfig = Field(default_factory=MbcConfig)
+    face_region: FaceRegionConfig = Field(default_factory=FaceRegionConfig)
     # Tuning (see `uma.engine.engine`): reports missing for this many intervals mean an outage;
     # no more than this much sending time in flight; unacknowledged packets presumed lost after
     # this long; while backlogged, a probe frame this often.

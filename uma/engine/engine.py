@@ -13,7 +13,13 @@ Switching (`engine.switching`): the switching policy names the codec to be on. A
 first starts an initialisation on the engine's current decoded picture; frames keep flowing as
 H.264 until it is done, then the engine moves to the MBC point. Without a content description
 (`mbc_unavailable`), or after a failed initialisation, the engine stays on the lowest H.264 rung
-while the policy wants MBC, and says why in its events (retrying after `retry_ms`). The engine keeps
+while the policy wants MBC, and says why in its events (retrying after `retry_ms`).
+
+Face-region rungs (`engine.face_region`, codec `h264-face`) are rungs of the rate ladder below
+the full-frame ones: the rate policy climbs them like any rung. When the face-region encoder
+finds no face (it reports a failure, as MBC's tracker does), the engine moves to the lowest
+full-frame rung, leaves the face-region rungs off the ladder for `face_region.retry_ms` and
+records why (`face_region_failed`). The engine keeps
 what it needs to judge the downlink: the bandwidth estimate, the bits still in flight (sent
 after the highest sequence number the receiver has reported), and when it last switched rung.
 
@@ -32,7 +38,7 @@ from dataclasses import dataclass
 from uma.config.scenario import EngineConfig, FeedbackConfig
 from uma.engine.estimator import EstimatorState, initial_estimate, stale_decrease
 from uma.engine.estimators import ESTIMATORS
-from uma.engine.points import OperatingPoint, codec_indices
+from uma.engine.points import OperatingPoint, codec_indices, rate_indices
 from uma.engine.policy import (
     POLICIES,
     SWITCHING,
@@ -96,7 +102,10 @@ class UmaEngine:
         self.config = config
         self.feedback = feedback
         self.points = points
-        self.h264 = codec_indices(points, "h264")
+        # The rate ladder (face-region and full-frame H.264, by rate) and its full-frame part.
+        self.h264 = rate_indices(points)
+        self.full_frame = codec_indices(points, "h264") or self.h264
+        self.face_blocked_until_s = float("-inf")
         mbc = codec_indices(points, "mbc")
         self.mbc_point = mbc[0] if mbc else None
         self.source_fps = source_fps
@@ -135,7 +144,13 @@ class UmaEngine:
         self.mbc_blocked_until_s = float("-inf")
         self.mbc_blocked_reason = ""
         self.mbc_blocked_logged = False
-        self.counts = {"inits": 0, "init_failures": 0, "track_failures": 0, "mbc_refused": 0}
+        self.counts = {
+            "inits": 0,
+            "init_failures": 0,
+            "track_failures": 0,
+            "mbc_refused": 0,
+            "face_region_failures": 0,
+        }
         self.last_switch_s = 0.0
         self.last_report_s = 0.0
         self.last_stale_decrease_s = 0.0
@@ -195,7 +210,19 @@ class UmaEngine:
         self._block_mbc(now_s, f"initialisation failed: {reason}", "mbc_init_failed")
 
     def on_track_failed(self, reason: str, now_s: float) -> None:
-        """Tracking lost the face and could not re-initialise: back to the lowest H.264 rung."""
+        """Tracking lost the face and could not re-initialise: back to the lowest H.264 rung.
+
+        On a face-region rung (no face found in the engine's picture): to the lowest
+        full-frame rung, the face-region rungs off the ladder for `face_region.retry_ms`."""
+        if self.points[self.rung].codec == "h264-face":
+            self.counts["face_region_failures"] += 1
+            self.face_blocked_until_s = now_s + self.config.face_region.retry_ms / 1000.0
+            self.events.append(
+                EngineEvent(now_s, "face_region_failed", f"{reason}; lowest full-frame rung")
+            )
+            self._switch_to(self.full_frame[0], now_s, "fallback")
+            self.switched_between = True
+            return
         if self.mbc_state != "on":
             return
         self.counts["track_failures"] += 1
@@ -207,8 +234,9 @@ class UmaEngine:
         self.mbc_blocked_reason = reason
         self.mbc_blocked_logged = True
         self.events.append(EngineEvent(now_s, kind, reason))
-        if self.rung != self.h264[0]:
-            self._switch_to(self.h264[0], now_s, "fallback")
+        lowest = self._ladder(now_s)[0]
+        if self.rung != lowest:
+            self._switch_to(lowest, now_s, "fallback")
             self.switched_between = True  # the next frame sent starts the new stream
 
     @property
@@ -266,6 +294,7 @@ class UmaEngine:
             up_hold_s=self.config.up_hold_ms / 1000.0,
             capacity_kbps=capacity_kbps,
             fixed_rung=self.config.fixed_rung,
+            ladder=self._ladder(now_s),
         )
         wanted, init_mbc = self._choose(view, now_s, capacity_kbps, capacity_ahead_kbps)
         switched = wanted != self.rung or self.switched_between
@@ -398,11 +427,15 @@ class UmaEngine:
                 self.events.append(
                     EngineEvent(now_s, "mbc_refused", f"{reason}; lowest H.264 rung")
                 )
-            return self.h264[0], False
+            return self._ladder(now_s)[0], False
         self.mbc_state = "initialising"
         self.counts["inits"] += 1
         self.events.append(EngineEvent(now_s, "mbc_init_start", f"budget {budget_kbps:.1f} kbps"))
         return self.policy(view), True
+
+    def _ladder(self, now_s: float) -> tuple[int, ...]:
+        """The rate ladder now: without the face-region rungs while no face was found."""
+        return self.full_frame if now_s < self.face_blocked_until_s else self.h264
 
     def _scheduled(self, frame: int) -> bool:
         # Keep frame i when the point's frame clock ticks between i and i + 1 of the source's.

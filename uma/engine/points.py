@@ -3,10 +3,12 @@
 Units: rates in kbit/s, frame rates in frames/s, picture sizes in pixels, compute in ms and
 microseconds per cost evaluation.
 
-An operating point names its codec (`h264`, `mbc`), the rate it sends, its frame rate and picture
+An operating point names its codec (`h264`, `h264-face`, `mbc`), the rate it sends, its frame rate and picture
 size, and the compute a real engine would spend on one frame there: `compute_ms` fixed, plus
-`compute_us_per_evaluation` for each evaluation of the fitting cost the codec reports (MBC's
-tracking; H.264 reports none). Policies choose an index into the ladder; the world looks the
+`compute_us_per_evaluation` for each evaluation the codec reports (MBC's fitting-cost
+evaluations when tracking; `h264-face` counts one per run of its face detector; H.264 none).
+The rate ladder the rate policies climb is the family `RATE_CODECS` (the face-region rungs and
+the full-frame H.264 rungs), ordered by rate (`rate_indices`). Policies choose an index into the ladder; the world looks the
 codec up by name in its registry. Adding a codec is a codec module, a registry entry and points.
 """
 
@@ -14,10 +16,19 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["OperatingPoint", "h264_points", "codec_indices", "CODECS"]
+__all__ = [
+    "OperatingPoint",
+    "h264_points",
+    "codec_indices",
+    "rate_indices",
+    "CODECS",
+    "RATE_CODECS",
+]
 
 # The codecs a point may name; `uma.sim.codecs` has an encoder and a decoder for each.
-CODECS: tuple[str, ...] = ("h264", "mbc")
+CODECS: tuple[str, ...] = ("h264", "h264-face", "mbc")
+# The codecs of the rate ladder: H.264 of the face region only, and of the whole frame.
+RATE_CODECS: tuple[str, ...] = ("h264-face", "h264")
 
 
 @dataclass(frozen=True)
@@ -65,3 +76,9 @@ def h264_points(ladder, *, transcode_ms: float) -> tuple[OperatingPoint, ...]:
 def codec_indices(points: tuple[OperatingPoint, ...], codec: str) -> tuple[int, ...]:
     """Indices of the points of `codec`, in ladder order."""
     return tuple(i for i, point in enumerate(points) if point.codec == codec)
+
+
+def rate_indices(points: tuple[OperatingPoint, ...]) -> tuple[int, ...]:
+    """Indices of the rate ladder's points (`RATE_CODECS`), lowest rate first."""
+    family = [i for i, point in enumerate(points) if point.codec in RATE_CODECS]
+    return tuple(sorted(family, key=lambda i: (points[i].rate_kbps, i)))

@@ -3,8 +3,9 @@
 Units: rates in kbit/s, times in seconds.
 
 A rate policy takes a `PolicyView` and returns the index of an operating point of the engine's
-ladder (`uma.engine.points`); rate policies choose among its H.264 points only (the lowest
-first), so on an H.264-only ladder the index is the H.264 rung. Rate policies are looked up by
+ladder (`uma.engine.points`); rate policies choose among its rate-ladder points only (`h264`
+and, when enabled, the face-region `h264-face` rungs below them; the lowest rate first), so on
+an H.264-only ladder the index is the H.264 rung. Rate policies are looked up by
 name from the scenario (`engine.policy`), so a new one is a function plus a line in `POLICIES`.
 A switching policy (`engine.switching.policy`, `SWITCHING`) says which codec the engine should
 be on; the engine then asks the rate policy for an H.264 point or takes the MBC point.
@@ -15,7 +16,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from uma.engine.points import OperatingPoint, codec_indices
+from uma.engine.points import OperatingPoint, rate_indices
 
 __all__ = [
     "PolicyView",
@@ -41,7 +42,8 @@ class PolicyView:
 
     `capacity_kbps` is the true current downlink capacity, known only to the oracle (None for
     real policies); `points` is the engine's ladder, `current` the index of the point in use;
-    `fixed_rung` counts H.264 points only.
+    `fixed_rung` counts rate-ladder points only; `ladder`, when given, is the rate ladder the
+    engine allows now (the face-region rungs left out while no face is found).
     """
 
     now_s: float
@@ -53,11 +55,12 @@ class PolicyView:
     up_hold_s: float
     capacity_kbps: float | None = None
     fixed_rung: int | None = None
+    ladder: tuple[int, ...] | None = None
 
     @property
     def h264(self) -> tuple[int, ...]:
-        """Indices of the H.264 points, lowest rate first."""
-        return codec_indices(self.points, "h264")
+        """Indices of the rate ladder's points (H.264, face-region H.264), lowest rate first."""
+        return self.ladder if self.ladder is not None else rate_indices(self.points)
 
     @property
     def h264_rates_kbps(self) -> tuple[float, ...]:

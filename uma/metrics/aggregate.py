@@ -69,6 +69,7 @@ def aggregate(
     kinds = Counter(event_kinds)
     h264_bits = int(log["size_bits"][log["codec"] == "h264"].sum())
     mbc_bits = int(log["size_bits"][log["codec"] == "mbc"].sum())
+    face_bits = int(log["size_bits"][log["codec"] == "h264-face"].sum())
     ssim_values = log["ssim"][np.isfinite(log["ssim"])]
     # ssim_db from the unrounded mean: near 1, rounding SSIM to 4 decimals moves it by decibels.
     ssim_db = round(ssim_to_db(float(ssim_values.mean())), 4) if ssim_values.size else None
@@ -79,9 +80,10 @@ def aggregate(
         "frames_sent": int(log["sent"].sum()),
         "frames_decoded": int(log["decoded"].sum()),
         "idr_frames": int(log["keyframe"].sum()),
-        "bits_sent": {"h264": h264_bits, "mbc": mbc_bits},
+        "bits_sent": {"h264": h264_bits, "h264-face": face_bits, "mbc": mbc_bits},
         "kbps_h264": round(h264_bits / duration_s / 1000.0, 3),
         "kbps_mbc": round(mbc_bits / duration_s / 1000.0, 3),
+        "kbps_h264_face": round(face_bits / duration_s / 1000.0, 3),
         "bits_delivered": int(link["bits_delivered"]),
         "capacity_mean_kbps": round(capacity_bits / duration_s / 1000.0, 3),
         "link_utilisation": round(link["bits_delivered"] / capacity_bits, 4)

@@ -17,13 +17,14 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from uma.config.scenario import Scenario
 from uma.engine.points import OperatingPoint
+from uma.sim.coded import Coded
+from uma.sim.face_region import FaceRegionDecoder, FaceRegionEncoder
 from uma.sim.packets import EncodedUnit
 
 __all__ = [
@@ -36,21 +37,6 @@ __all__ = [
     "ENCODERS",
     "DECODERS",
 ]
-
-
-@dataclass(frozen=True)
-class Coded:
-    """One coded picture: its bytes, whether it is intra, what it cost; `failure` (a reason)
-    when the codec could not code it (MBC lost the face), with `data` empty."""
-
-    data: bytes
-    keyframe: bool
-    width: int
-    height: int
-    evaluations: int = 0
-    failure: str = ""
-    reinitialised: bool = False
-    frames: tuple[int, ...] = ()  # frames in `data` when several; () with no data: buffered
 
 
 def _frames(packets) -> tuple[int, ...]:
@@ -201,8 +187,16 @@ class MbcUnitDecoder:
         return pictures
 
 
-ENCODERS: dict[str, Callable[..., Any]] = {"h264": H264PointEncoder, "mbc": MbcPointEncoder}
-DECODERS: dict[str, Callable[..., Any]] = {"h264": H264UnitDecoder, "mbc": MbcUnitDecoder}
+ENCODERS: dict[str, Callable[..., Any]] = {
+    "h264": H264PointEncoder,
+    "h264-face": FaceRegionEncoder,
+    "mbc": MbcPointEncoder,
+}
+DECODERS: dict[str, Callable[..., Any]] = {
+    "h264": H264UnitDecoder,
+    "h264-face": FaceRegionDecoder,
+    "mbc": MbcUnitDecoder,
+}
 
 
 class CodecChain:
@@ -241,6 +235,7 @@ class CodecChain:
             "seed": scenario.seed,
             "source_size": (width, height),
             "stream": None,
+            "face_region": scenario.engine.face_region,
         }
         if description is not None:
             from uma.mbc import StreamConfig

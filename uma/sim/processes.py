@@ -159,7 +159,7 @@ def engine_process(env: simpy.Environment, world: World):
         if decision.force_idr and out.keyframe:
             engine.on_keyframe_sent(env.now)
         compute_s = point.compute_s(out.evaluations)
-        if out.reinitialised or out.failure:
+        if (out.reinitialised or out.failure) and point.codec == "mbc":
             # The tracker lost the face and initialised again: that work costs as an init.
             compute_s = point.compute_s(0) + world.mbc_init_compute_s(out.evaluations)
         if out.reinitialised:

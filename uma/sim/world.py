@@ -146,11 +146,54 @@ def mbc_description(scenario: Scenario, source) -> tuple[object | None, str]:
     return None, "no content description (engine.mbc.description) for this source"
 
 
+def face_region_points(scenario: Scenario, ladder, source) -> tuple:
+    """The face-region rungs (`engine.face_region`, when enabled), below the full-frame ones."""
+    from uma.engine.points import OperatingPoint
+    from uma.errors import ConfigError
+    from uma.sim.face_region import detect_pixels
+
+    config = scenario.engine.face_region
+    if not config.enabled:
+        return ()
+    lowest_kbps = min(rung.rate_kbps for rung in ladder.rungs)
+    points = []
+    for i, rung in enumerate(config.rungs):
+        where = f"engine.face_region.rungs[{i}]"
+        if rung.rate_kbps >= lowest_kbps:
+            raise ConfigError(
+                f"{where}.rate_kbps: expected below the lowest full-frame rung's "
+                f"{lowest_kbps:g} kbit/s, got {rung.rate_kbps:g}"
+            )
+        if rung.width > source.width or rung.height > source.height:
+            raise ConfigError(
+                f"{where}: expected a coded size within the source's {source.width}x"
+                f"{source.height}, got {rung.width}x{rung.height}"
+            )
+        points.append(
+            OperatingPoint(
+                codec="h264-face",
+                rate_kbps=rung.rate_kbps,
+                fps=min(rung.fps, float(source.fps)),
+                width=rung.width,
+                height=rung.height,
+                compute_ms=scenario.engine.transcode_ms,
+                # One evaluation is one run of the detector.
+                compute_us_per_evaluation=config.detect_us_per_pixel
+                * detect_pixels((source.width, source.height)),
+                label=f"h264-face {rung.rate_kbps:g}k {rung.width}x{rung.height}@{rung.fps:g}",
+            )
+        )
+    return tuple(points)
+
+
 def operating_points(scenario: Scenario, ladder, source, *, with_mbc: bool) -> tuple:
-    """The engine's ladder: the MBC point (when it has a description) below the H.264 rungs."""
+    """The engine's ladder: the MBC point (when it has a description) below the face-region
+    rungs (when enabled) below the H.264 rungs."""
     from uma.engine.points import OperatingPoint, h264_points
 
-    points = h264_points(ladder, transcode_ms=scenario.engine.transcode_ms)
+    points = face_region_points(scenario, ladder, source) + h264_points(
+        ladder, transcode_ms=scenario.engine.transcode_ms
+    )
     if not with_mbc:
         return points
     mbc = scenario.engine.mbc
