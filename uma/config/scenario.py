@@ -263,13 +263,13 @@ class FaceRegionConfig(_Section):
 
     enabled: Bool = False
     rungs: tuple[FaceRungConfig, ...] = (
-        FaceRungConfig(rate_kbps=8.0, width=96, height=96, fps=5.0),
-        FaceRungConfig(rate_kbps=12.0, width=96, height=96, fps=5.0),
+        FaceRungConfig(rate_kbps=8.0, width=64, height=64, fps=5.0),
+        FaceRungConfig(rate_kbps=12.0, width=64, height=64, fps=5.0),
     )
     margin: Annotated[float, Strict(), AllowInfNan(False), Field(ge=0, le=1)] = 0.2
     detect_every_frames: PosInt = 25
     smoothing: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, le=1)] = 0.5
-    detect_us_per_pixel: PosNum = 0.6
+    detect_us_per_pixel: PosNum = 0.82
     retry_ms: PosNum = 5000.0
 
     @model_validator(mode="after")

@@ -64,6 +64,7 @@ def switching_metrics(result: RunResult) -> dict[str, Any]:
         "reinits": kinds.count("mbc_reinit"),
         "mbc_refused": counts.get("mbc_refused", 0),
         "mbc_refused_reason": refused[0] if refused else None,
+        "face_region_failures": counts.get("face_region_failures", 0),
         "description_bytes": result.description_bytes,
         "kbps_description": round(result.description_sent_bits / result.duration_s / 1000.0, 3),
         "description_delivered_s": _rounded(result.description_delivered_s),

@@ -1,0 +1,385 @@
+"""Measure the face-region H.264 rung on real clips: choose its settings, quote its quality.
+
+Units: rates in kbit/s, sizes in pixels, PSNR in dB, detector cost in microseconds per pixel.
+
+`python -m uma.experiments.face_rung --grid CLIP` codes the first `--frames` frames of a clip
+at each candidate face-region setting (rate, coded size, frame rate, margin) and scores what
+the receiver would show: each decoded composite held until the next, over the picture shown
+before the switch (the lowest full-frame rung's first picture), scored on luma over the source's
+face box as a run scores it (OpenCV's Haar box, `uma.face.region.FaceBoxes`), against the
+lowest full-frame rung shown the same way. `--quote CLIP` does the same for the configured
+default rungs only. `--run CLIP` runs the whole simulation on a WLAN-then-GSM route with the
+clip as source, three ways: H.264 only, H.264 with the face-region rungs, and switching to the
+model-based codec (the clip's description made from `codecs/face/CLIP.yaml`), and reports the
+GSM stretch. `--cost` measures the detector's CPU time per pixel it scans (CPU time because the
+machine is shared). Settings are chosen on one clip and quoted on another (README).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+__all__ = ["code_clip", "lowest_rung_scores", "detector_cost", "run_three_ways", "main"]
+
+CLIPS = {
+    "akiyo": "faces/video/akiyo.mp4",
+    "carphone": "faces/video/carphone_qcif.mp4",
+}
+
+
+def _clip(name: str, frames: int):
+    from uma.paths import shared_data_dir
+    from uma.video import VideoFileSource
+
+    path = Path(name)
+    if not path.is_file():
+        path = shared_data_dir() / CLIPS[name]
+    source = VideoFileSource(path, max_frames=frames)
+    return source, list(source.frames()), str(path)
+
+
+def _boxes(source, pictures) -> list:
+    from uma.face.region import FaceBoxes
+
+    boxes = FaceBoxes(source)
+    list(boxes.wrap(iter(pictures)))
+    return boxes.boxes
+
+
+def _scheduled(frames: int, fps: float, source_fps: float) -> list[int]:
+    """Source frames a point of `fps` keeps (the engine's frame clock)."""
+    ratio = min(1.0, fps / source_fps)
+    return [i for i in range(frames) if int((i + 1) * ratio + 1e-9) > int(i * ratio + 1e-9)]
+
+
+def _scores(pictures, shown, boxes) -> dict[str, float]:
+    from uma.metrics.quality import region_scores
+
+    height = pictures[0].shape[0] * 2 // 3
+    psnr, ssim = [], []
+    for source, picture, box in zip(pictures, shown, boxes, strict=True):
+        if box is None:
+            continue
+        p, s = region_scores(source[:height], picture[:height], box)
+        psnr.append(p)
+        ssim.append(s)
+    return {
+        "psnr_face_db": round(float(np.mean(psnr)), 2),
+        "ssim_face": round(float(np.mean(ssim)), 4),
+    }
+
+
+def _lowest_rung(pictures, fps: float):
+    """The lowest full-frame rung's display (decoded, upscaled, held) and its rate."""
+    from uma.engine.points import h264_points
+    from uma.sim.codecs import H264PointEncoder, H264UnitDecoder
+    from uma.sim.packets import EncodedUnit
+    from uma.video import load_ladder, resize_yuv420
+
+    ladder = load_ladder()
+    point = h264_points(ladder, transcode_ms=0.0)[0]
+    height = pictures[0].shape[0] * 2 // 3
+    width = pictures[0].shape[1]
+    encoder = H264PointEncoder(
+        point, source_size=(width, height), source_fps=fps, settings=ladder.encoder
+    )
+    decoder = H264UnitDecoder()
+    keep = set(_scheduled(len(pictures), point.fps, fps))
+    shown, bits, last = [], 0, None
+    for index, picture in enumerate(pictures):
+        if index in keep:
+            out = encoder.encode(picture, intra=not bits)
+            bits += 8 * len(out.data)
+            unit = EncodedUnit(index, index, "h264", 0, 0, 0, out.keyframe, out.data)
+            decoded = decoder.decode(unit).get(index)
+            if decoded is not None:
+                last = resize_yuv420(decoded, width, height)
+        shown.append(last)
+    # Before its first picture the display shows it too (as the face rung's background).
+    first = next(picture for picture in shown if picture is not None)
+    shown = [first if picture is None else picture for picture in shown]
+    return shown, bits / (len(pictures) / fps) / 1000.0, point.label
+
+
+def lowest_rung_scores(pictures, fps: float, boxes) -> dict[str, Any]:
+    shown, kbps, label = _lowest_rung(pictures, fps)
+    return {"label": label, "kbps": round(kbps, 2)} | _scores(pictures, shown, boxes)
+
+
+def code_clip(
+    pictures,
+    fps: float,
+    boxes,
+    background,
+    *,
+    rate_kbps,
+    width,
+    height,
+    rung_fps,
+    margin,
+    detect_every_frames=25,
+    smoothing=0.5,
+) -> dict[str, Any]:
+    """Code `pictures` at one face-region setting and score the display."""
+    from uma.config.scenario import FaceRegionConfig
+    from uma.engine.points import OperatingPoint
+    from uma.sim.face_region import FaceRegionDecoder, FaceRegionEncoder
+    from uma.sim.packets import EncodedUnit
+    from uma.video import load_ladder
+
+    config = FaceRegionConfig(
+        enabled=True, margin=margin, detect_every_frames=detect_every_frames, smoothing=smoothing
+    )
+    height_px = pictures[0].shape[0] * 2 // 3
+    size = (pictures[0].shape[1], height_px)
+    point = OperatingPoint("h264-face", rate_kbps, rung_fps, width, height)
+    encoder = FaceRegionEncoder(
+        point,
+        source_size=size,
+        source_fps=fps,
+        settings=load_ladder().encoder,
+        context={"face_region": config},
+    )
+    decoder = FaceRegionDecoder(context={"source_size": size, "background": background})
+    keep = set(_scheduled(len(pictures), rung_fps, fps))
+    shown, bits, last, failures = [], 0, background, 0
+    for index, picture in enumerate(pictures):
+        if index in keep:
+            out = encoder.encode(picture, intra=not bits, frame=index)
+            if out.failure:
+                failures += 1
+            else:
+                bits += 8 * len(out.data)
+                unit = EncodedUnit(
+                    index, index, "h264-face", 0, width, height, out.keyframe, out.data
+                )
+                last = decoder.decode(unit).get(index, last)
+        shown.append(last)
+    return {
+        "rate_kbps": rate_kbps,
+        "size": f"{width}x{height}",
+        "fps": rung_fps,
+        "margin": margin,
+        "kbps": round(bits / (len(pictures) / fps) / 1000.0, 2),
+        "failures": failures,
+    } | _scores(pictures, shown, boxes)
+
+
+def _background(pictures, fps):
+    """The lowest full-frame rung's first picture: what the display showed before the switch."""
+    shown, _, _ = _lowest_rung(pictures[:25], fps)
+    return shown[0]
+
+
+GRID_SIZES = ((64, 64), (80, 80), (96, 96), (112, 112), (128, 128))
+GRID_FPS = (5.0, 8.333333, 12.5)
+GRID_MARGINS = (0.1, 0.2, 0.3)
+
+
+def grid(name: str, frames: int, rates=(8.0, 12.0)) -> dict[str, Any]:
+    source, pictures, path = _clip(name, frames)
+    fps = float(source.fps)
+    boxes = _boxes(source, pictures)
+    background = _background(pictures, fps)
+    rows = []
+    for rate in rates:
+        for width, height in GRID_SIZES:
+            if width > source.width or height > source.height:
+                continue
+            for rung_fps in GRID_FPS:
+                for margin in GRID_MARGINS:
+                    rows.append(
+                        code_clip(
+                            pictures,
+                            fps,
+                            boxes,
+                            background,
+                            rate_kbps=rate,
+                            width=width,
+                            height=height,
+                            rung_fps=rung_fps,
+                            margin=margin,
+                        )
+                    )
+    return {
+        "clip": path,
+        "frames": len(pictures),
+        "h264_lowest": lowest_rung_scores(pictures, fps, boxes),
+        "grid": rows,
+    }
+
+
+def _face_config(rungs: list[str] | None):
+    """The default `FaceRegionConfig`, enabled, its rungs replaced by `RATE:WxH@FPS` ones."""
+    from uma.config.scenario import FaceRegionConfig, FaceRungConfig
+
+    if not rungs:
+        return FaceRegionConfig(enabled=True)
+    parsed = []
+    for text in rungs:
+        rate, rest = text.split(":")
+        size, fps = rest.split("@")
+        width, height = size.split("x")
+        parsed.append(
+            FaceRungConfig(
+                rate_kbps=float(rate), width=int(width), height=int(height), fps=float(fps)
+            )
+        )
+    return FaceRegionConfig(enabled=True, rungs=tuple(parsed))
+
+
+def quote(name: str, frames: int, rungs: list[str] | None = None) -> dict[str, Any]:
+    source, pictures, path = _clip(name, frames)
+    fps = float(source.fps)
+    boxes = _boxes(source, pictures)
+    background = _background(pictures, fps)
+    config = _face_config(rungs)
+    rows = [
+        code_clip(
+            pictures,
+            fps,
+            boxes,
+            background,
+            rate_kbps=rung.rate_kbps,
+            width=rung.width,
+            height=rung.height,
+            rung_fps=rung.fps,
+            margin=config.margin,
+            detect_every_frames=config.detect_every_frames,
+            smoothing=config.smoothing,
+        )
+        for rung in config.rungs
+        if rung.width <= source.width and rung.height <= source.height
+    ]
+    return {
+        "clip": path,
+        "frames": len(pictures),
+        "h264_lowest": lowest_rung_scores(pictures, fps, boxes),
+        "h264_face": rows,
+    }
+
+
+def detector_cost(frames: int) -> dict[str, Any]:
+    """CPU microseconds per scanned pixel of `detect_box` on akiyo, carphone, the talking head."""
+    from uma.face import TalkingHeadSource
+    from uma.sim.face_region import detect_box, detect_pixels
+
+    out: dict[str, Any] = {}
+    clips = [(name, _clip(name, frames)[1]) for name in CLIPS]
+    talking = TalkingHeadSource(width=176, height=144, fps=25, seed=1).frames()
+    clips.append(("talking-head", [next(talking) for _ in range(frames)]))
+    for name, pictures in clips:
+        size = (pictures[0].shape[1], pictures[0].shape[0] * 2 // 3)
+        spent = []
+        for picture in pictures:
+            start = time.process_time()
+            detect_box(picture)
+            spent.append(time.process_time() - start)
+        median_us = float(np.median(spent)) * 1e6
+        out[name] = {
+            "size": f"{size[0]}x{size[1]}",
+            "detect_ms_median": round(median_us / 1000.0, 2),
+            "us_per_pixel": round(median_us / detect_pixels(size), 3),
+        }
+    out["us_per_pixel_median"] = round(
+        float(np.median([v["us_per_pixel"] for v in out.values()])), 3
+    )
+    return out
+
+
+def run_three_ways(
+    name: str,
+    *,
+    wlan_s: float = 4.0,
+    gsm_s: float = 16.0,
+    rungs: list[str] | None = None,
+    mbc: bool = True,
+) -> dict[str, Any]:
+    """The whole simulation with the clip as source, WLAN then GSM, three engines."""
+    import tempfile
+
+    from uma.config.scenario import Scenario
+    from uma.face.clip import describe_clip, load_points
+    from uma.paths import codecs_dir
+    from uma.sim import run_scenario
+    from uma.sim.summary import run_metrics
+
+    _, _, path = _clip(name, 1)
+    out: dict[str, Any] = {"clip": path, "route": f"WLAN {wlan_s:g} s, GSM {gsm_s:g} s"}
+    with tempfile.TemporaryDirectory() as tmp:
+        face_file = Path(tmp) / f"{name}.face"
+        if mbc:
+            describe_clip(load_points(codecs_dir() / "face" / f"{name}.yaml")).save(face_file)
+        engines = {
+            "h264": {},
+            "h264_face": {"face_region": _face_config(rungs).model_dump(mode="json")},
+            "mbc": {
+                "switching": {"policy": "threshold", "min_dwell_ms": 1000.0},
+                "mbc": {"description": str(face_file)},
+            },
+        }
+        if not mbc:
+            del engines["mbc"]
+        for label, engine in engines.items():
+            scenario = Scenario.model_validate(
+                {
+                    "name": f"face-rung-{name}-{label}",
+                    "seed": 1,
+                    "source": {"kind": "file", "path": path},
+                    "route": [
+                        {"technology": "WLAN", "duration_s": wlan_s},
+                        {"technology": "GSM", "duration_s": gsm_s},
+                    ],
+                    "engine": {"policy": "oracle"} | engine,
+                    "receiver": {"playout_delay_ms": 800.0},
+                    "metrics": {"workers": 0},
+                }
+            )
+            metrics = run_metrics(run_scenario(scenario))
+            gsm = metrics["by_technology"].get("GSM", {})
+            out[label] = {
+                "gsm_freeze_ratio": gsm.get("freeze_ratio"),
+                "gsm_psnr_face_db": gsm.get("psnr_face_db"),
+                "gsm_ssim_face": gsm.get("ssim_face"),
+                "kbps_h264": metrics["kbps_h264"],
+                "kbps_h264_face": metrics["kbps_h264_face"],
+                "kbps_mbc": metrics["kbps_mbc"],
+            }
+    return out
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m uma.experiments.face_rung")
+    parser.add_argument("--grid", metavar="CLIP", help="choose settings on CLIP")
+    parser.add_argument("--quote", metavar="CLIP", help="the default rungs on CLIP")
+    parser.add_argument("--run", metavar="CLIP", help="whole runs, three engines, on CLIP")
+    parser.add_argument("--cost", action="store_true", help="the detector's CPU cost")
+    parser.add_argument("--frames", type=int, default=150)
+    parser.add_argument(
+        "--rung", action="append", metavar="RATE:WxH@FPS", help="face rungs for --quote, --run"
+    )
+    parser.add_argument("--no-mbc", action="store_true", help="--run without the MBC engine")
+    args = parser.parse_args(argv)
+    result: dict[str, Any] = {}
+    if args.grid:
+        result["grid"] = grid(args.grid, args.frames)
+    if args.quote:
+        result["quote"] = quote(args.quote, args.frames, args.rung)
+    if args.run:
+        result["run"] = run_three_ways(args.run, rungs=args.rung, mbc=not args.no_mbc)
+    if args.cost:
+        result["cost"] = detector_cost(min(args.frames, 60))
+    json.dump(result, sys.stdout, indent=1)
+    sys.stdout.write("\n")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
