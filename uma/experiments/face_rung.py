@@ -301,6 +301,7 @@ def run_three_ways(
     gsm_s: float = 16.0,
     rungs: list[str] | None = None,
     mbc: bool = True,
+    max_backlog_ms: float | None = None,
 ) -> dict[str, Any]:
     """The whole simulation with the clip as source, WLAN then GSM, three engines."""
     import tempfile
@@ -337,7 +338,9 @@ def run_three_ways(
                         {"technology": "WLAN", "duration_s": wlan_s},
                         {"technology": "GSM", "duration_s": gsm_s},
                     ],
-                    "engine": {"policy": "oracle"} | engine,
+                    "engine": {"policy": "oracle"}
+                    | ({} if max_backlog_ms is None else {"max_backlog_ms": max_backlog_ms})
+                    | engine,
                     "receiver": {"playout_delay_ms": 800.0},
                     "metrics": {"workers": 0},
                 }
@@ -366,6 +369,7 @@ def main(argv: list[str] | None = None) -> int:
         "--rung", action="append", metavar="RATE:WxH@FPS", help="face rungs for --quote, --run"
     )
     parser.add_argument("--no-mbc", action="store_true", help="--run without the MBC engine")
+    parser.add_argument("--max-backlog-ms", type=float, help="engine.max_backlog_ms for --run")
     args = parser.parse_args(argv)
     result: dict[str, Any] = {}
     if args.grid:
@@ -373,7 +377,9 @@ def main(argv: list[str] | None = None) -> int:
     if args.quote:
         result["quote"] = quote(args.quote, args.frames, args.rung)
     if args.run:
-        result["run"] = run_three_ways(args.run, rungs=args.rung, mbc=not args.no_mbc)
+        result["run"] = run_three_ways(
+            args.run, rungs=args.rung, mbc=not args.no_mbc, max_backlog_ms=args.max_backlog_ms
+        )
     if args.cost:
         result["cost"] = detector_cost(min(args.frames, 60))
     json.dump(result, sys.stdout, indent=1)

@@ -27,7 +27,7 @@ TECH_COLOURS = {
     "GSM": "#f6d0c8",
     "": "#eeeeee",
 }
-CODEC_COLOURS = {"h264": "#1f5fbf", "mbc": "#c0392b"}
+CODEC_COLOURS = {"h264": "#1f5fbf", "h264-face": "#16a085", "mbc": "#c0392b"}
 
 
 def _bands(ax, time_s: np.ndarray, technology: np.ndarray) -> None:
