@@ -41,10 +41,17 @@ def test_gsm_goes_onto_the_face_rung_and_back(run):
     codec = np.array([str(c) for c in log["codec"]])
     tech = np.array([str(t) for t in log["technology"]])
     face = codec == "h264-face"
-    assert face.sum() >= 20 and (tech[face] == "GSM").mean() > 0.9
-    assert set(codec[tech == "WLAN"]) <= {"h264", ""}
-    switches = [e.detail.split()[0] for e in run.events if e.kind == "codec_switch"]
-    assert switches == ["h264->h264-face", "h264-face->h264"]
+    assert face.sum() >= 12 and (tech[face] == "GSM").mean() > 0.9  # of 25 scheduled
+    # In WLAN only during the handover gap back (no capacity for 500 ms) and just after it.
+    t_s = np.arange(log.frames) / 25.0
+    assert np.all((t_s[face & (tech == "WLAN")] >= 7.0) & (t_s[face & (tech == "WLAN")] < 8.0))
+    # Rungs of one rate ladder: rung switches, not codec switches (those are to and from MBC).
+    assert "codec_switch" not in [e.kind for e in run.events]
+    moves = [e.detail.split()[0] for e in run.events if e.kind == "rung_switch"]
+    faces = {str(i) for i, p in enumerate(run.points) if p.codec == "h264-face"}
+    into = [m for m in moves if m.split("->")[1] in faces and m.split("->")[0] not in faces]
+    back = [m for m in moves if m.split("->")[0] in faces and m.split("->")[1] not in faces]
+    assert len(into) == 1 and len(back) == 1
     # GSM's 9.6 kbit/s x 0.85 carries the 8 kbit/s face rung, not the 16 kbit/s full frame.
     rungs = {run.points[int(r)].label for r in log["rung"][face]}
     assert rungs == {"h264-face 8k 64x64@5"}

@@ -85,6 +85,11 @@ class EngineEvent:
     detail: str
 
 
+def _family(codec: str) -> str:
+    """The codec as switching policies see it: "mbc", or "h264" for the whole rate ladder."""
+    return "mbc" if codec == "mbc" else "h264"
+
+
 class UmaEngine:
     """Chooses, for each frame, whether and how to send it over the downlink."""
 
@@ -345,7 +350,9 @@ class UmaEngine:
 
     def _switch_to(self, wanted: int, now_s: float, kind: str) -> None:
         old, new = self.points[self.rung], self.points[wanted]
-        if old.codec != new.codec:
+        # A face-region rung is a rung of the rate ladder: moving between it and a full-frame
+        # rung is a rung switch; a codec switch is between that ladder and MBC.
+        if _family(old.codec) != _family(new.codec):
             self.codec_since_s = now_s
             self.events.append(
                 EngineEvent(
@@ -375,7 +382,7 @@ class UmaEngine:
         """The point to be on, and whether to start an MBC initialisation now."""
         if self.config.switching.policy == "none":
             return self.policy(view), False
-        on = self.points[self.rung].codec
+        on = _family(self.points[self.rung].codec)
         budget_kbps = self.config.safety * (
             capacity_kbps if self.config.policy == "oracle" else self.estimator.estimate_kbps
         )
