@@ -302,6 +302,7 @@ def run_three_ways(
     rungs: list[str] | None = None,
     mbc: bool = True,
     max_backlog_ms: float | None = None,
+    policy: str = "oracle",
 ) -> dict[str, Any]:
     """The whole simulation with the clip as source, WLAN then GSM, three engines."""
     import tempfile
@@ -313,7 +314,11 @@ def run_three_ways(
     from uma.sim.summary import run_metrics
 
     _, _, path = _clip(name, 1)
-    out: dict[str, Any] = {"clip": path, "route": f"WLAN {wlan_s:g} s, GSM {gsm_s:g} s"}
+    out: dict[str, Any] = {
+        "clip": path,
+        "route": f"WLAN {wlan_s:g} s, GSM {gsm_s:g} s",
+        "policy": policy,
+    }
     with tempfile.TemporaryDirectory() as tmp:
         face_file = Path(tmp) / f"{name}.face"
         if mbc:
@@ -338,7 +343,7 @@ def run_three_ways(
                         {"technology": "WLAN", "duration_s": wlan_s},
                         {"technology": "GSM", "duration_s": gsm_s},
                     ],
-                    "engine": {"policy": "oracle"}
+                    "engine": {"policy": policy}
                     | ({} if max_backlog_ms is None else {"max_backlog_ms": max_backlog_ms})
                     | engine,
                     "receiver": {"playout_delay_ms": 800.0},
@@ -370,6 +375,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     parser.add_argument("--no-mbc", action="store_true", help="--run without the MBC engine")
     parser.add_argument("--max-backlog-ms", type=float, help="engine.max_backlog_ms for --run")
+    parser.add_argument("--policy", default="oracle", help="engine.policy for --run")
     args = parser.parse_args(argv)
     result: dict[str, Any] = {}
     if args.grid:
@@ -378,7 +384,11 @@ def main(argv: list[str] | None = None) -> int:
         result["quote"] = quote(args.quote, args.frames, args.rung)
     if args.run:
         result["run"] = run_three_ways(
-            args.run, rungs=args.rung, mbc=not args.no_mbc, max_backlog_ms=args.max_backlog_ms
+            args.run,
+            rungs=args.rung,
+            mbc=not args.no_mbc,
+            max_backlog_ms=args.max_backlog_ms,
+            policy=args.policy,
         )
     if args.cost:
         result["cost"] = detector_cost(min(args.frames, 60))
