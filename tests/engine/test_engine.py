@@ -221,3 +221,30 @@ def test_tracking_failure_falls_back_to_h264():
     engine.on_track_failed("face left the picture", 0.1)
     decision = engine.on_frame(4, 0.16, capacity_kbps=10.0)  # 5 frames/s: frame 4 is sent
     assert decision.codec == "h264" and decision.rung == 1 and decision.force_idr
+
+
+def test_mbc_holds_frames_in_an_outage_but_probes():
+    from uma.engine.reports import ReceiverReport
+
+    engine = make_switching_engine()
+    engine.on_frame(0, 0.0, capacity_kbps=10.0)
+    engine.on_init_done(True, 0.05, evaluations=600)
+    report = ReceiverReport(
+        sent_s=0.05,
+        interval_s=0.1,
+        received_bits=0,
+        packets_received=0,
+        packets_lost=0,
+        highest_seq=-1,
+        queue_delay_ms=None,
+    )
+    engine.on_report(report, 0.06)
+    sent = [engine.on_frame(i, i / 25.0, capacity_kbps=10.0) for i in range(2, 100)]
+    assert all(d.codec == "mbc" for d in sent)
+    # Reports stopped at 0.06 s: frames flow for `outage_hold_ms` (1 s: a handover gap's
+    # parameters are still in time), then only a probe each `probe_interval_ms` (1 s).
+    sent_s = [i / 25.0 for i, d in zip(range(2, 100), sent, strict=True) if d.send]
+    assert max(t for t in sent_s if t < 1.5) == pytest.approx(1.04)
+    late = [t for t in sent_s if t > 1.1]
+    assert late and all(b - a >= 1.0 - 1e-9 for a, b in zip(late, late[1:], strict=False))
+    assert all(d.reason == "backlog" for d in sent if not d.send)

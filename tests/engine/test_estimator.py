@@ -82,3 +82,26 @@ def test_silence_without_data_keeps_estimate():
         config=CONFIG,
     )
     assert state.estimate_kbps == CONFIG.initial_kbps
+
+
+def test_a_collapse_is_followed_each_window_not_each_drain_time():
+    """A handover to a slow link: 500 kbit/s arriving, then 40 with the queue 5 s deep. Waiting
+    5 s between decreases would keep sending far above what arrives; below `collapse_below` of
+    the estimate the estimator cuts once per window instead."""
+
+    def run(config):
+        state = initial_estimate(config)
+        for step in range(40):
+            kbps, queue_ms = (500, 10.0) if step < 10 else (40, 5000.0)
+            state = update_estimate(
+                state,
+                report(kbps, queue_ms=queue_ms),
+                now_s=0.1 * (step + 1),
+                outstanding_bits=1,
+                config=config,
+            )
+        return state.estimate_kbps
+
+    assert run(CONFIG) == pytest.approx(40 * CONFIG.decrease_factor, rel=0.01)
+    # Off: the first decrease is from a window still full of the old rate, then 5 s of hold.
+    assert run(CONFIG.model_copy(update={"collapse_below": 0.0})) > 300.0

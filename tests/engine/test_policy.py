@@ -49,7 +49,10 @@ def test_safety_margin_applies():
 
 
 def test_oracle_uses_true_capacity_and_needs_it():
-    assert oracle_policy(view(capacity_kbps=1200.0, estimate_kbps=1.0)) == 3
+    # The throughput policy with a perfect estimate: down at once, up one rung after the hold.
+    assert oracle_policy(view(current=3, capacity_kbps=120.0, estimate_kbps=5000.0)) == 1
+    assert oracle_policy(view(capacity_kbps=1200.0, estimate_kbps=1.0)) == 2
+    assert oracle_policy(view(capacity_kbps=1200.0, last_switch_s=9.0)) == 1
     with pytest.raises(ValueError):
         oracle_policy(view())
 

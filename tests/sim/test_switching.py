@@ -84,7 +84,7 @@ def test_mbc_keeps_the_gsm_display_alive(switched):
     gsm = tech == "GSM"
     frozen_switching = switched.log["frozen"][gsm].mean()
     frozen_h264 = h264_only.log["frozen"][gsm].mean()
-    assert frozen_h264 > 0.8
+    assert frozen_h264 > 0.6  # GSM: the lowest rung (16 kbit/s) does not fit 9.6
     assert frozen_switching < 0.1
     psnr = switched.log["psnr_db"][gsm & (switched.log["codec"] == "mbc")]
     assert np.isfinite(psnr).all() and np.median(psnr) > 12.0  # a face was rendered

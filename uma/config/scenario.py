@@ -145,6 +145,9 @@ class EstimatorConfig(_Section):
     increase_per_s: NonNeg = 0.5
     loss_high: Fraction = 0.1
     window_s: PosNum = 1.0
+    # Decrease once per window (not per queue-drain time) while the received rate is below
+    # this fraction of the estimate; 0 turns it off.
+    collapse_below: Fraction = 0.25
     # Which estimator: `engine.estimator: webrtc` is short for `engine.estimator: {kind: webrtc}`.
     kind: Literal["uma", "webrtc"] = "uma"
 
@@ -168,8 +171,10 @@ class SwitchingConfig(_Section):
     `predictive`: the thresholds, plus the route's technology segments as a coverage map: to
     MBC `lookahead_ms` before a segment of `low_technologies` begins, and not back while one
     is that near or under way. `oracle`: knows the trace (an upper bound): on MBC while the
-    true capacity anywhere in the next `lookahead_ms` is below `to_mbc_below_kbps`, back once
-    all of that window is above `to_h264_above_kbps`; it scales the capacity by `safety`.
+    true capacity anywhere in the next `oracle_lookahead_ms` is below `to_mbc_below_kbps`,
+    back once all of that window is above `to_h264_above_kbps`; it scales the capacity by
+    `safety`. Its window need only cover an initialisation (about 0.1 s modelled, `engine.mbc`)
+    and the first parameter packet (4 frames, 0.16 s): 1 s by default.
     """
 
     policy: Literal["none", "threshold", "predictive", "oracle"] = "none"
@@ -178,6 +183,7 @@ class SwitchingConfig(_Section):
     min_dwell_ms: NonNeg = 3000.0
     retry_ms: PosNum = 5000.0
     lookahead_ms: NonNeg = 3000.0
+    oracle_lookahead_ms: NonNeg = 1000.0
     low_technologies: tuple[Str, ...] = ("GPRS", "GSM")
 
     @model_validator(mode="after")
@@ -193,8 +199,9 @@ class SwitchingConfig(_Section):
 class MbcConfig(_Section):
     """The model-based codec in the engine: the content description and modelled compute.
 
-    `description`: a file written by `uma describe` (relative to the scenario); the talking
-    head needs none (its description is the astronaut's). Compute is modelled from the
+    `description`: a file written by `uma describe` (relative to the scenario), or a points
+    file such as `codecs/face/akiyo.yaml`, from which the description is fitted when the run
+    starts; the talking head needs none (its description is the astronaut's). Compute is modelled from the
     tracker's count of fitting-cost evaluations: `init_us_per_evaluation` for an
     initialisation (detector, SAABs, polish), `track_us_per_evaluation` for a tracking step,
     plus `encode_ms` per frame (quantise, range-code). Defaults measured on this machine in
@@ -225,6 +232,9 @@ class MbcConfig(_Section):
     probe: Bool = True
     deliver_description: Bool = True
     description_share: Fraction = 0.1
+    # Hold MBC frames (but a probe every `engine.probe_interval_ms`) while no receiver report
+    # has come for this long: the link is out, and what is sent would queue until it returns.
+    outage_hold_ms: PosNum = 1000.0
 
 
 class FaceRungConfig(_Section):

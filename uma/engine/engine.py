@@ -309,11 +309,20 @@ class UmaEngine:
         point = self.points[self.rung]
         if not self._scheduled(frame):
             return self._hold(frame, point, init_mbc, scheduled=False, reason="fps")
-        budget_bits = self.estimator.estimate_kbps * self.config.max_backlog_ms
+        # The oracle judges the backlog by the true capacity too: its rates follow that, and
+        # the estimate (which it does not use) would call its queue too long.
+        seen_kbps = self.estimator.estimate_kbps if capacity_kbps is None else capacity_kbps
+        budget_bits = seen_kbps * self.config.max_backlog_ms
         probe_due = now_s - self.last_sent_s >= self.config.probe_interval_ms / 1000.0
-        # MBC frames are never skipped for backlog: the parameters' few kbit/s are below any
-        # link the switch chooses MBC for, and a skipped frame breaks a packet's prediction.
-        backlogged = self.outstanding_bits > budget_bits and point.codec != "mbc"
+        # MBC frames are not skipped for backlog (the parameters' few kbit/s are below any
+        # link the switch chooses MBC for), only while no report has come for
+        # `mbc.outage_hold_ms`: in an outage they would fill the queue with parameters that
+        # arrive tens of seconds late, while a handover gap's are still in time. The stream
+        # starts again with an intra set (`uma.mbc.stream` restarts at a gap).
+        if point.codec == "mbc":
+            backlogged = now_s - self.last_report_s > self.config.mbc.outage_hold_ms / 1000.0
+        else:
+            backlogged = self.outstanding_bits > budget_bits
         if backlogged and not switched and not probe_due:
             return self._hold(frame, point, init_mbc, scheduled=True, reason="backlog")
 

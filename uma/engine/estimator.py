@@ -7,7 +7,8 @@ and loss are taken over a sliding window of recent reports (`window_s`). A bottl
 over-used when its queue grows (or it loses many packets): the link was busy, so what got
 through over the window is the capacity, and the estimate falls to a fraction of it
 (multiplicative decrease, at most once per queue-drain time, so one congestion episode is not
-punished many times). When the queue is near empty the link may carry more, so the estimate grows
+punished many times; but once per window when the received rate is below `collapse_below` of
+the estimate, so a collapse of the link is followed within seconds). When the queue is near empty the link may carry more, so the estimate grows
 by a fixed fraction per second (like Google Congestion Control's increase), but not above three
 times the received rate, so an application-limited stream cannot talk the estimate up without
 evidence. Reports with nothing received while data is in flight mean an outage: the estimate
@@ -102,6 +103,11 @@ def update_estimate(
         queue_ms = state.queue_delay_ms
     elif loss > config.loss_high or queue_ms > config.queue_high_ms:
         drain_s = max(config.window_s, queue_ms / 1000.0)
+        if received_kbps < config.collapse_below * estimate:
+            # The link collapsed (a handover to a slower technology): what a fresh window
+            # received is the capacity; waiting for the queue to drain would keep sending at
+            # the old rate into it for seconds.
+            drain_s = config.window_s
         if now_s - last_decrease_s >= drain_s:
             estimate = min(estimate, received_kbps) * config.decrease_factor
             last_decrease_s = now_s

@@ -14,7 +14,7 @@ be on; the engine then asks the rate policy for an H.264 point or takes the MBC 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from uma.engine.points import OperatingPoint, rate_indices
 
@@ -94,10 +94,14 @@ def throughput_policy(view: PolicyView) -> int:
 
 
 def oracle_policy(view: PolicyView) -> int:
-    """Knows the true capacity: the highest rung within `safety` of it, no hold (an upper bound)."""
+    """Knows the true capacity: the throughput policy with a perfect estimate (an upper bound).
+
+    Down at once to the highest rung within `safety` of the capacity, up one rung after
+    `up_hold_s`: following every step of a fluctuating trace would cost an IDR each time.
+    """
     if view.capacity_kbps is None:
         raise ValueError("oracle policy needs the true capacity")
-    return view.h264[highest_fitting(view.h264_rates_kbps, view.safety * view.capacity_kbps)]
+    return throughput_policy(replace(view, estimate_kbps=view.capacity_kbps))
 
 
 def fixed_policy(view: PolicyView) -> int:
@@ -192,8 +196,8 @@ def predictive_switch(view: SwitchView, settings: SwitchSettings) -> str:
 
 
 def oracle_switch(view: SwitchView, settings: SwitchSettings) -> str:
-    """Knows the trace: on MBC while the true capacity anywhere in the next `lookahead_s` is
-    below `to_mbc_below_kbps` (so the initialisation starts before the drop), back to H.264
+    """Knows the trace: on MBC while the true capacity anywhere in the window ahead (the world
+    looks `switching.oracle_lookahead_ms` into the trace) is below `to_mbc_below_kbps` (so the initialisation starts before the drop), back to H.264
     once all of that window carries `to_h264_above_kbps`. No dwell: looking ahead is what
     keeps it from flapping. An upper bound for real switching policies."""
     if view.budget_ahead_kbps is None:

@@ -76,6 +76,8 @@ class World:
     points: tuple = ()  # the engine's operating points
     init_us_per_evaluation: float = 0.0
     mbc_init_frames: list[int] = field(default_factory=list)  # where initialisations started
+    # Each initialisation's frame and fitted parameters (None when it failed), for its MDE.
+    mbc_inits: list[tuple[int, Any]] = field(default_factory=list)
     description_chunks: int = 0  # packets the content description takes
     face_boxes: list = field(default_factory=list)  # per source frame read: `uma.face.Box` | None
     description_next: int = 0
@@ -119,7 +121,7 @@ def engine_process(env: simpy.Environment, world: World):
     scenario = world.scenario
     oracle = scenario.engine.policy == "oracle"
     switching = scenario.engine.switching
-    lookahead_s = switching.lookahead_ms / 1000.0 if switching.policy == "oracle" else None
+    lookahead_s = switching.oracle_lookahead_ms / 1000.0 if switching.policy == "oracle" else None
     log = world.log
     while True:
         index, encoded = yield world.inbox.get()
@@ -252,9 +254,14 @@ def _send(world: World, out, point, index: int) -> None:
         _pad_to_estimate(world, unit, point, payload_bytes, frames=len(frames))
     elif point.codec == "mbc" and scenario.engine.mbc.probe and scenario.engine.policy != "oracle":
         # On MBC the parameters alone (a few kbit/s) would cap the estimate at 3 x that:
-        # padding up to the estimate, no further than the rate that would bring the engine
-        # back to H.264, lets it find the bandwidth to return (the oracle needs no probe).
-        limit_kbps = scenario.engine.switching.to_h264_above_kbps / scenario.engine.safety
+        # padding lets it find the bandwidth to return (the oracle needs no probe). Only up
+        # to safety x the estimate, no further than the rate that would bring the engine back
+        # to H.264: padding shares the bottleneck's queue with the parameters, and padding at
+        # the whole estimate queues them behind it whenever the estimate overshoots.
+        limit_kbps = min(
+            scenario.engine.switching.to_h264_above_kbps / scenario.engine.safety,
+            scenario.engine.safety * engine.estimate_kbps,
+        )
         _pad_to_estimate(
             world, unit, point, payload_bytes, frames=len(frames), limit_kbps=limit_kbps
         )
@@ -266,6 +273,7 @@ def mbc_init_process(env: simpy.Environment, world: World, picture: np.ndarray, 
     """Initialise the model-based codec on `picture`; done after its modelled compute time."""
     engine = world.engine
     result = world.codec.mbc_initialise(picture, engine.mbc_point, frame=frame)
+    world.mbc_inits.append((frame, result.params if result else None))
     yield env.timeout(world.mbc_init_compute_s(result.evaluations))
     engine.on_init_done(bool(result), env.now, reason=result.reason, evaluations=result.evaluations)
 

@@ -58,6 +58,7 @@ class RunResult:
     engine_counts: dict | None = None  # MBC inits, failures, refusals (`UmaEngine.counts`)
     codec_seconds: dict | None = None  # with `account`: wall-clock codec seconds per codec
     mbc_init_frames: tuple[int, ...] = ()  # frames on which MBC initialisations started
+    mbc_inits: tuple = ()  # (frame, fitted parameters or None) of each initialisation
     description_bytes: int = 0  # the content description delivered to the receiver
     description_sent_bits: int = 0  # on the wire, headers and repeats included
     description_delivered_s: float | None = None  # when its last chunk reached the receiver
@@ -130,16 +131,21 @@ def coverage_map(scenario: Scenario) -> tuple[tuple[float, str], ...]:
 def mbc_description(scenario: Scenario, source) -> tuple[object | None, str]:
     """The content description MBC needs, or None and why there is none.
 
-    Only a scenario that switches needs one: `engine.mbc.description` (a `uma describe` file),
-    else the source's own (the talking head's astronaut). Without one the engine stays on
+    Only a scenario that switches needs one: `engine.mbc.description` (a `uma describe` file,
+    or a points file the description is fitted from), else the source's own (the talking head's astronaut). Without one the engine stays on
     H.264 and records why when a switch is due.
     """
     if scenario.engine.switching.policy == "none":
         return None, "switching off"
-    if scenario.engine.mbc.description is not None:
+    path = scenario.engine.mbc.description
+    if path is not None:
+        if path.endswith((".yaml", ".yml")):
+            from uma.face.clip import describe_clip
+
+            return describe_clip(path), ""
         from uma.face import load_description
 
-        return load_description(scenario.engine.mbc.description), ""
+        return load_description(path), ""
     own = getattr(source, "description", None)
     if own is not None:
         return own, ""
@@ -360,6 +366,7 @@ def run_scenario(
         engine_counts=dict(engine.counts),
         codec_seconds=dict(codec.codec_seconds),
         mbc_init_frames=tuple(world.mbc_init_frames),
+        mbc_inits=tuple(world.mbc_inits),
         description_bytes=description_bytes,
         description_sent_bits=world.description_sent_bits,
         description_delivered_s=receiver.description_done_s,

@@ -1,0 +1,72 @@
+"""`uma bench headline`: the engines it compares and the keys it prints (a short route)."""
+
+import json
+
+import pytest
+
+from uma.bench.headline import ENGINES, engine_scenario
+from uma.cli import main
+from uma.config import load_scenario
+from uma.paths import scenarios_dir
+
+
+def test_each_engine_changes_only_what_it_names():
+    base = load_scenario(scenarios_dir() / "stockholm-uppsala.yaml")
+    h264, uma, oracle = (engine_scenario(base, engine) for engine in ENGINES)
+    assert h264.engine.switching.policy == "none" and h264.engine.policy == "throughput"
+    assert uma.engine.switching.policy == "threshold" and uma.engine.policy == "throughput"
+    assert oracle.engine.switching.policy == "oracle" and oracle.engine.policy == "oracle"
+    assert {s.receiver.playout for s in (h264, uma, oracle)} == {"adaptive"}
+    assert all(s.route == base.route and s.source == base.source for s in (h264, uma, oracle))
+    fixed = engine_scenario(base, "uma", playout="fixed")
+    assert fixed.receiver == base.receiver
+    predictive = base.model_copy(
+        update={
+            "engine": base.engine.model_copy(
+                update={
+                    "switching": base.engine.switching.model_copy(update={"policy": "predictive"})
+                }
+            )
+        }
+    )
+    assert engine_scenario(predictive, "uma").engine.switching.policy == "predictive"
+    with pytest.raises(ValueError, match="engine"):
+        engine_scenario(base, "vp8")
+
+
+def test_headline_json_keys_on_a_short_route(capsys):
+    scenario = str(scenarios_dir() / "wlan-gsm-wlan.yaml")
+    assert main(["bench", "headline", "--scenario", scenario, "--json"]) == 0
+    result = json.loads(capsys.readouterr().out)
+    rows = result["scenarios"]["wlan-gsm-wlan"]
+    assert set(rows) == set(ENGINES)
+    keys = [
+        "freeze_ratio",
+        "displayed_fps",
+        "psnr_db",
+        "ssim",
+        "psnr_face_db",
+        "ssim_face",
+        "delay_p95_ms",
+        "kbps_h264",
+        "kbps_mbc",
+        "switches",
+        "inits",
+        "init_mde_px",
+        "description_delivered_s",
+        "by_technology",
+    ]
+    for row in rows.values():
+        assert all(key in row for key in keys)
+        for cell in row["by_technology"].values():
+            assert set(cell) == {"freeze_ratio", "psnr_face_db", "ssim_face"}
+    assert rows["h264"]["kbps_mbc"] == 0 and rows["h264"]["inits"] == 0
+    assert rows["uma"]["inits"] >= 1 and rows["uma"]["kbps_mbc"] > 0
+    # The talking head has ground truth: the initialisations' error is measured.
+    assert rows["uma"]["init_mde_px"] is not None and rows["uma"]["init_mde_px"] < 5.0
+    assert rows["oracle"]["switches"] >= 2
+
+
+def test_headline_refuses_a_bad_duration(capsys):
+    assert main(["bench", "headline", "--duration-s", "-1"]) == 2
+    assert "--duration-s" in capsys.readouterr().err
