@@ -54,10 +54,10 @@ def test_gsm_goes_onto_the_face_rung_and_back(run):
     assert len(into) == 1 and len(back) == 1
     # GSM's 9.6 kbit/s x 0.85 carries the 8 kbit/s face rung, not the 16 kbit/s full frame.
     rungs = {run.points[int(r)].label for r in log["rung"][face & (tech == "GSM")]}
-    assert rungs == {"h264-face 8k 64x64@5"}
+    assert rungs == {"h264-face 8k 48x48@5"}
     # Back in WLAN the oracle climbs through the 12 kbit/s face rung to the full frame.
     climb = {run.points[int(r)].label for r in log["rung"][face & (tech == "WLAN")]}
-    assert climb <= {"h264-face 8k 64x64@5", "h264-face 12k 64x64@5"}
+    assert climb <= {"h264-face 8k 48x48@5", "h264-face 12k 48x48@5"}
 
 
 def test_every_frame_is_accounted_for(run):

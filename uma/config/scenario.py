@@ -266,15 +266,17 @@ class FaceRegionConfig(_Section):
     `detect_every_frames` source frames, its box centre smoothed with weight `smoothing` on
     the new detection. `detect_us_per_pixel` models the detector's compute per pixel it
     scans; default measured on this machine by `python -m uma.experiments.face_rung --cost`
-    (CPU time, median over akiyo, carphone and the talking head at QCIF detection size).
+    (CPU time on the shared machine, 60 frames each: akiyo 0.84, carphone 0.69, the QCIF
+    talking head 0.82 us per pixel, 21.3, 17.4 and 20.7 ms a detection; the median, 0.82).
+    The rungs' defaults were chosen on carphone (README, "Object-level adaptation").
     With no face found, the engine leaves the face rungs for the lowest full-frame rung for
     `retry_ms` and says why in its events.
     """
 
     enabled: Bool = False
     rungs: tuple[FaceRungConfig, ...] = (
-        FaceRungConfig(rate_kbps=8.0, width=64, height=64, fps=5.0),
-        FaceRungConfig(rate_kbps=12.0, width=64, height=64, fps=5.0),
+        FaceRungConfig(rate_kbps=8.0, width=48, height=48, fps=5.0),
+        FaceRungConfig(rate_kbps=12.0, width=48, height=48, fps=5.0),
     )
     margin: Annotated[float, Strict(), AllowInfNan(False), Field(ge=0, le=1)] = 0.2
     detect_every_frames: PosInt = 25
