@@ -376,6 +376,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--no-mbc", action="store_true", help="--run without the MBC engine")
     parser.add_argument("--max-backlog-ms", type=float, help="engine.max_backlog_ms for --run")
     parser.add_argument("--policy", default="oracle", help="engine.policy for --run")
+    parser.add_argument("--gsm-s", type=float, default=16.0, help="GSM seconds for --run")
     args = parser.parse_args(argv)
     result: dict[str, Any] = {}
     if args.grid:
@@ -389,6 +390,7 @@ def main(argv: list[str] | None = None) -> int:
             mbc=not args.no_mbc,
             max_backlog_ms=args.max_backlog_ms,
             policy=args.policy,
+            gsm_s=args.gsm_s,
         )
     if args.cost:
         result["cost"] = detector_cost(min(args.frames, 60))
