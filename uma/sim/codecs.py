@@ -33,6 +33,8 @@ __all__ = [
     "H264UnitDecoder",
     "MbcPointEncoder",
     "MbcUnitDecoder",
+    "SenderMbc",
+    "SelectedMbcEncoder",
     "ENCODERS",
     "DECODERS",
 ]
@@ -162,6 +164,97 @@ class MbcPointEncoder:
         return Coded(data, intra, self.width, self.height, 0, frames=_frames(packets))
 
 
+class SenderMbc:
+    """The selection scheme's sender: it tracks the face in every source frame itself and sends
+    each frame's parameters up with its H.264 frame (one parameter set a packet, riding in the
+    same uplink packet, so only the parameter packet's own bytes are extra).
+
+    Its compute is modelled from the tracker's evaluations (`track_us_per_evaluation`, and
+    `init_us_per_evaluation` for a frame it (re-)initialised on) and reported, not simulated:
+    the sender has a core for it.
+    """
+
+    def __init__(self, context, *, init_us_per_evaluation: float, track_us_per_evaluation: float):
+        from dataclasses import replace
+
+        from uma.mbc import FaceTracker, FaceUnits, ParameterEncoder
+
+        description = context["description"]
+        self.tracker = FaceTracker(description, rng=context["seed"])
+        units = FaceUnits.of(description.model, description.params)
+        self.stream = ParameterEncoder(units, replace(context["stream"], frames_per_packet=1))
+        self.init_us = init_us_per_evaluation
+        self.track_us = track_us_per_evaluation
+        self.compute_ms = 0.0
+        self.bits = 0
+        self.frames = 0
+
+    def encode(self, picture: np.ndarray, *, frame: int) -> bytes:
+        """The frame's parameter packet (and any open one), empty when the tracker has no face."""
+        result = self.tracker.track(_luma(picture), frame=frame)
+        cost_us = self.init_us if result.reinitialised else self.track_us
+        self.compute_ms += cost_us * result.evaluations / 1000.0
+        self.frames += 1
+        packets = self.stream.push(frame, result.params if result else None)
+        data = b"".join(packet.to_bytes() for packet in packets)
+        self.bits += 8 * len(data)
+        return data
+
+
+class SelectedMbcEncoder:
+    """The selection scheme's engine side of MBC: no tracking, only a choice of stream. It
+    decodes the parameters the sender sent up with each frame and codes them again for the
+    downlink (its own packets and intra sets, so a keyframe request is answered at once)."""
+
+    def __init__(self, point: OperatingPoint, *, source_size, source_fps, settings, context):
+        from uma.mbc import FaceUnits, ParameterEncoder
+
+        description = context["description"]
+        self.width, self.height = source_size
+        units = FaceUnits.of(description.model, description.params)
+        self.stream = ParameterEncoder(units, context["stream"])
+        # {frame: parameters}, what the sender sent up (`CodecChain.engine_receive_mbc`)
+        self.selected = context["selected"]
+
+    def initialise(self, picture: np.ndarray, *, frame: int):
+        """Nothing to fit: ready when the sender's parameters for `frame` arrived."""
+        from uma.mbc.encoder import TrackFailure, TrackResult
+
+        params = self.selected.get(frame)
+        if params is None:
+            return TrackFailure("the sender's tracker has no face in this frame", frame=frame)
+        return TrackResult(frame, params, 1.0, False, "selected", 0)
+
+    def encode(self, picture: np.ndarray, *, intra: bool, frame: int) -> Coded:
+        params = self.selected.pop(frame, None)
+        if params is None:
+            packets = self.stream.push(frame, None)
+            return Coded(
+                b"".join(packet.to_bytes() for packet in packets),
+                bool(packets and packets[0].intra),
+                self.width,
+                self.height,
+                failure="the sender's tracker lost the face",
+                frames=_frames(packets),
+            )
+        if intra:
+            self.stream.request_intra()
+        packets = self.stream.push(frame, params)
+        return Coded(
+            b"".join(packet.to_bytes() for packet in packets),
+            bool(packets and packets[0].intra),
+            self.width,
+            self.height,
+            frames=_frames(packets),
+        )
+
+    def flush(self) -> Coded:
+        packets = self.stream.flush()
+        data = b"".join(packet.to_bytes() for packet in packets)
+        intra = bool(packets and packets[0].intra)
+        return Coded(data, intra, self.width, self.height, 0, frames=_frames(packets))
+
+
 class MbcUnitDecoder:
     """Decodes parameter packets and renders the description's face over the last picture the
     receiver showed before the switch (its chroma kept), at the source's size."""
@@ -248,6 +341,25 @@ class CodecChain:
             self.context["stream"] = StreamConfig(
                 frames_per_packet=scenario.engine.mbc.frames_per_packet
             )
+        # The customisation scheme: `adaptation` (the engine tracks the face in the H.264 it
+        # receives) or `selection` (the sender tracks and sends the parameters up too).
+        self.sender_mbc: SenderMbc | None = None
+        self.uplink_mbc = None
+        if description is not None and scenario.engine.mbc.scheme == "selection":
+            from dataclasses import replace
+
+            from uma.mbc import FaceUnits, ParameterDecoder
+
+            mbc = scenario.engine.mbc
+            self.sender_mbc = SenderMbc(
+                self.context,
+                init_us_per_evaluation=mbc.init_us_per_evaluation,
+                track_us_per_evaluation=mbc.track_us_per_evaluation,
+            )
+            units = FaceUnits.of(description.model, description.params)
+            stream = replace(self.context["stream"], frames_per_packet=1)
+            self.uplink_mbc = ParameterDecoder(units, stream)
+            self.context["selected"] = {}
         self.engine_encoder = None
         self.engine_point = -1
         self.pending_mbc = None  # the MBC encoder an initialisation is preparing
@@ -272,6 +384,29 @@ class CodecChain:
     def sender_encode(self, frame: np.ndarray):
         return self._timed("h264", self.sender_encoder.encode, frame)
 
+    def sender_encode_mbc(self, frame: np.ndarray, index: int) -> bytes | None:
+        """Selection: the sender's parameter packet for source frame `index` (None otherwise)."""
+        if self.sender_mbc is None:
+            return None
+        return self._timed("mbc", self.sender_mbc.encode, frame, frame=index)
+
+    def engine_receive_mbc(self, data: bytes | None, index: int) -> None:
+        """Selection: decode the parameters the sender sent up with frame `index`."""
+        if self.uplink_mbc is None:
+            return
+        from uma.mbc import PacketError
+
+        selected = self.context["selected"]
+        selected.pop(index - 2 * int(self.fps), None)  # frames never selected need not stay
+        if not data:
+            return
+        try:
+            out = self.uplink_mbc.decode(data)
+        except PacketError:
+            return
+        if out.frames:
+            selected[index] = out.frames[-1][1]
+
     def engine_decode(self, encoded) -> np.ndarray | None:
         return self._timed("h264", self.engine_decoder.decode, encoded.data)
 
@@ -282,7 +417,10 @@ class CodecChain:
 
     def _make_encoder(self, index: int):
         point = self.points[index]
-        return ENCODERS[point.codec](
+        factory = ENCODERS[point.codec]
+        if point.codec == "mbc" and self.sender_mbc is not None:
+            factory = SelectedMbcEncoder
+        return factory(
             point,
             source_size=(self.width, self.height),
             source_fps=self.fps,
