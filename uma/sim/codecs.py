@@ -108,17 +108,32 @@ class H264UnitDecoder:
         return {} if picture is None else {unit.frame: picture}
 
 
+def _packets_coded(packets, width: int, height: int, **more) -> Coded:
+    """MBC packets as one coded unit (empty when the frame was buffered for the next)."""
+    return Coded(
+        b"".join(packet.to_bytes() for packet in packets),
+        bool(packets and packets[0].intra),
+        width,
+        height,
+        frames=_frames(packets),
+        **more,
+    )
+
+
 class MbcPointEncoder:
     """The model-based codec at the engine: track the face, code its parameters, one packet
     every `frames_per_packet` frames (a frame that finishes none returns no data: it is
     buffered). `initialise` runs the automatic initialisation (the tracker's first picture)."""
+
+    tracks = True  # this encoder tracks the face itself (the selection scheme's does not)
 
     def __init__(self, point: OperatingPoint, *, source_size, source_fps, settings, context):
         from uma.mbc import FaceTracker, FaceUnits, ParameterEncoder
 
         description = context["description"]
         self.width, self.height = source_size
-        self.tracker = context.get("tracker") or FaceTracker(description, rng=context["seed"])
+        if self.tracks:
+            self.tracker = context.get("tracker") or FaceTracker(description, rng=context["seed"])
         units = FaceUnits.of(description.model, description.params)
         self.stream = ParameterEncoder(units, context["stream"])
 
@@ -127,41 +142,36 @@ class MbcPointEncoder:
         self.tracker.reset()
         return self.tracker.track(_luma(picture), frame=frame)
 
+    def _params(self, picture: np.ndarray, frame: int):
+        """This frame's `TrackResult`, or a `TrackFailure` with its reason."""
+        return self.tracker.track(_luma(picture), frame=frame)
+
     def encode(self, picture: np.ndarray, *, intra: bool, frame: int) -> Coded:
-        result = self.tracker.track(_luma(picture), frame=frame)
+        result = self._params(picture, frame)
         if not result:
             # The open packet still goes out, short; then the engine leaves MBC.
             packets = self.stream.push(frame, None)
-            return Coded(
-                b"".join(packet.to_bytes() for packet in packets),
-                bool(packets and packets[0].intra),
+            return _packets_coded(
+                packets,
                 self.width,
                 self.height,
-                result.evaluations,
+                evaluations=result.evaluations,
                 failure=result.reason,
-                frames=_frames(packets),
             )
         if intra:
             self.stream.request_intra()
         packets = self.stream.push(frame, result.params)
-        data = b"".join(packet.to_bytes() for packet in packets)
-        frames = _frames(packets)
-        return Coded(
-            data,
-            bool(packets and packets[0].intra),
+        return _packets_coded(
+            packets,
             self.width,
             self.height,
-            result.evaluations,
+            evaluations=result.evaluations,
             reinitialised=result.reinitialised,
-            frames=frames,
         )
 
     def flush(self) -> Coded:
         """The open packet, short (the engine leaves MBC)."""
-        packets = self.stream.flush()
-        data = b"".join(packet.to_bytes() for packet in packets)
-        intra = bool(packets and packets[0].intra)
-        return Coded(data, intra, self.width, self.height, 0, frames=_frames(packets))
+        return _packets_coded(self.stream.flush(), self.width, self.height)
 
 
 class SenderMbc:
@@ -187,72 +197,44 @@ class SenderMbc:
         self.track_us = track_us_per_evaluation
         self.compute_ms = 0.0
         self.bits = 0
-        self.frames = 0
 
     def encode(self, picture: np.ndarray, *, frame: int) -> bytes:
         """The frame's parameter packet (and any open one), empty when the tracker has no face."""
         result = self.tracker.track(_luma(picture), frame=frame)
         cost_us = self.init_us if result.reinitialised else self.track_us
         self.compute_ms += cost_us * result.evaluations / 1000.0
-        self.frames += 1
         packets = self.stream.push(frame, result.params if result else None)
         data = b"".join(packet.to_bytes() for packet in packets)
         self.bits += 8 * len(data)
         return data
 
 
-class SelectedMbcEncoder:
+class SelectedMbcEncoder(MbcPointEncoder):
     """The selection scheme's engine side of MBC: no tracking, only a choice of stream. It
-    decodes the parameters the sender sent up with each frame and codes them again for the
-    downlink (its own packets and intra sets, so a keyframe request is answered at once)."""
+    takes the parameters the sender sent up with each frame (`CodecChain.engine_receive_mbc`
+    decodes them into `context["selected"]`) and codes them again for the downlink (its own
+    packets and intra sets, so a keyframe request is answered at once)."""
+
+    tracks = False
 
     def __init__(self, point: OperatingPoint, *, source_size, source_fps, settings, context):
-        from uma.mbc import FaceUnits, ParameterEncoder
-
-        description = context["description"]
-        self.width, self.height = source_size
-        units = FaceUnits.of(description.model, description.params)
-        self.stream = ParameterEncoder(units, context["stream"])
-        # {frame: parameters}, what the sender sent up (`CodecChain.engine_receive_mbc`)
+        super().__init__(
+            point, source_size=source_size, source_fps=source_fps, settings=settings,
+            context=context,
+        )  # fmt: skip
         self.selected = context["selected"]
 
     def initialise(self, picture: np.ndarray, *, frame: int):
         """Nothing to fit: ready when the sender's parameters for `frame` arrived."""
+        return self._params(picture, frame, keep=True)
+
+    def _params(self, picture: np.ndarray, frame: int, *, keep: bool = False):
         from uma.mbc.encoder import TrackFailure, TrackResult
 
-        params = self.selected.get(frame)
+        params = self.selected.get(frame) if keep else self.selected.pop(frame, None)
         if params is None:
             return TrackFailure("the sender's tracker has no face in this frame", frame=frame)
         return TrackResult(frame, params, 1.0, False, "selected", 0)
-
-    def encode(self, picture: np.ndarray, *, intra: bool, frame: int) -> Coded:
-        params = self.selected.pop(frame, None)
-        if params is None:
-            packets = self.stream.push(frame, None)
-            return Coded(
-                b"".join(packet.to_bytes() for packet in packets),
-                bool(packets and packets[0].intra),
-                self.width,
-                self.height,
-                failure="the sender's tracker lost the face",
-                frames=_frames(packets),
-            )
-        if intra:
-            self.stream.request_intra()
-        packets = self.stream.push(frame, params)
-        return Coded(
-            b"".join(packet.to_bytes() for packet in packets),
-            bool(packets and packets[0].intra),
-            self.width,
-            self.height,
-            frames=_frames(packets),
-        )
-
-    def flush(self) -> Coded:
-        packets = self.stream.flush()
-        data = b"".join(packet.to_bytes() for packet in packets)
-        intra = bool(packets and packets[0].intra)
-        return Coded(data, intra, self.width, self.height, 0, frames=_frames(packets))
 
 
 class MbcUnitDecoder:
