@@ -12,7 +12,8 @@ from uma.paths import scenarios_dir
 
 def test_each_engine_changes_only_what_it_names():
     base = load_scenario(scenarios_dir() / "stockholm-uppsala.yaml")
-    h264, uma, oracle = (engine_scenario(base, engine) for engine in ENGINES)
+    h264, uma, predictive_, oracle = (engine_scenario(base, engine) for engine in ENGINES)
+    assert predictive_.engine.switching.policy == "predictive"
     assert h264.engine.switching.policy == "none" and h264.engine.policy == "throughput"
     assert uma.engine.switching.policy == "threshold" and uma.engine.policy == "throughput"
     assert oracle.engine.switching.policy == "oracle" and oracle.engine.policy == "oracle"

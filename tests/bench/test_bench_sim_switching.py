@@ -1,10 +1,13 @@
 """`uma bench sim` replays a switching run through the same codec registry: every codec timed."""
 
+import pytest
+
 from uma.bench.sim import SimBenchConfig, run_sim_bench
 from uma.config.scenario import Scenario
 
 
-def test_replay_covers_every_codec_the_run_used():
+@pytest.mark.parametrize("scheme", ["adaptation", "selection"])
+def test_replay_covers_every_codec_the_run_used(scheme):
     scenario = Scenario.model_validate(
         {
             "name": "wlan-gsm",
@@ -14,7 +17,11 @@ def test_replay_covers_every_codec_the_run_used():
                 {"technology": "WLAN", "duration_s": 1.0},
                 {"technology": "GSM", "duration_s": 4.0},
             ],
-            "engine": {"policy": "oracle", "switching": {"policy": "threshold"}},
+            "engine": {
+                "policy": "oracle",
+                "switching": {"policy": "threshold"},
+                "mbc": {"scheme": scheme},
+            },
             "receiver": {"playout_delay_ms": 800.0},
             "metrics": {"ssim": False},
         }

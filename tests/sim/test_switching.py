@@ -161,3 +161,25 @@ def test_description_delivery_under_a_tiny_capacity_delays_the_first_switch():
     assert run.description_wait_s == pytest.approx(run.description_acked_s - waiting)
     codec = np.array([str(c) for c in run.log["codec"]])
     assert np.all(codec[: int(run.description_acked_s * 25)] != "mbc")
+
+
+def test_selection_scheme_moves_the_tracking_to_the_sender():
+    # Adaptation: the engine tracks (and initialises on the switch); selection: the sender
+    # tracks every frame and sends the parameters up, the engine only selects and re-codes.
+    def run(scheme):
+        switching = {"policy": "threshold", "min_dwell_ms": 1000.0}
+        return run_scenario(scenario(switching=switching, mbc={"scheme": scheme}))
+
+    from uma.sim.summary import run_metrics
+
+    adaptation, selection = run_metrics(run("adaptation")), run_metrics(run("selection"))
+    assert adaptation["scheme"] == "adaptation" and selection["scheme"] == "selection"
+    assert adaptation["kbps_uplink_mbc"] == 0 and adaptation["sender_mbc_ms_per_frame"] == 0
+    # Every source frame's parameters go up: about 25 packets/s of 12 bytes and a few words.
+    assert 2.5 < selection["kbps_uplink_mbc"] < 6.0
+    assert selection["sender_mbc_ms_per_frame"] > 1.0
+    # The engine's MBC compute falls to coding alone: no tracking, no initialisation fit.
+    assert selection["engine_mbc_compute_s"] < 0.2 * adaptation["engine_mbc_compute_s"]
+    for metrics in (adaptation, selection):
+        assert metrics["codec_switches"] == 2 and metrics["kbps_mbc"] > 0
+        assert metrics["by_technology"]["GSM"]["freeze_ratio"] < 0.1

@@ -5,7 +5,10 @@ Units: rates in kbit/s, delays in ms, PSNR in dB, times in seconds, MDE in pixel
 Each scenario runs with three engines on the same source and route (same seed):
 - `h264`: the H.264 ladder only (`engine.switching.policy: none`);
 - `uma`: switching between H.264 and MBC with the scenario's switching policy (the threshold
-  policy when the scenario names none);
+  policy when the scenario names none): it knows only what the engine measures;
+- `predictive`: the predictive policy, which also reads the route's coverage map (the
+  scenario's technology segments) and switches `lookahead_ms` before a GPRS or GSM segment
+  (not in CONVENTIONS' list: an extra row);
 - `oracle`: an upper bound that knows the trace: the oracle rate policy (the true capacity)
   and the oracle switching policy (the lowest true capacity over the look-ahead window).
 All three play out adaptively (`receiver.playout: adaptive`, unless `playout` says otherwise):
@@ -27,7 +30,7 @@ from uma.config.scenario import Scenario
 
 __all__ = ["HeadlineConfig", "ENGINES", "engine_scenario", "run_headline", "format_table"]
 
-ENGINES = ("h264", "uma", "oracle")
+ENGINES = ("h264", "uma", "predictive", "oracle")
 ROW_KEYS = (
     "freeze_ratio",
     "displayed_fps",
@@ -59,8 +62,9 @@ def engine_scenario(scenario: Scenario, engine: str, *, playout: str = "adaptive
         config = config.model_copy(
             update={"switching": switching.model_copy(update={"policy": "none"})}
         )
-    elif engine == "uma":
+    elif engine in ("uma", "predictive"):
         policy = switching.policy if switching.policy not in ("none", "oracle") else "threshold"
+        policy = "predictive" if engine == "predictive" else policy
         config = config.model_copy(
             update={"switching": switching.model_copy(update={"policy": policy})}
         )

@@ -100,6 +100,8 @@ def _replay(scenario: Scenario, result, source: _ListSource) -> tuple[float, flo
     for index in range(log.frames):
         frame = next(frames)
         encoded = chain.sender_encode(frame)
+        # Selection: the sender's tracking and the engine's decoding of its parameters.
+        chain.engine_receive_mbc(chain.sender_encode_mbc(frame, index), index)
         picture = chain.engine_decode(encoded)
         if index in inits and picture is not None and mbc:
             chain.mbc_initialise(picture, mbc[0], frame=index)

@@ -235,6 +235,11 @@ class MbcConfig(_Section):
     # Hold MBC frames (but a probe every `engine.probe_interval_ms`) while no receiver report
     # has come for this long: the link is out, and what is sent would queue until it returns.
     outage_hold_ms: PosNum = 1000.0
+    # The customisation scheme: `adaptation` (the sender sends H.264 only; the engine tracks
+    # the face in what it decodes, and initialises on a switch) or `selection` (the sender
+    # tracks the face in every frame and sends its parameters up with the H.264; the engine
+    # only selects, and re-codes them for the downlink).
+    scheme: Literal["adaptation", "selection"] = "adaptation"
 
 
 class FaceRungConfig(_Section):

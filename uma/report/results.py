@@ -21,7 +21,7 @@ __all__ = ["RunFiles", "read_run"]
 _NUMERIC = (
     "frame", "capture_ms", "display_ms", "capacity_kbps", "estimate_kbps", "rung", "width",
     "height", "scheduled", "sent", "keyframe", "size_bits", "arrival_ms", "decoded",
-    "shown_frame", "frozen", "delay_ms", "psnr_db", "ssim",
+    "shown_frame", "frozen", "delay_ms", "psnr_db", "ssim", "psnr_face_db", "ssim_face",
 )  # fmt: skip
 
 

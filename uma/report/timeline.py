@@ -91,6 +91,8 @@ def _figure(run: RunFiles):
     frozen = f["frozen"] > 0
     if "psnr_db" in f:
         quality.plot(shown_s, f["psnr_db"], color="#2c3e50", lw=0.8, label="displayed PSNR")
+    if "psnr_face_db" in f and np.isfinite(f["psnr_face_db"]).any():
+        quality.plot(shown_s, f["psnr_face_db"], color="#8e44ad", lw=0.8, label="face-region PSNR")
     quality.set_ylabel("PSNR dB")
     low = np.nanmin(f["psnr_db"]) if "psnr_db" in f and np.isfinite(f["psnr_db"]).any() else 0
     quality.scatter(
@@ -101,20 +103,29 @@ def _figure(run: RunFiles):
 
     if "rung" in f:
         rungs.step(t_s, f["rung"], where="post", color="#1f5fbf", lw=1)
-    styles = {"rung_switch": ("#1f5fbf", ":"), "handover": ("#555555", "--")}
+    styles = {
+        "rung_switch": ("#1f5fbf", ":"),
+        "handover": ("#555555", "--"),
+        "codec_switch": ("#27ae60", "-"),
+    }
     for time_ms, kind, _detail in run.events:
         if kind in styles:
             colour, style = styles[kind]
-            rungs.axvline(time_ms / 1000.0, color=colour, ls=style, lw=0.6)
+            width = 1.2 if kind == "codec_switch" else 0.6
+            for ax in (rates, rungs) if kind == "codec_switch" else (rungs,):
+                ax.axvline(time_ms / 1000.0, color=colour, ls=style, lw=width)
         elif kind == "keyframe_request":
             rungs.plot(time_ms / 1000.0, -0.5, marker="v", color="#c0392b", ms=3)
+        elif kind in ("mbc_init_start", "mbc_reinit"):
+            rungs.plot(time_ms / 1000.0, -0.5, marker="*", color="#27ae60", ms=7)
     from matplotlib.ticker import MaxNLocator
 
     rungs.yaxis.set_major_locator(MaxNLocator(integer=True))
     rungs.set_ylabel("rung")
     rungs.set_xlabel("time s (capture; PSNR at display)")
     rungs.set_title(
-        "rung; dotted: switches, dashed: handovers, triangles: keyframe requests",
+        "rung; dotted: rung switches, green: codec switches, stars: MBC initialisations, "
+        "dashed: handovers, triangles: keyframe requests",
         fontsize=8, loc="left",
     )  # fmt: skip
     rates.set_xlim(0, max(float(t_s[-1]) if t_s.size else 1.0, 1e-3))

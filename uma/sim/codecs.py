@@ -34,6 +34,8 @@ __all__ = [
     "H264UnitDecoder",
     "MbcPointEncoder",
     "MbcUnitDecoder",
+    "SenderMbc",
+    "SelectedMbcEncoder",
     "ENCODERS",
     "DECODERS",
 ]
@@ -92,17 +94,32 @@ class H264UnitDecoder:
         return {} if picture is None else {unit.frame: picture}
 
 
+def _packets_coded(packets, width: int, height: int, **more) -> Coded:
+    """MBC packets as one coded unit (empty when the frame was buffered for the next)."""
+    return Coded(
+        b"".join(packet.to_bytes() for packet in packets),
+        bool(packets and packets[0].intra),
+        width,
+        height,
+        frames=_frames(packets),
+        **more,
+    )
+
+
 class MbcPointEncoder:
     """The model-based codec at the engine: track the face, code its parameters, one packet
     every `frames_per_packet` frames (a frame that finishes none returns no data: it is
     buffered). `initialise` runs the automatic initialisation (the tracker's first picture)."""
+
+    tracks = True  # this encoder tracks the face itself (the selection scheme's does not)
 
     def __init__(self, point: OperatingPoint, *, source_size, source_fps, settings, context):
         from uma.mbc import FaceTracker, FaceUnits, ParameterEncoder
 
         description = context["description"]
         self.width, self.height = source_size
-        self.tracker = context.get("tracker") or FaceTracker(description, rng=context["seed"])
+        if self.tracks:
+            self.tracker = context.get("tracker") or FaceTracker(description, rng=context["seed"])
         units = FaceUnits.of(description.model, description.params)
         self.stream = ParameterEncoder(units, context["stream"])
 
@@ -111,41 +128,99 @@ class MbcPointEncoder:
         self.tracker.reset()
         return self.tracker.track(_luma(picture), frame=frame)
 
+    def _params(self, picture: np.ndarray, frame: int):
+        """This frame's `TrackResult`, or a `TrackFailure` with its reason."""
+        return self.tracker.track(_luma(picture), frame=frame)
+
     def encode(self, picture: np.ndarray, *, intra: bool, frame: int) -> Coded:
-        result = self.tracker.track(_luma(picture), frame=frame)
+        result = self._params(picture, frame)
         if not result:
             # The open packet still goes out, short; then the engine leaves MBC.
             packets = self.stream.push(frame, None)
-            return Coded(
-                b"".join(packet.to_bytes() for packet in packets),
-                bool(packets and packets[0].intra),
+            return _packets_coded(
+                packets,
                 self.width,
                 self.height,
-                result.evaluations,
+                evaluations=result.evaluations,
                 failure=result.reason,
-                frames=_frames(packets),
             )
         if intra:
             self.stream.request_intra()
         packets = self.stream.push(frame, result.params)
-        data = b"".join(packet.to_bytes() for packet in packets)
-        frames = _frames(packets)
-        return Coded(
-            data,
-            bool(packets and packets[0].intra),
+        return _packets_coded(
+            packets,
             self.width,
             self.height,
-            result.evaluations,
+            evaluations=result.evaluations,
             reinitialised=result.reinitialised,
-            frames=frames,
         )
 
     def flush(self) -> Coded:
         """The open packet, short (the engine leaves MBC)."""
-        packets = self.stream.flush()
+        return _packets_coded(self.stream.flush(), self.width, self.height)
+
+
+class SenderMbc:
+    """The selection scheme's sender: it tracks the face in every source frame itself and sends
+    each frame's parameters up with its H.264 frame (one parameter set a packet, riding in the
+    same uplink packet, so only the parameter packet's own bytes are extra).
+
+    Its compute is modelled from the tracker's evaluations (`track_us_per_evaluation`, and
+    `init_us_per_evaluation` for a frame it (re-)initialised on) and reported, not simulated:
+    the sender has a core for it.
+    """
+
+    def __init__(self, context, *, init_us_per_evaluation: float, track_us_per_evaluation: float):
+        from dataclasses import replace
+
+        from uma.mbc import FaceTracker, FaceUnits, ParameterEncoder
+
+        description = context["description"]
+        self.tracker = FaceTracker(description, rng=context["seed"])
+        units = FaceUnits.of(description.model, description.params)
+        self.stream = ParameterEncoder(units, replace(context["stream"], frames_per_packet=1))
+        self.init_us = init_us_per_evaluation
+        self.track_us = track_us_per_evaluation
+        self.compute_ms = 0.0
+        self.bits = 0
+
+    def encode(self, picture: np.ndarray, *, frame: int) -> bytes:
+        """The frame's parameter packet (and any open one), empty when the tracker has no face."""
+        result = self.tracker.track(_luma(picture), frame=frame)
+        cost_us = self.init_us if result.reinitialised else self.track_us
+        self.compute_ms += cost_us * result.evaluations / 1000.0
+        packets = self.stream.push(frame, result.params if result else None)
         data = b"".join(packet.to_bytes() for packet in packets)
-        intra = bool(packets and packets[0].intra)
-        return Coded(data, intra, self.width, self.height, 0, frames=_frames(packets))
+        self.bits += 8 * len(data)
+        return data
+
+
+class SelectedMbcEncoder(MbcPointEncoder):
+    """The selection scheme's engine side of MBC: no tracking, only a choice of stream. It
+    takes the parameters the sender sent up with each frame (`CodecChain.engine_receive_mbc`
+    decodes them into `context["selected"]`) and codes them again for the downlink (its own
+    packets and intra sets, so a keyframe request is answered at once)."""
+
+    tracks = False
+
+    def __init__(self, point: OperatingPoint, *, source_size, source_fps, settings, context):
+        super().__init__(
+            point, source_size=source_size, source_fps=source_fps, settings=settings,
+            context=context,
+        )  # fmt: skip
+        self.selected = context["selected"]
+
+    def initialise(self, picture: np.ndarray, *, frame: int):
+        """Nothing to fit: ready when the sender's parameters for `frame` arrived."""
+        return self._params(picture, frame, keep=True)
+
+    def _params(self, picture: np.ndarray, frame: int, *, keep: bool = False):
+        from uma.mbc.encoder import TrackFailure, TrackResult
+
+        params = self.selected.get(frame) if keep else self.selected.pop(frame, None)
+        if params is None:
+            return TrackFailure("the sender's tracker has no face in this frame", frame=frame)
+        return TrackResult(frame, params, 1.0, False, "selected", 0)
 
 
 class MbcUnitDecoder:
@@ -243,6 +318,25 @@ class CodecChain:
             self.context["stream"] = StreamConfig(
                 frames_per_packet=scenario.engine.mbc.frames_per_packet
             )
+        # The customisation scheme: `adaptation` (the engine tracks the face in the H.264 it
+        # receives) or `selection` (the sender tracks and sends the parameters up too).
+        self.sender_mbc: SenderMbc | None = None
+        self.uplink_mbc = None
+        if description is not None and scenario.engine.mbc.scheme == "selection":
+            from dataclasses import replace
+
+            from uma.mbc import FaceUnits, ParameterDecoder
+
+            mbc = scenario.engine.mbc
+            self.sender_mbc = SenderMbc(
+                self.context,
+                init_us_per_evaluation=mbc.init_us_per_evaluation,
+                track_us_per_evaluation=mbc.track_us_per_evaluation,
+            )
+            units = FaceUnits.of(description.model, description.params)
+            stream = replace(self.context["stream"], frames_per_packet=1)
+            self.uplink_mbc = ParameterDecoder(units, stream)
+            self.context["selected"] = {}
         self.engine_encoder = None
         self.engine_point = -1
         self.pending_mbc = None  # the MBC encoder an initialisation is preparing
@@ -267,6 +361,29 @@ class CodecChain:
     def sender_encode(self, frame: np.ndarray):
         return self._timed("h264", self.sender_encoder.encode, frame)
 
+    def sender_encode_mbc(self, frame: np.ndarray, index: int) -> bytes | None:
+        """Selection: the sender's parameter packet for source frame `index` (None otherwise)."""
+        if self.sender_mbc is None:
+            return None
+        return self._timed("mbc", self.sender_mbc.encode, frame, frame=index)
+
+    def engine_receive_mbc(self, data: bytes | None, index: int) -> None:
+        """Selection: decode the parameters the sender sent up with frame `index`."""
+        if self.uplink_mbc is None:
+            return
+        from uma.mbc import PacketError
+
+        selected = self.context["selected"]
+        selected.pop(index - 2 * int(self.fps), None)  # frames never selected need not stay
+        if not data:
+            return
+        try:
+            out = self.uplink_mbc.decode(data)
+        except PacketError:
+            return
+        if out.frames:
+            selected[index] = out.frames[-1][1]
+
     def engine_decode(self, encoded) -> np.ndarray | None:
         return self._timed("h264", self.engine_decoder.decode, encoded.data)
 
@@ -277,7 +394,10 @@ class CodecChain:
 
     def _make_encoder(self, index: int):
         point = self.points[index]
-        return ENCODERS[point.codec](
+        factory = ENCODERS[point.codec]
+        if point.codec == "mbc" and self.sender_mbc is not None:
+            factory = SelectedMbcEncoder
+        return factory(
             point,
             source_size=(self.width, self.height),
             source_fps=self.fps,

@@ -80,6 +80,7 @@ class World:
     mbc_inits: list[tuple[int, Any]] = field(default_factory=list)
     description_chunks: int = 0  # packets the content description takes
     face_boxes: list = field(default_factory=list)  # per source frame read: `uma.face.Box` | None
+    engine_mbc_compute_s: float = 0.0  # modelled: MBC tracking, coding, initialisations
     description_next: int = 0
     description_credit_bits: float = 0.0
     description_sent_bits: int = 0
@@ -112,7 +113,10 @@ def sender_process(env: simpy.Environment, world: World):
         world.source_frames[index] = frame
         world.log["capture_ms"][index] = capture_s * 1000.0
         encoded = world.codec.sender_encode(frame)
-        world.uplink.send(encoded.size_bits, (index, encoded), world.inbox.put)
+        # Selection: the sender's own parameter packet rides with the frame (None otherwise).
+        mbc_data = world.codec.sender_encode_mbc(frame, index)
+        size_bits = encoded.size_bits + (8 * len(mbc_data) if mbc_data else 0)
+        world.uplink.send(size_bits, (index, encoded, mbc_data), world.inbox.put)
 
 
 def engine_process(env: simpy.Environment, world: World):
@@ -124,8 +128,9 @@ def engine_process(env: simpy.Environment, world: World):
     lookahead_s = switching.oracle_lookahead_ms / 1000.0 if switching.policy == "oracle" else None
     log = world.log
     while True:
-        index, encoded = yield world.inbox.get()
+        index, encoded, mbc_data = yield world.inbox.get()
         picture = world.codec.engine_decode(encoded)
+        world.codec.engine_receive_mbc(mbc_data, index)
         capacity_kbps = world.capacity.rate_kbps_at(env.now)
         decision = engine.on_frame(
             index,
@@ -168,6 +173,8 @@ def engine_process(env: simpy.Environment, world: World):
             engine.events.append(EngineEvent(env.now, "mbc_reinit", f"frame {index}"))
         if out.failure:
             engine.on_track_failed(out.failure, env.now)
+        if point.codec == "mbc":
+            world.engine_mbc_compute_s += compute_s
         yield env.timeout(compute_s)
         if not out.failure:
             # A frame MBC buffers for its next packet is sent; its bits count with the packet.
@@ -274,7 +281,9 @@ def mbc_init_process(env: simpy.Environment, world: World, picture: np.ndarray, 
     engine = world.engine
     result = world.codec.mbc_initialise(picture, engine.mbc_point, frame=frame)
     world.mbc_inits.append((frame, result.params if result else None))
-    yield env.timeout(world.mbc_init_compute_s(result.evaluations))
+    compute_s = world.mbc_init_compute_s(result.evaluations)
+    world.engine_mbc_compute_s += compute_s
+    yield env.timeout(compute_s)
     engine.on_init_done(bool(result), env.now, reason=result.reason, evaluations=result.evaluations)
 
 

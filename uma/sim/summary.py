@@ -70,6 +70,14 @@ def switching_metrics(result: RunResult) -> dict[str, Any]:
         "description_delivered_s": _rounded(result.description_delivered_s),
         "description_acked_s": _rounded(result.description_acked_s),
         "description_wait_s": round(result.description_wait_s, 3),
+        # The customisation scheme's costs: the engine's modelled MBC compute, and with
+        # selection the sender's tracking compute and the parameters it sends up.
+        "scheme": result.scenario.engine.mbc.scheme,
+        "engine_mbc_compute_s": round(result.engine_mbc_compute_s, 3),
+        "kbps_uplink_mbc": round(result.sender_mbc_bits / result.duration_s / 1000.0, 3),
+        "sender_mbc_ms_per_frame": round(result.sender_mbc_compute_ms / result.log.frames, 3)
+        if result.log.frames
+        else 0.0,
     }
 
 

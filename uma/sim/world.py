@@ -59,6 +59,9 @@ class RunResult:
     codec_seconds: dict | None = None  # with `account`: wall-clock codec seconds per codec
     mbc_init_frames: tuple[int, ...] = ()  # frames on which MBC initialisations started
     mbc_inits: tuple = ()  # (frame, fitted parameters or None) of each initialisation
+    engine_mbc_compute_s: float = 0.0  # modelled engine compute for MBC (inits included)
+    sender_mbc_bits: int = 0  # selection: parameter bits the sender sent up
+    sender_mbc_compute_ms: float = 0.0  # selection: the sender's modelled tracking compute
     description_bytes: int = 0  # the content description delivered to the receiver
     description_sent_bits: int = 0  # on the wire, headers and repeats included
     description_delivered_s: float | None = None  # when its last chunk reached the receiver
@@ -367,6 +370,9 @@ def run_scenario(
         codec_seconds=dict(codec.codec_seconds),
         mbc_init_frames=tuple(world.mbc_init_frames),
         mbc_inits=tuple(world.mbc_inits),
+        engine_mbc_compute_s=world.engine_mbc_compute_s,
+        sender_mbc_bits=codec.sender_mbc.bits if codec.sender_mbc is not None else 0,
+        sender_mbc_compute_ms=codec.sender_mbc.compute_ms if codec.sender_mbc is not None else 0.0,
         description_bytes=description_bytes,
         description_sent_bits=world.description_sent_bits,
         description_delivered_s=receiver.description_done_s,
