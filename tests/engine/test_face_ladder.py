@@ -100,3 +100,24 @@ def test_switching_sees_the_face_rungs_as_h264():
     decisions = [e.on_frame(i, i / 25.0) for i in range(20)]
     assert all(d.point.codec == "h264-face" and not d.init_mbc for d in decisions)
     assert "mbc_init_start" not in [ev.kind for ev in e.events]
+
+
+def test_mbc_refused_falls_back_to_the_lowest_rung_of_the_ladder_the_face_rung():
+    # No description: MBC is refused; the lowest rate-ladder rung is the 8 kbit/s face rung.
+    e = engine(4.0)
+    config = e.config.model_copy(
+        update={"switching": e.config.switching.model_copy(update={"policy": "threshold"})}
+    )
+    e = UmaEngine(
+        config,
+        points=POINTS,
+        source_fps=25.0,
+        feedback=FeedbackConfig(interval_ms=100.0),
+        mbc_unavailable="no content description",
+    )
+    decision = e.on_frame(4, 3.2)
+    assert decision.point.codec == "h264-face" and decision.rung == 1
+    assert "mbc_refused" in [ev.kind for ev in e.events]
+    # With no face either, the full-frame rung: the face rungs leave the ladder.
+    e.on_track_failed("no face detected", 3.3)
+    assert e.on_frame(9, 3.4).rung == 3
