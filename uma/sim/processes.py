@@ -259,12 +259,18 @@ def _send(world: World, out, point, index: int) -> None:
         world.downlink.offer(packet)
     if scenario.engine.estimator.kind == "webrtc":
         _pad_to_estimate(world, unit, point, payload_bytes, frames=len(frames))
-    elif point.codec == "mbc" and scenario.engine.mbc.probe and scenario.engine.policy != "oracle":
+    elif (
+        point.codec == "mbc"
+        and scenario.engine.mbc.probe
+        and scenario.engine.policy != "oracle"
+        and engine.estimator.queue_delay_ms <= scenario.engine.estimator.queue_low_ms
+    ):
         # On MBC the parameters alone (a few kbit/s) would cap the estimate at 3 x that:
         # padding lets it find the bandwidth to return (the oracle needs no probe). Only up
         # to safety x the estimate, no further than the rate that would bring the engine back
-        # to H.264: padding shares the bottleneck's queue with the parameters, and padding at
-        # the whole estimate queues them behind it whenever the estimate overshoots.
+        # to H.264, and only while the last report saw no queue: padding shares the
+        # bottleneck's queue with the parameters, and padding into a queue (the estimate
+        # overshot, or the link just got slower) delays them behind it and overflows it.
         limit_kbps = min(
             scenario.engine.switching.to_h264_above_kbps / scenario.engine.safety,
             scenario.engine.safety * engine.estimate_kbps,
