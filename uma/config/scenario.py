@@ -270,7 +270,7 @@ class FaceRegionConfig(_Section):
     at most 176 pixels wide) runs on a rung's first frame and then every
     `detect_every_frames` source frames, its box centre smoothed with weight `smoothing` on
     the new detection. `detect_us_per_pixel` models the detector's compute per pixel it
-    scans; default measured on this machine by `python -m uma.experiments.face_rung --cost`
+    scans; default measured on this machine by `python -m uma.bench.face_rung --cost`
     (CPU time on the shared machine, 60 frames each: akiyo 0.84, carphone 0.69, the QCIF
     talking head 0.82 us per pixel, 21.3, 17.4 and 20.7 ms a detection; the median, 0.82).
     The rungs' defaults were chosen on carphone (README, "Object-level adaptation").

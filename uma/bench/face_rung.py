@@ -2,7 +2,7 @@
 
 Units: rates in kbit/s, sizes in pixels, PSNR in dB, detector cost in microseconds per pixel.
 
-`python -m uma.experiments.face_rung --grid CLIP` codes the first `--frames` frames of a clip
+`python -m uma.bench.face_rung --grid CLIP` codes the first `--frames` frames of a clip
 at each candidate face-region setting (rate, coded size, frame rate, margin) and scores what
 the receiver would show: each decoded composite held until the next, over the picture shown
 before the switch (the lowest full-frame rung's first picture), scored on luma over the source's
@@ -364,7 +364,7 @@ def run_three_ways(
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m uma.experiments.face_rung")
+    parser = argparse.ArgumentParser(prog="python -m uma.bench.face_rung")
     parser.add_argument("--grid", metavar="CLIP", help="choose settings on CLIP")
     parser.add_argument("--quote", metavar="CLIP", help="the default rungs on CLIP")
     parser.add_argument("--run", metavar="CLIP", help="whole runs, three engines, on CLIP")

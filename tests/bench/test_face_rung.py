@@ -4,7 +4,7 @@ from pathlib import Path
 
 import pytest
 
-from uma.experiments import face_rung
+from uma.bench import face_rung
 
 DATA = Path(__file__).parents[2] / ".." / "shared" / "data" / "faces" / "video"
 
