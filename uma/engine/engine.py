@@ -279,8 +279,8 @@ class UmaEngine:
         """Decide for source frame `frame`, arriving from the sender at `now_s`.
 
         `capacity_kbps` (the true capacity now) is for the oracle rate policy;
-        `capacity_ahead_kbps` (the lowest true capacity over `switching.lookahead_ms`) for the
-        oracle switching policy.
+        `capacity_ahead_kbps` (the lowest true capacity over `switching.oracle_lookahead_ms`)
+        for the oracle switching policy.
         """
         self._check_stale(now_s)
         if (
