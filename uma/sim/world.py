@@ -135,8 +135,9 @@ def mbc_description(scenario: Scenario, source) -> tuple[object | None, str]:
     """The content description MBC needs, or None and why there is none.
 
     Only a scenario that switches needs one: `engine.mbc.description` (a `uma describe` file,
-    or a points file the description is fitted from), else the source's own (the talking head's astronaut). Without one the engine stays on
-    H.264 and records why when a switch is due.
+    or a points file the description is fitted from), else the source's own (the talking
+    head's astronaut). Without one the engine stays on H.264 and records why when a switch is
+    due.
     """
     if scenario.engine.switching.policy == "none":
         return None, "switching off"
