@@ -71,3 +71,20 @@ def test_headline_json_keys_on_a_short_route(capsys):
 def test_headline_refuses_a_bad_duration(capsys):
     assert main(["bench", "headline", "--duration-s", "-1"]) == 2
     assert "--duration-s" in capsys.readouterr().err
+
+
+def test_targets_judge_both_ways_and_say_none_without_a_value():
+    from uma.bench.headline import _targets
+
+    def row(frozen, face_db, gsm_ssim=None):
+        by_technology = {} if gsm_ssim is None else {"GSM": {"ssim_face": gsm_ssim}}
+        return {"freeze_ratio": frozen, "psnr_face_db": face_db, "by_technology": by_technology}
+
+    met = _targets({"h264": row(0.4, 20.0, 0.4), "uma": row(0.05, 21.0, 0.5)}, real=False)
+    assert met["freeze_ratio_share_of_h264"] == 0.125 and met["freeze_ratio_at_most_20_percent"]
+    assert met["low_ssim_face_above_h264"]
+    missed = _targets({"h264": row(0.4, 20.0, 0.5), "uma": row(0.2, 21.0, 0.4)}, real=False)
+    assert missed["freeze_ratio_at_most_20_percent"] is False
+    assert missed["low_ssim_face_above_h264"] is False
+    real = _targets({"h264": row(0.5, None), "uma": row(0.6, 20.0)}, real=True)
+    assert real == {"freeze_ratio_lower": False, "psnr_face_db_at_least_h264": None}

@@ -127,21 +127,27 @@ def _targets(rows: dict[str, dict[str, Any]], *, real: bool) -> dict[str, Any]:
         ]
         return float(np.mean(values)) if values else None
 
+    def compare(a: float | None, b: float | None, better) -> bool | None:
+        return None if a is None or b is None else bool(better(a, b))
+
     if real:
         return {
-            "freeze_ratio_lower": uma["freeze_ratio"] < h264["freeze_ratio"],
-            "psnr_face_db_at_least_h264": uma["psnr_face_db"] >= h264["psnr_face_db"],
+            "freeze_ratio_lower": compare(
+                uma["freeze_ratio"], h264["freeze_ratio"], lambda a, b: a < b
+            ),
+            "psnr_face_db_at_least_h264": compare(
+                uma["psnr_face_db"], h264["psnr_face_db"], lambda a, b: a >= b
+            ),
         }
-    share = uma["freeze_ratio"] / h264["freeze_ratio"] if h264["freeze_ratio"] else None
+    share = compare(uma["freeze_ratio"], h264["freeze_ratio"], lambda a, b: b > 0)
+    share = uma["freeze_ratio"] / h264["freeze_ratio"] if share else None
     low_uma, low_h264 = low(uma), low(h264)
     return {
         "freeze_ratio_share_of_h264": None if share is None else round(share, 3),
         "freeze_ratio_at_most_20_percent": None if share is None else share <= 0.2,
         "low_ssim_face_uma": None if low_uma is None else round(low_uma, 4),
         "low_ssim_face_h264": None if low_h264 is None else round(low_h264, 4),
-        "low_ssim_face_above_h264": None
-        if low_uma is None or low_h264 is None
-        else low_uma > low_h264,
+        "low_ssim_face_above_h264": compare(low_uma, low_h264, lambda a, b: a > b),
     }
 
 
