@@ -201,9 +201,10 @@ class MbcConfig(_Section):
 
     `description`: a file written by `uma describe` (relative to the scenario), or a points
     file such as `codecs/face/akiyo.yaml`, from which the description is fitted when the run
-    starts; the talking head needs none (its description is the astronaut's). Compute is modelled from the
-    tracker's count of fitting-cost evaluations: `init_us_per_evaluation` for an
-    initialisation (detector, SAABs, polish), `track_us_per_evaluation` for a tracking step,
+    starts; the talking head needs none (its description is the astronaut's). Compute is
+    modelled from the tracker's count of fitting-cost evaluations: `init_us_per_evaluation`
+    for an initialisation (detector, SAABs, polish), `track_us_per_evaluation` for a tracking
+    step,
     plus `encode_ms` per frame (quantise, range-code). Defaults measured on this machine in
     CPU time by `python -m uma.bench.mbc_cost` (talking head at CIF, seed 2, 120 frames,
     re-initialised every 30; CPU time because the machine was shared, load about 9 on 2
