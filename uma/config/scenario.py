@@ -204,8 +204,7 @@ class MbcConfig(_Section):
     starts; the talking head needs none (its description is the astronaut's). Compute is
     modelled from the tracker's count of fitting-cost evaluations: `init_us_per_evaluation`
     for an initialisation (detector, SAABs, polish), `track_us_per_evaluation` for a tracking
-    step,
-    plus `encode_ms` per frame (quantise, range-code). Defaults measured on this machine in
+    step, plus `encode_ms` per frame (quantise, range-code). Defaults measured on this machine in
     CPU time by `python -m uma.bench.mbc_cost` (talking head at CIF, seed 2, 120 frames,
     re-initialised every 30; CPU time because the machine was shared, load about 9 on 2
     cores, and wall time read 2.5x more): medians 143 us per evaluation over 4
