@@ -25,7 +25,7 @@ __all__ = [
     "RATE_CODECS",
 ]
 
-# The codecs a point may name; `uma.sim.codecs` has an encoder and a decoder for each.
+# The codecs a point may name; `uma.sim.codecs` registers an encoder and a decoder for each.
 CODECS: tuple[str, ...] = ("h264", "h264-face", "mbc")
 # The codecs of the rate ladder: H.264 of the face region only, and of the whole frame.
 RATE_CODECS: tuple[str, ...] = ("h264-face", "h264")

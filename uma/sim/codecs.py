@@ -25,6 +25,12 @@ from uma.config.scenario import Scenario
 from uma.engine.points import OperatingPoint
 from uma.sim.coded import Coded
 from uma.sim.face_region import FaceRegionDecoder, FaceRegionEncoder
+from uma.sim.mbc_codecs import (
+    MbcPointEncoder,
+    MbcUnitDecoder,
+    SelectedMbcEncoder,
+    SenderMbc,
+)
 from uma.sim.packets import EncodedUnit
 
 __all__ = [
@@ -39,16 +45,6 @@ __all__ = [
     "ENCODERS",
     "DECODERS",
 ]
-
-
-def _frames(packets) -> tuple[int, ...]:
-    """The source frames MBC packets carry (their first frame numbers are the run's: the
-    stream is fed the run's frame indices)."""
-    return tuple(f for p in packets for f in range(p.first_frame, p.first_frame + p.count))
-
-
-def _luma(picture: np.ndarray) -> np.ndarray:
-    return picture[: picture.shape[0] * 2 // 3]
 
 
 class H264PointEncoder:
@@ -92,174 +88,6 @@ class H264UnitDecoder:
         except VideoError:
             return {}
         return {} if picture is None else {unit.frame: picture}
-
-
-def _packets_coded(packets, width: int, height: int, **more) -> Coded:
-    """MBC packets as one coded unit (empty when the frame was buffered for the next)."""
-    return Coded(
-        b"".join(packet.to_bytes() for packet in packets),
-        bool(packets and packets[0].intra),
-        width,
-        height,
-        frames=_frames(packets),
-        **more,
-    )
-
-
-class MbcPointEncoder:
-    """The model-based codec at the engine: track the face, code its parameters, one packet
-    every `frames_per_packet` frames (a frame that finishes none returns no data: it is
-    buffered). `initialise` runs the automatic initialisation (the tracker's first picture)."""
-
-    tracks = True  # this encoder tracks the face itself (the selection scheme's does not)
-
-    def __init__(self, point: OperatingPoint, *, source_size, source_fps, settings, context):
-        from uma.mbc import FaceTracker, FaceUnits, ParameterEncoder
-
-        description = context["description"]
-        self.width, self.height = source_size
-        if self.tracks:
-            self.tracker = context.get("tracker") or FaceTracker(description, rng=context["seed"])
-        units = FaceUnits.of(description.model, description.params)
-        self.stream = ParameterEncoder(units, context["stream"])
-
-    def initialise(self, picture: np.ndarray, *, frame: int):
-        """A fresh track from `picture`: a `TrackResult`, or a `TrackFailure` with its reason."""
-        self.tracker.reset()
-        return self.tracker.track(_luma(picture), frame=frame)
-
-    def _params(self, picture: np.ndarray, frame: int):
-        """This frame's `TrackResult`, or a `TrackFailure` with its reason."""
-        return self.tracker.track(_luma(picture), frame=frame)
-
-    def encode(self, picture: np.ndarray, *, intra: bool, frame: int) -> Coded:
-        result = self._params(picture, frame)
-        if not result:
-            # The open packet still goes out, short; then the engine leaves MBC.
-            packets = self.stream.push(frame, None)
-            return _packets_coded(
-                packets,
-                self.width,
-                self.height,
-                evaluations=result.evaluations,
-                failure=result.reason,
-            )
-        if intra:
-            self.stream.request_intra()
-        packets = self.stream.push(frame, result.params)
-        return _packets_coded(
-            packets,
-            self.width,
-            self.height,
-            evaluations=result.evaluations,
-            reinitialised=result.reinitialised,
-        )
-
-    def flush(self) -> Coded:
-        """The open packet, short (the engine leaves MBC)."""
-        return _packets_coded(self.stream.flush(), self.width, self.height)
-
-
-class SenderMbc:
-    """The selection scheme's sender: it tracks the face in every source frame itself and sends
-    each frame's parameters up with its H.264 frame (one parameter set a packet, riding in the
-    same uplink packet, so only the parameter packet's own bytes are extra).
-
-    Its compute is modelled from the tracker's evaluations (`track_us_per_evaluation`, and
-    `init_us_per_evaluation` for a frame it (re-)initialised on) and reported, not simulated:
-    the sender has a core for it.
-    """
-
-    def __init__(self, context, *, init_us_per_evaluation: float, track_us_per_evaluation: float):
-        from dataclasses import replace
-
-        from uma.mbc import FaceTracker, FaceUnits, ParameterEncoder
-
-        description = context["description"]
-        self.tracker = FaceTracker(description, rng=context["seed"])
-        units = FaceUnits.of(description.model, description.params)
-        self.stream = ParameterEncoder(units, replace(context["stream"], frames_per_packet=1))
-        self.init_us = init_us_per_evaluation
-        self.track_us = track_us_per_evaluation
-        self.compute_ms = 0.0
-        self.bits = 0
-
-    def encode(self, picture: np.ndarray, *, frame: int) -> bytes:
-        """The frame's parameter packet (and any open one), empty when the tracker has no face."""
-        result = self.tracker.track(_luma(picture), frame=frame)
-        cost_us = self.init_us if result.reinitialised else self.track_us
-        self.compute_ms += cost_us * result.evaluations / 1000.0
-        packets = self.stream.push(frame, result.params if result else None)
-        data = b"".join(packet.to_bytes() for packet in packets)
-        self.bits += 8 * len(data)
-        return data
-
-
-class SelectedMbcEncoder(MbcPointEncoder):
-    """The selection scheme's engine side of MBC: no tracking, only a choice of stream. It
-    takes the parameters the sender sent up with each frame (`CodecChain.engine_receive_mbc`
-    decodes them into `context["selected"]`) and codes them again for the downlink (its own
-    packets and intra sets, so a keyframe request is answered at once)."""
-
-    tracks = False
-
-    def __init__(self, point: OperatingPoint, *, source_size, source_fps, settings, context):
-        super().__init__(
-            point, source_size=source_size, source_fps=source_fps, settings=settings,
-            context=context,
-        )  # fmt: skip
-        self.selected = context["selected"]
-
-    def initialise(self, picture: np.ndarray, *, frame: int):
-        """Nothing to fit: ready when the sender's parameters for `frame` arrived."""
-        return self._params(picture, frame, keep=True)
-
-    def _params(self, picture: np.ndarray, frame: int, *, keep: bool = False):
-        from uma.mbc.encoder import TrackFailure, TrackResult
-
-        params = self.selected.get(frame) if keep else self.selected.pop(frame, None)
-        if params is None:
-            return TrackFailure("the sender's tracker has no face in this frame", frame=frame)
-        return TrackResult(frame, params, 1.0, False, "selected", 0)
-
-
-class MbcUnitDecoder:
-    """Decodes parameter packets and renders the description's face over the last picture the
-    receiver showed before the switch (its chroma kept), at the source's size."""
-
-    def __init__(self, *, context) -> None:
-        from uma.mbc import FaceRenderer, FaceUnits, ParameterDecoder
-        from uma.video import resize_yuv420
-
-        description = context["description"]
-        width, height = context["source_size"]
-        units = FaceUnits.of(description.model, description.params)
-        self.decoder = ParameterDecoder(units, context["stream"])
-        background = context.get("background")
-        if background is not None:
-            background = resize_yuv420(background, width, height)
-            self.chroma = background[height:]
-            self.renderer = FaceRenderer(
-                description, (width, height), background=np.ascontiguousarray(background[:height])
-            )
-        else:
-            self.chroma = np.full((height // 2, width), 128, dtype=np.uint8)
-            self.renderer = FaceRenderer(description, (width, height))
-
-    def decode(self, unit: EncodedUnit) -> dict[int, np.ndarray]:
-        from uma.mbc import PacketError
-
-        try:
-            out = self.decoder.decode(unit.data)
-        except PacketError:
-            return {}
-        # Packet frame numbers wrap (`uma.mbc.packets`); the unit knows the run's numbers.
-        frames = unit.frames or (unit.frame,)
-        pictures = {}
-        for frame, (_, params) in zip(frames[-len(out.frames) :], out.frames, strict=False):
-            luma, _ = self.renderer.render(params)
-            pictures[frame] = np.concatenate([luma, self.chroma])
-        return pictures
 
 
 ENCODERS: dict[str, Callable[..., Any]] = {
