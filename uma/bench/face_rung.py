@@ -1,32 +1,25 @@
-"""Measure the face-region H.264 rung on real clips: choose its settings, quote its quality.
+"""Measure the face-region H.264 rung on real clips at the codec level: choose settings, quote quality.
 
-Units: rates in kbit/s, sizes in pixels, PSNR in dB, detector cost in microseconds per pixel.
+Units: rates in kbit/s, sizes in pixels, PSNR in dB.
 
-`python -m uma.bench.face_rung --grid CLIP` codes the first `--frames` frames of a clip
+`uma bench face-rung --grid CLIP` codes the first `--frames` frames of a clip
 at each candidate face-region setting (rate, coded size, frame rate, margin) and scores what
 the receiver would show: each decoded composite held until the next, over the picture shown
 before the switch (the lowest full-frame rung's first picture), scored on luma over the source's
 face box as a run scores it (OpenCV's Haar box, `uma.face.region.FaceBoxes`), against the
 lowest full-frame rung shown the same way. `--quote CLIP` does the same for the configured
-default rungs only. `--run CLIP` runs the whole simulation on a WLAN-then-GSM route with the
-clip as source, three ways: H.264 only, H.264 with the face-region rungs, and switching to the
-model-based codec (the clip's description made from `codecs/face/CLIP.yaml`), and reports the
-GSM stretch. `--cost` measures the detector's CPU time per pixel it scans (CPU time because the
-machine is shared). Settings are chosen on one clip and quoted on another (README).
+default rungs only. Whole runs and the detector's cost are in `uma.bench.face_rung_run`.
+Settings are chosen on one clip and quoted on another (docs/face-region.md).
 """
 
 from __future__ import annotations
 
-import argparse
-import json
-import sys
-import time
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-__all__ = ["code_clip", "lowest_rung_scores", "detector_cost", "run_three_ways", "main"]
+__all__ = ["CLIPS", "code_clip", "lowest_rung_scores", "grid", "quote", "face_config", "load_clip"]
 
 CLIPS = {
     "akiyo": "faces/video/akiyo.mp4",
@@ -34,7 +27,7 @@ CLIPS = {
 }
 
 
-def _clip(name: str, frames: int):
+def load_clip(name: str, frames: int):
     from uma.paths import shared_data_dir
     from uma.video import VideoFileSource
 
@@ -184,7 +177,7 @@ GRID_MARGINS = (0.1, 0.2, 0.3)
 
 
 def grid(name: str, frames: int, rates=(8.0, 12.0)) -> dict[str, Any]:
-    source, pictures, path = _clip(name, frames)
+    source, pictures, path = load_clip(name, frames)
     fps = float(source.fps)
     boxes = _boxes(source, pictures)
     background = _background(pictures, fps)
@@ -216,31 +209,40 @@ def grid(name: str, frames: int, rates=(8.0, 12.0)) -> dict[str, Any]:
     }
 
 
-def _face_config(rungs: list[str] | None):
+def face_config(rungs: list[str] | None):
     """The default `FaceRegionConfig`, enabled, its rungs replaced by `RATE:WxH@FPS` ones."""
     from uma.config.scenario import FaceRegionConfig, FaceRungConfig
 
     if not rungs:
         return FaceRegionConfig(enabled=True)
+    from pydantic import ValidationError
+
+    from uma.errors import ConfigError
+
     parsed = []
     for text in rungs:
-        rate, rest = text.split(":")
-        size, fps = rest.split("@")
-        width, height = size.split("x")
-        parsed.append(
-            FaceRungConfig(
-                rate_kbps=float(rate), width=int(width), height=int(height), fps=float(fps)
+        try:
+            rate, rest = text.split(":")
+            size, fps = rest.split("@")
+            width, height = size.split("x")
+            parsed.append(
+                FaceRungConfig(
+                    rate_kbps=float(rate), width=int(width), height=int(height), fps=float(fps)
+                )
             )
-        )
+        except (ValueError, ValidationError):
+            raise ConfigError(
+                f"--rung: expected RATE:WxH@FPS (e.g. 8:48x48@5), got {text!r}"
+            ) from None
     return FaceRegionConfig(enabled=True, rungs=tuple(parsed))
 
 
 def quote(name: str, frames: int, rungs: list[str] | None = None) -> dict[str, Any]:
-    source, pictures, path = _clip(name, frames)
+    source, pictures, path = load_clip(name, frames)
     fps = float(source.fps)
     boxes = _boxes(source, pictures)
     background = _background(pictures, fps)
-    config = _face_config(rungs)
+    config = face_config(rungs)
     rows = [
         code_clip(
             pictures,
@@ -264,140 +266,3 @@ def quote(name: str, frames: int, rungs: list[str] | None = None) -> dict[str, A
         "h264_lowest": lowest_rung_scores(pictures, fps, boxes),
         "h264_face": rows,
     }
-
-
-def detector_cost(frames: int) -> dict[str, Any]:
-    """CPU microseconds per scanned pixel of `detect_box` on akiyo, carphone, the talking head."""
-    from uma.face import TalkingHeadSource
-    from uma.sim.face_region import detect_box, detect_pixels
-
-    out: dict[str, Any] = {}
-    clips = [(name, _clip(name, frames)[1]) for name in CLIPS]
-    talking = TalkingHeadSource(width=176, height=144, fps=25, seed=1).frames()
-    clips.append(("talking-head", [next(talking) for _ in range(frames)]))
-    for name, pictures in clips:
-        size = (pictures[0].shape[1], pictures[0].shape[0] * 2 // 3)
-        spent = []
-        for picture in pictures:
-            start = time.process_time()
-            detect_box(picture)
-            spent.append(time.process_time() - start)
-        median_us = float(np.median(spent)) * 1e6
-        out[name] = {
-            "size": f"{size[0]}x{size[1]}",
-            "detect_ms_median": round(median_us / 1000.0, 2),
-            "us_per_pixel": round(median_us / detect_pixels(size), 3),
-        }
-    out["us_per_pixel_median"] = round(
-        float(np.median([v["us_per_pixel"] for v in out.values()])), 3
-    )
-    return out
-
-
-def run_three_ways(
-    name: str,
-    *,
-    wlan_s: float = 4.0,
-    gsm_s: float = 16.0,
-    rungs: list[str] | None = None,
-    mbc: bool = True,
-    max_backlog_ms: float | None = None,
-    policy: str = "oracle",
-) -> dict[str, Any]:
-    """The whole simulation with the clip as source, WLAN then GSM, three engines."""
-    import tempfile
-
-    from uma.config.scenario import Scenario
-    from uma.face.clip import describe_clip, load_points
-    from uma.paths import codecs_dir
-    from uma.sim import run_scenario
-    from uma.sim.summary import run_metrics
-
-    _, _, path = _clip(name, 1)
-    out: dict[str, Any] = {
-        "clip": path,
-        "route": f"WLAN {wlan_s:g} s, GSM {gsm_s:g} s",
-        "policy": policy,
-    }
-    with tempfile.TemporaryDirectory() as tmp:
-        face_file = Path(tmp) / f"{name}.face"
-        if mbc:
-            describe_clip(load_points(codecs_dir() / "face" / f"{name}.yaml")).save(face_file)
-        engines = {
-            "h264": {},
-            "h264_face": {"face_region": _face_config(rungs).model_dump(mode="json")},
-            "mbc": {
-                "switching": {"policy": "threshold", "min_dwell_ms": 1000.0},
-                "mbc": {"description": str(face_file)},
-            },
-        }
-        if not mbc:
-            del engines["mbc"]
-        for label, engine in engines.items():
-            scenario = Scenario.model_validate(
-                {
-                    "name": f"face-rung-{name}-{label}",
-                    "seed": 1,
-                    "source": {"kind": "file", "path": path},
-                    "route": [
-                        {"technology": "WLAN", "duration_s": wlan_s},
-                        {"technology": "GSM", "duration_s": gsm_s},
-                    ],
-                    "engine": {"policy": policy}
-                    | ({} if max_backlog_ms is None else {"max_backlog_ms": max_backlog_ms})
-                    | engine,
-                    "receiver": {"playout_delay_ms": 800.0},
-                    "metrics": {"workers": 0},
-                }
-            )
-            metrics = run_metrics(run_scenario(scenario))
-            gsm = metrics["by_technology"].get("GSM", {})
-            out[label] = {
-                "gsm_freeze_ratio": gsm.get("freeze_ratio"),
-                "gsm_psnr_face_db": gsm.get("psnr_face_db"),
-                "gsm_ssim_face": gsm.get("ssim_face"),
-                "kbps_h264": metrics["kbps_h264"],
-                "kbps_h264_face": metrics["kbps_h264_face"],
-                "kbps_mbc": metrics["kbps_mbc"],
-            }
-    return out
-
-
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m uma.bench.face_rung")
-    parser.add_argument("--grid", metavar="CLIP", help="choose settings on CLIP")
-    parser.add_argument("--quote", metavar="CLIP", help="the default rungs on CLIP")
-    parser.add_argument("--run", metavar="CLIP", help="whole runs, three engines, on CLIP")
-    parser.add_argument("--cost", action="store_true", help="the detector's CPU cost")
-    parser.add_argument("--frames", type=int, default=150)
-    parser.add_argument(
-        "--rung", action="append", metavar="RATE:WxH@FPS", help="face rungs for --quote, --run"
-    )
-    parser.add_argument("--no-mbc", action="store_true", help="--run without the MBC engine")
-    parser.add_argument("--max-backlog-ms", type=float, help="engine.max_backlog_ms for --run")
-    parser.add_argument("--policy", default="oracle", help="engine.policy for --run")
-    parser.add_argument("--gsm-s", type=float, default=16.0, help="GSM seconds for --run")
-    args = parser.parse_args(argv)
-    result: dict[str, Any] = {}
-    if args.grid:
-        result["grid"] = grid(args.grid, args.frames)
-    if args.quote:
-        result["quote"] = quote(args.quote, args.frames, args.rung)
-    if args.run:
-        result["run"] = run_three_ways(
-            args.run,
-            rungs=args.rung,
-            mbc=not args.no_mbc,
-            max_backlog_ms=args.max_backlog_ms,
-            policy=args.policy,
-            gsm_s=args.gsm_s,
-        )
-    if args.cost:
-        result["cost"] = detector_cost(min(args.frames, 60))
-    json.dump(result, sys.stdout, indent=1)
-    sys.stdout.write("\n")
-    return 0
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())
