@@ -93,7 +93,9 @@ def test_bench_salsify_json_keys(capsys, shared_data):
         row = result["estimators"][name]
         for key in ("delay_p95_ms", "ssim_db", "freeze_ratio", "kbps_h264"):
             assert row[key] is not None, (name, key)
+    assert result["scenario"] == "salsify-tmobile-umts"
     assert set(result["published"]) == {"salsify_1c", "webrtc", "skype", "facetime"}
     for row in result["published"].values():
         assert set(row) == {"delay_p95_ms", "ssim_db"}
+    assert result["published"]["salsify_1c"] == {"delay_p95_ms": 3907.0, "ssim_db": 13.2}
     assert result["estimators"]["webrtc"]["kbps_padding"] >= 0

@@ -7,6 +7,7 @@ import argparse
 __all__ = ["register"]
 
 DEFAULT_TRACE = "traces/mahimahi/TMobile-UMTS-driving.down"  # under ../shared/data
+DEFAULT_PUBLISHED = "published/salsify-nsdi18.csv"  # under ../shared/data
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -17,7 +18,15 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="uma and WebRTC estimators on Salsify's trace, beside Salsify's published figures",
         description="Run scenarios/salsify-tmobile-umts.yaml with engine.estimator uma and webrtc "
         "(and the default scenario with both), and print delay p95 and SSIM in dB beside the "
-        "figures Salsify (NSDI 2018) published for the same trace, with the issue's targets.",
+        "figures published for the same trace (Salsify, NSDI 2018, per trace), with the targets. "
+        "On another trace the scenario is named after that trace and only the figures "
+        "published for it are printed (none if none were).",
+    )
+    parser.add_argument(
+        "--published",
+        metavar="FILE",
+        help="CSV of published figures per trace and system "
+        f"(default: ../shared/data/{DEFAULT_PUBLISHED} if present)",
     )
     parser.add_argument(
         "--trace",
@@ -63,6 +72,12 @@ def handle(args: argparse.Namespace) -> int:
     trace = Path(args.trace) if args.trace else shared_data_dir() / DEFAULT_TRACE
     if not trace.is_file():
         raise ConfigError(f"--trace: expected an existing Mahimahi trace file, got {str(trace)!r}")
+    from uma.bench.published import published_for
+
+    if args.published is not None and not Path(args.published).is_file():
+        raise ConfigError(f"--published: expected a CSV file, got {args.published!r}")
+    published_file = args.published or shared_data_dir() / DEFAULT_PUBLISHED
+    published = published_for(trace, published_file)  # a malformed file is exit 2 now
     scenario_path = args.scenario or scenarios_dir() / "salsify-tmobile-umts.yaml"
     scenario = load_scenario(scenario_path).with_seed(args.seed)
     default = None if args.skip_default else load_scenario(None).with_seed(args.seed)
@@ -72,6 +87,8 @@ def handle(args: argparse.Namespace) -> int:
         frames=args.frames,
         clip_frames=args.clip_frames,
         default_scenario=default,
+        published=published,
+        published_file=str(published_file) if Path(published_file).is_file() else None,
     )
     result = run_salsify_bench(config)
     emit(result, format_table(result), as_json=args.json)
