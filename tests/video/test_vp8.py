@@ -130,5 +130,5 @@ def test_ladder_file_errors_name_line_and_key(tmp_path):
     with pytest.raises(ConfigError, match=r"unknown key 'preset'; expected keys cpu_used"):
         load_ladder(path)
     path.write_text("codec: vp9\n" + rung)
-    with pytest.raises(ConfigError, match=r"v\.yaml:1 \(codec\): expected one of h264, vp8"):
+    with pytest.raises(ConfigError, match=r"v\.yaml:1 \(codec\): expected one of h264, vp8, av1"):
         load_ladder(path)

@@ -6,6 +6,7 @@ Frames are planar YUV 4:2:0 arrays of shape (H * 3 // 2, W), uint8, everywhere i
 inside the functions that need them.
 """
 
+from uma.video.av1 import AV1Decoder, AV1Encoder, AV1Settings
 from uma.video.frame import read_frame
 from uma.video.h264 import NAL_IDR, EncodedFrame, H264Decoder, H264Encoder, nal_unit_types
 from uma.video.ladder import (
@@ -30,6 +31,9 @@ __all__ = [
     "VP8Encoder",
     "VP8Decoder",
     "VP8Settings",
+    "AV1Encoder",
+    "AV1Decoder",
+    "AV1Settings",
     "Ladder",
     "Rung",
     "EncoderSettings",

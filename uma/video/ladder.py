@@ -35,7 +35,7 @@ __all__ = [
 
 _RUNG_KEYS = ("rate_kbps", "width", "height", "fps")
 _ENCODER_KEYS = ("preset", "tune", "keyint_frames", "vbv_frames")
-LADDER_CODECS = ("h264", "vp8")  # the values of a ladder file's `codec`
+LADDER_CODECS = ("h264", "vp8", "av1")  # the values of a ladder file's `codec`
 
 
 def _positive(value: Any, where: str, *, integer: bool = False, even: bool = False):
@@ -152,6 +152,10 @@ def settings_class(codec: str, where: str = "codec") -> type:
         from uma.video.vp8 import VP8Settings
 
         return VP8Settings
+    if codec == "av1":
+        from uma.video.av1 import AV1Settings
+
+        return AV1Settings
     raise ConfigError(f"{where}: expected one of {', '.join(LADDER_CODECS)}, got {codec!r}")
 
 
