@@ -1,19 +1,10 @@
 """VP8 through libvpx: one frame out per frame in, key frames on request, rate and round trip."""
 
-import numpy as np
+import codec_checks as checks
 import pytest
-from codec_checks import pattern, round_trip_psnr_db, steady_kbps
 
 from uma.errors import ConfigError, VideoError
-from uma.metrics.quality import psnr_db
-from uma.video import (
-    VideoFileSource,
-    VP8Decoder,
-    VP8Encoder,
-    default_ladder_path,
-    load_ladder,
-    resize_yuv420,
-)
+from uma.video import VideoFileSource, VP8Decoder, VP8Encoder, default_ladder_path, load_ladder
 
 
 @pytest.fixture(scope="module")
@@ -22,48 +13,35 @@ def carphone(shared_data):
 
 
 def test_one_frame_out_per_frame_in_and_key_frames_only_where_asked():
-    encoder = VP8Encoder(176, 144, 25, 200)
-    out = [encoder.encode(f, force_idr=i == 12) for i, f in enumerate(pattern(20))]
-    assert [o.pts for o in out] == list(range(20))
-    assert [i for i, o in enumerate(out) if o.is_keyframe] == [0, 12]
+    _, out = checks.forced_key_frames(VP8Encoder(176, 144, 25, 200), 20, 12)
     # VP8's frame tag: bit 0 of the first byte is 0 on a key frame
     assert [i for i, o in enumerate(out) if not o.data[0] & 1] == [0, 12]
 
 
 def test_round_trip_shape_and_quality():
     # measured 41.2 dB at 300 kbit/s
-    assert round_trip_psnr_db(VP8Encoder(176, 144, 25, 300), VP8Decoder(), pattern(15)) > 36
+    assert (
+        checks.round_trip_psnr_db(VP8Encoder(176, 144, 25, 300), VP8Decoder(), checks.pattern(15))
+        > 36
+    )
 
 
 def test_forced_key_frame_decodes_alone():
-    frames = pattern(8)
-    encoder = VP8Encoder(176, 144, 25, 300)
-    out = [encoder.encode(f, force_idr=i == 6) for i, f in enumerate(frames)]
-    picture = VP8Decoder().decode(out[6].data)  # measured 39.4 dB
-    assert picture.shape == (216, 176) and psnr_db(frames[6][:144], picture[:144]) > 33
+    checks.check_key_frame_decodes_alone(VP8Encoder(176, 144, 25, 300), VP8Decoder(), 33)  # 39.4 dB
 
 
 def test_rate_near_target_on_carphone(carphone):
     # measured -0.7 % (128 kbit/s, QCIF, 25 frames/s, 6 s); the ladder's rungs in docs/codecs.md
-    encoder = VP8Encoder(176, 144, 25, 128)
-    got = steady_kbps([encoder.encode(f).size_bits for f in carphone[:150]], 25)
-    assert 0.93 * 128 <= got <= 1.05 * 128, got
+    checks.check_rate_near_target(VP8Encoder(176, 144, 25, 128), carphone[:150])
 
 
 def test_quality_rises_with_rate():
     # measured 34.4 dB at 60 kbit/s, 44.8 dB at 600
-    low, high = (
-        round_trip_psnr_db(VP8Encoder(176, 144, 25, rate), VP8Decoder(), pattern(15))
-        for rate in (60, 600)
-    )
-    assert high > low + 5
+    checks.check_quality_rises(lambda rate: VP8Encoder(176, 144, 25, rate), VP8Decoder, gain_db=5)
 
 
 def test_encoding_is_deterministic():
-    frames = pattern(8)
-    runs = [VP8Encoder(176, 144, 25, 100) for _ in range(2)]
-    a, b = ([encoder.encode(f).data for f in frames] for encoder in runs)
-    assert a == b
+    checks.check_deterministic(lambda: VP8Encoder(176, 144, 25, 100))
 
 
 def test_webrtc_speed_by_size_and_settings_recorded():
@@ -76,35 +54,15 @@ def test_webrtc_speed_by_size_and_settings_recorded():
 
 
 def test_rung_change_to_a_new_size_decodes_on_the_same_decoder():
-    decoder = VP8Decoder()
-    frames = pattern(3, 352, 288)
-    assert decoder.decode(VP8Encoder(352, 288, 25, 500).encode(frames[0]).data).shape == (432, 352)
-    small = VP8Encoder(176, 144, 12.5, 100).encode(resize_yuv420(frames[1], 176, 144))
-    assert small.is_keyframe and decoder.decode(small.data).shape == (216, 176)
+    checks.check_rung_change(VP8Encoder, VP8Decoder())
 
 
 def test_garbage_and_empty_packets_raise_video_error_and_the_decoder_recovers():
-    out = [VP8Encoder(176, 144, 25, 200).encode(f) for f in pattern(2)]
-    decoder = VP8Decoder()
-    junk = bytes(np.random.default_rng(0).integers(0, 256, 500, dtype=np.uint8))
-    try:
-        decoder.decode(junk)
-    except VideoError as err:
-        assert "corrupt bitstream" in str(err)
-    with pytest.raises(VideoError, match="empty packet"):
-        decoder.decode(b"")
-    assert decoder.decode(out[0].data).shape == (216, 176)
-    assert decoder.decode(out[1].data).shape == (216, 176)
+    checks.check_garbage_then_recovery(VP8Encoder(176, 144, 25, 200), VP8Decoder())
 
 
 def test_encoder_rejects_bad_frames_and_settings():
-    encoder = VP8Encoder(176, 144, 25, 100)
-    with pytest.raises(VideoError, match="expected a"):
-        encoder.encode(np.zeros((144, 176), dtype=np.uint8))
-    with pytest.raises(VideoError, match="even"):
-        VP8Encoder(175, 144, 25, 100)
-    with pytest.raises(VideoError, match="positive fps"):
-        VP8Encoder(176, 144, 0, 100)
+    checks.check_bad_frames_and_sizes(VP8Encoder)
     with pytest.raises(VideoError, match="cpu_used"):
         VP8Encoder(176, 144, 25, 100, cpu_used=40)
     with pytest.raises(VideoError, match="vbv_frames"):

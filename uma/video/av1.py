@@ -23,11 +23,11 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from typing import Any
 
 from uma.errors import ConfigError, VideoError
-from uma.video.pyav_codec import PyavDecoder, PyavEncoder
+from uma.video.pyav_codec import CodecSettings, PyavDecoder, PyavEncoder, check_keyint_vbv
 
 __all__ = ["AV1Encoder", "AV1Decoder", "AV1Settings", "AV1_PRESETS"]
 
@@ -45,35 +45,20 @@ def _check(values: dict[str, Any], where: Callable[[str], str]) -> None:
             f"{where('preset')}: expected an SVT-AV1 preset from {AV1_PRESETS[0]} to "
             f"{AV1_PRESETS[-1]}, got {preset!r}"
         )
-    keyint = values.get("keyint_frames", 1)
-    if not _whole(keyint) or keyint < 1:
-        raise ConfigError(f"{where('keyint_frames')}: expected a positive integer, got {keyint!r}")
-    vbv = values.get("vbv_frames", 1.0)
-    if not isinstance(vbv, int | float) or isinstance(vbv, bool) or not vbv >= 1:
-        raise ConfigError(f"{where('vbv_frames')}: expected a number of at least 1, got {vbv!r}")
+    check_keyint_vbv(values, where)
 
 
 @dataclass(frozen=True)
-class AV1Settings:
+class AV1Settings(CodecSettings):
     """SVT-AV1 settings shared by every rung of an AV1 ladder (`encoder:` in codecs/av1.yaml)."""
 
     preset: int = AV1_PRESETS[-1]
     keyint_frames: int = 250
     vbv_frames: float = 4.0
 
+    NAME = "AV1 encoder"
     KEYS = ("preset", "keyint_frames", "vbv_frames")
-
-    def __post_init__(self) -> None:
-        _check(asdict(self), lambda key: f"AV1 encoder {key}")
-
-    @classmethod
-    def check(cls, values: dict[str, Any], where: Callable[[str], str]) -> None:
-        """Raise `ConfigError` naming `where(key)` for the first bad value in `values`."""
-        _check(values, where)
-
-    def kwargs(self) -> dict[str, Any]:
-        """Keyword arguments for `AV1Encoder`."""
-        return asdict(self)
+    validate = staticmethod(_check)
 
 
 class AV1Encoder(PyavEncoder):

@@ -9,14 +9,17 @@ so a codec module only chooses the library and its options.
 from __future__ import annotations
 
 import contextlib
+from collections.abc import Callable
+from dataclasses import asdict
 from fractions import Fraction
+from typing import Any
 
 import numpy as np
 
-from uma.errors import VideoError
+from uma.errors import ConfigError, VideoError
 from uma.video.h264 import EncodedFrame
 
-__all__ = ["PyavEncoder", "PyavDecoder", "check_rung"]
+__all__ = ["PyavEncoder", "PyavDecoder", "CodecSettings", "check_rung", "check_keyint_vbv"]
 
 
 def check_rung(where: str, width: int, height: int, fps: float, rate_kbps: float) -> None:
@@ -25,6 +28,43 @@ def check_rung(where: str, width: int, height: int, fps: float, rate_kbps: float
         raise VideoError(f"{where}: expected an even positive size, got {width}x{height}")
     if not fps > 0 or not rate_kbps > 0:
         raise VideoError(f"{where}: expected positive fps and rate, got {fps}, {rate_kbps}")
+
+
+def check_keyint_vbv(values: dict[str, Any], where: Callable[[str], str]) -> None:
+    """`keyint_frames` a positive integer and `vbv_frames` at least 1, where present."""
+    keyint = values.get("keyint_frames", 1)
+    if not isinstance(keyint, int) or isinstance(keyint, bool) or keyint < 1:
+        raise ConfigError(f"{where('keyint_frames')}: expected a positive integer, got {keyint!r}")
+    vbv = values.get("vbv_frames", 1.0)
+    if not isinstance(vbv, int | float) or isinstance(vbv, bool) or not vbv >= 1:
+        raise ConfigError(f"{where('vbv_frames')}: expected a number of at least 1, got {vbv!r}")
+
+
+class CodecSettings:
+    """Base of a codec's frozen settings dataclass: what a ladder's `encoder:` section holds.
+
+    A subclass names its `KEYS` (the dataclass fields, the keys a ladder may give) and
+    `validate(values, where)`, which raises `ConfigError` naming `where(key)`; the values are
+    checked on construction too. `kwargs()` are the keyword arguments of the codec's encoder.
+    """
+
+    NAME = "encoder"
+    KEYS: tuple[str, ...] = ()
+
+    @staticmethod
+    def validate(values: dict[str, Any], where: Callable[[str], str]) -> None:
+        raise NotImplementedError
+
+    def __post_init__(self) -> None:
+        self.validate(asdict(self), lambda key: f"{self.NAME} {key}")
+
+    @classmethod
+    def check(cls, values: dict[str, Any], where: Callable[[str], str]) -> None:
+        """Raise `ConfigError` naming `where(key)` for the first bad value in `values`."""
+        cls.validate(values, where)
+
+    def kwargs(self) -> dict[str, Any]:
+        return asdict(self)
 
 
 class PyavEncoder:

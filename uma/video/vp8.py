@@ -25,11 +25,11 @@ simulation needs (see docs/codecs.md for the measurements behind them):
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from typing import Any
 
 from uma.errors import ConfigError, VideoError
-from uma.video.pyav_codec import PyavDecoder, PyavEncoder
+from uma.video.pyav_codec import CodecSettings, PyavDecoder, PyavEncoder, check_keyint_vbv
 
 __all__ = ["VP8Encoder", "VP8Decoder", "VP8Settings", "webrtc_cpu_used"]
 
@@ -48,35 +48,20 @@ def _check(values: dict[str, Any], where: Callable[[str], str]) -> None:
             f"{where('cpu_used')}: expected an integer from -16 to 16 (or null for WebRTC's "
             f"choice by size), got {cpu_used!r}"
         )
-    keyint = values.get("keyint_frames", 1)
-    if not isinstance(keyint, int) or isinstance(keyint, bool) or keyint < 1:
-        raise ConfigError(f"{where('keyint_frames')}: expected a positive integer, got {keyint!r}")
-    vbv = values.get("vbv_frames", 1.0)
-    if not isinstance(vbv, int | float) or isinstance(vbv, bool) or not vbv >= 1:
-        raise ConfigError(f"{where('vbv_frames')}: expected a number of at least 1, got {vbv!r}")
+    check_keyint_vbv(values, where)
 
 
 @dataclass(frozen=True)
-class VP8Settings:
+class VP8Settings(CodecSettings):
     """libvpx settings shared by every rung of a VP8 ladder (`encoder:` in codecs/vp8.yaml)."""
 
     cpu_used: int | None = None
     keyint_frames: int = 250
     vbv_frames: float = 4.0
 
+    NAME = "VP8 encoder"
     KEYS = ("cpu_used", "keyint_frames", "vbv_frames")
-
-    def __post_init__(self) -> None:
-        _check(asdict(self), lambda key: f"VP8 encoder {key}")
-
-    @classmethod
-    def check(cls, values: dict[str, Any], where: Callable[[str], str]) -> None:
-        """Raise `ConfigError` naming `where(key)` for the first bad value in `values`."""
-        _check(values, where)
-
-    def kwargs(self) -> dict[str, Any]:
-        """Keyword arguments for `VP8Encoder`."""
-        return asdict(self)
+    validate = staticmethod(_check)
 
 
 class VP8Encoder(PyavEncoder):
