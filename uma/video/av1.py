@@ -93,11 +93,10 @@ class AV1Encoder(PyavEncoder):
             f"rtc=1:pred-struct=1:rc=2:lp=1:buf-sz={buffer_ms}:"
             f"buf-initial-sz={buffer_ms // 2}:buf-optimal-sz={buffer_ms // 2}"
         )
-        bit_rate = str(int(round(rate_kbps * 1000)))
+        # no `maxrate`: SVT-AV1 1.4 (Debian 12's) refuses a cap equal to the target
         options = {
             "preset": str(preset),
             "svtav1-params": self.svtav1_params,
-            "maxrate": bit_rate,  # FFmpeg picks CBR itself when maxrate equals the rate
             "g": str(keyint_frames),
         }
         os.environ.setdefault("SVT_LOG", "1")  # errors only: SVT-AV1 prints its settings
