@@ -1,8 +1,17 @@
-"""`uma bench codec`: libx264's rate accuracy per rung, codec speed, and the cost of the metrics.
+"""`uma bench codec`: every codec's rate and quality per ladder rung, codec speed, metric costs.
 
-Units: kbit/s, percent, frames per second, milliseconds (wall clock, medians of repeats).
-The rate is measured after the first second (which carries the IDR) on a real clip: akiyo (CIF
-talking head) from ../shared/data when present, else the built-in pattern.
+Units: kbit/s, percent, dB, frames per second, milliseconds (wall clock; per-frame means for
+the codecs, medians of repeats for the metrics). A rate is measured after the first second
+(which carries the opening key frame). Clips are taken at 25 frames/s, the rate the ladders
+divide.
+
+`run_codec_bench` is libx264's rate accuracy on one clip, its speed and the metrics' cost (the
+table this benchmark has always printed for H.264). `run_codecs_bench` codes clips (akiyo and
+carphone from ../shared/data by default) at every rung of each codec's ladder: per rung the
+target and measured rate, PSNR and SSIM of luma over the whole frame and over the face box the
+simulation scores (`uma.face.region.FaceBoxes`), each decoded picture upscaled to the clip's
+size as the receiver shows it and scored against the frame it codes, and the encode and decode
+time per frame. `plot_rate_quality` draws those rate-quality curves.
 """
 
 from __future__ import annotations
@@ -13,7 +22,31 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["run_codec_bench", "format_table"]
+__all__ = [
+    "run_codec_bench",
+    "format_table",
+    "run_codecs_bench",
+    "format_codecs_table",
+    "plot_rate_quality",
+    "codec_classes",
+    "CODEC_NAMES",
+    "CODEC_COLOURS",
+]
+
+CODEC_NAMES = ("h264", "vp8", "av1")
+# plot colours; H.264's is the timeline's (uma/report/timeline.py)
+CODEC_COLOURS = {"h264": "#1f5fbf", "vp8": "#f39c12", "av1": "#6c3483"}
+CLIP_FPS = 25.0
+RUNG_KEYS = (
+    "target_kbps",
+    "kbps",
+    "psnr_db",
+    "ssim",
+    "psnr_face_db",
+    "ssim_face",
+    "encode_ms",
+    "decode_ms",
+)
 
 
 def _frames(video: Path | None, count: int) -> tuple[list[np.ndarray], str]:
@@ -101,3 +134,182 @@ def format_table(result: dict[str, Any]) -> str:
         f"  SSIM per luma plane {result['ssim_ms_float32']} ms on float32, {result['ssim_ms_uint8']} ms on uint8; PSNR {result['psnr_ms']} ms",
     ]
     return "\n".join(lines)
+
+
+def codec_classes(codec: str) -> tuple[type, type]:
+    """(encoder class, decoder class) of a codec name in `CODEC_NAMES`."""
+    from uma.video import AV1Decoder, AV1Encoder, H264Decoder, H264Encoder, VP8Decoder, VP8Encoder
+
+    table = {
+        "h264": (H264Encoder, H264Decoder),
+        "vp8": (VP8Encoder, VP8Decoder),
+        "av1": (AV1Encoder, AV1Decoder),
+    }
+    return table[codec]
+
+
+def _round(value: float, digits: int) -> float | None:
+    return None if value != value else round(float(value), digits)  # NaN (no face) is null
+
+
+def measure_rung(codec: str, rung, settings, frames: list[np.ndarray], boxes) -> dict[str, Any]:
+    """Code `frames` (a clip at 25 frames/s) at one rung and score the decoded pictures."""
+    from uma.metrics.quality import psnr_db, region_scores, ssim
+    from uma.video import resize_yuv420
+
+    encoder_class, decoder_class = codec_classes(codec)
+    height, width = frames[0].shape[0] * 2 // 3, frames[0].shape[1]
+    encoder = encoder_class(rung.width, rung.height, rung.fps, rung.rate_kbps, **settings.kwargs())
+    decoder = decoder_class()
+    step = max(1, int(round(CLIP_FPS / rung.fps)))
+    bits, encode_s, decode_s, scores = [], 0.0, 0.0, []
+    for index in range(0, len(frames), step):
+        small = resize_yuv420(frames[index], rung.width, rung.height)
+        start = time.perf_counter()
+        unit = encoder.encode(small)
+        middle = time.perf_counter()
+        picture = decoder.decode(unit.data)
+        decode_s += time.perf_counter() - middle
+        encode_s += middle - start
+        bits.append(unit.size_bits)
+        shown = resize_yuv420(picture, width, height)[:height]
+        reference = frames[index][:height]
+        face = region_scores(reference, shown, boxes[index])
+        scores.append((psnr_db(reference, shown), ssim(reference, shown), *face))
+    skip = max(1, int(round(rung.fps)))
+    kbps = sum(bits[skip:]) / ((len(bits) - skip) / rung.fps) / 1000.0
+    table = np.array(scores, dtype=np.float64).reshape(-1, 4)
+    # a column of NaN (no face box in any frame) stays NaN, without numpy's empty-slice warning
+    means = [float(np.mean(c[~np.isnan(c)])) if (~np.isnan(c)).any() else np.nan for c in table.T]
+    return {
+        "target_kbps": rung.rate_kbps,
+        "size": f"{rung.width}x{rung.height}@{rung.fps:.3g}",
+        "kbps": round(kbps, 2),
+        "error_pct": round(100.0 * (kbps / rung.rate_kbps - 1.0), 2),
+        "psnr_db": _round(means[0], 2),
+        "ssim": _round(means[1], 4),
+        "psnr_face_db": _round(means[2], 2),
+        "ssim_face": _round(means[3], 4),
+        "encode_ms": round(1000.0 * encode_s / len(bits), 3),
+        "decode_ms": round(1000.0 * decode_s / len(bits), 3),
+    }
+
+
+def clip_frames(
+    video: Path | None, count: int, *, pattern_size: tuple[int, int] = (352, 288)
+) -> tuple[str, list[np.ndarray], list]:
+    """(name, frames, face boxes) of a clip, or of the built-in pattern when `video` is None."""
+    from uma.face.region import FaceBoxes
+    from uma.video import PatternSource, VideoFileSource
+
+    if video is None:
+        source = PatternSource(*pattern_size, seed=0, frame_count=count)
+        name = "pattern"
+    else:
+        source = VideoFileSource(video, max_frames=count)
+        name = video.stem.removesuffix("_qcif")
+    boxes = FaceBoxes(source)
+    frames = list(boxes.wrap(source.frames()))
+    return name, frames, boxes.boxes
+
+
+def run_codecs_bench(
+    codecs: tuple[str, ...],
+    videos: list[Path | None],
+    *,
+    frames: int = 300,
+    progress=None,
+    pattern_size: tuple[int, int] = (352, 288),
+) -> dict[str, Any]:
+    """`{"codecs": {codec: {"ladder", "clips": {clip: {"frames", "size", "rungs"}}}}}`.
+
+    A `None` among `videos` is the built-in pattern at `pattern_size`.
+    """
+    from uma.video import default_ladder_path, load_ladder
+
+    clips = [clip_frames(video, frames, pattern_size=pattern_size) for video in videos]
+    result: dict[str, Any] = {"codecs": {}}
+    for codec in codecs:
+        path = default_ladder_path(codec)
+        ladder = load_ladder(path)
+        entry = {"ladder": f"codecs/{path.name}", "clips": {}}
+        for name, clip, boxes in clips:
+            rungs = []
+            for rung in ladder.rungs:
+                if progress is not None:
+                    progress(f"{codec} {name} {rung.label}")
+                rungs.append(measure_rung(codec, rung, ladder.encoder, clip, boxes))
+            height, width = clip[0].shape[0] * 2 // 3, clip[0].shape[1]
+            entry["clips"][name] = {
+                "frames": len(clip),
+                "size": f"{width}x{height}",
+                "rungs": rungs,
+            }
+        result["codecs"][codec] = entry
+    return result
+
+
+def format_codecs_table(result: dict[str, Any]) -> str:
+    def num(value, fmt: str) -> str:
+        return "-" if value is None else format(value, fmt)
+
+    lines = []
+    for codec, entry in result["codecs"].items():
+        for clip, data in entry["clips"].items():
+            lines += [
+                f"{codec} ({entry['ladder']}) on {clip} {data['size']}, {data['frames']} frames",
+                f"  {'rung':<16}{'target':>7}{'kbit/s':>9}{'err %':>7}{'PSNR':>7}{'SSIM':>8}"
+                f"{'face PSNR':>10}{'face SSIM':>10}{'enc ms':>8}{'dec ms':>8}",
+            ]
+            for rung in data["rungs"]:
+                lines.append(
+                    f"  {rung['size']:<16}{rung['target_kbps']:>7g}{rung['kbps']:>9.1f}"
+                    f"{rung['error_pct']:>7.1f}{num(rung['psnr_db'], '.2f'):>7}"
+                    f"{num(rung['ssim'], '.4f'):>8}{num(rung['psnr_face_db'], '.2f'):>10}"
+                    f"{num(rung['ssim_face'], '.4f'):>10}{rung['encode_ms']:>8.2f}"
+                    f"{rung['decode_ms']:>8.2f}"
+                )
+            lines.append("")
+    return "\n".join(lines)
+
+
+def plot_rate_quality(result: dict[str, Any], path: Path) -> None:
+    """Whole-frame and face-box PSNR against the measured rate, one row per clip, into `path`."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from uma.atomic import atomic_write_bytes
+
+    clips = list(next(iter(result["codecs"].values()))["clips"])
+    figure, axes = plt.subplots(len(clips), 2, figsize=(9, 3.4 * len(clips)), squeeze=False)
+    for row, clip in enumerate(clips):
+        for col, (key, title) in enumerate(
+            (("psnr_db", "whole frame"), ("psnr_face_db", "face box"))
+        ):
+            ax = axes[row][col]
+            for codec, entry in result["codecs"].items():
+                rungs = entry["clips"][clip]["rungs"]
+                points = [(r["kbps"], r[key]) for r in rungs if r[key] is not None]
+                if points:
+                    x, y = zip(*points, strict=True)
+                    ax.plot(x, y, marker="o", ms=3, color=CODEC_COLOURS.get(codec), label=codec)
+            ax.set_xscale("log")
+            ax.axvspan(16, 64, color="#eeeeee", lw=0, zorder=0)
+            ax.set_title(f"{clip}: {title}", fontsize=10)
+            ax.set_xlabel("measured rate (kbit/s)")
+            ax.set_ylabel("luma PSNR (dB)")
+            ax.grid(True, which="both", alpha=0.3)
+            ax.legend(fontsize=8)
+    figure.suptitle(
+        "uma bench codec: luma PSNR per ladder rung, decoded and upscaled (grey: 16-64 kbit/s)",
+        fontsize=10,
+    )
+    figure.tight_layout()
+    import io
+
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format="png", dpi=110)
+    plt.close(figure)
+    atomic_write_bytes(path, buffer.getvalue())

@@ -1,11 +1,12 @@
-"""The H.264 rate ladder: rungs of (rate, size, frame rate) and the encoder settings, read from
-`codecs/h264.yaml`.
+"""A codec's rate ladder: rungs of (rate, size, frame rate) and the encoder settings, read from
+`codecs/h264.yaml` (or `vp8.yaml`, `av1.yaml`).
 
 Units: rates in kbit/s, sizes in pixels, frame rates in frames/s, the VBV buffer in frame
-intervals. A file holds `rungs` (a list, lowest rate first) and optionally `encoder`
-(`preset`, `tune`, `keyint_frames`, `vbv_frames`, see `uma.video.h264`); errors name the file,
-the line and the key path, e.g. `codecs/h264.yaml:9 (rungs[3].fps): expected a positive number,
-got -1`.
+intervals. A file holds `rungs` (a list, lowest rate first) and optionally `codec` (`h264`, the
+default, `vp8` or `av1`) and `encoder`, whose keys are the codec's: for H.264 `preset`, `tune`,
+`keyint_frames`, `vbv_frames` (see `uma.video.h264`), for the others those of
+`uma.video.vp8.VP8Settings` and `uma.video.av1.AV1Settings`. Errors name the file, the line and
+the key path, e.g. `codecs/h264.yaml:9 (rungs[3].fps): expected a positive number, got -1`.
 """
 
 from __future__ import annotations
@@ -22,10 +23,19 @@ from uma.video.h264 import PRESETS
 if TYPE_CHECKING:  # uma.config's package import pulls in pydantic; load it only when reading
     from uma.config.yamlfile import KeyLines
 
-__all__ = ["Rung", "EncoderSettings", "Ladder", "load_ladder", "default_ladder_path"]
+__all__ = [
+    "Rung",
+    "EncoderSettings",
+    "Ladder",
+    "load_ladder",
+    "default_ladder_path",
+    "LADDER_CODECS",
+    "settings_class",
+]
 
 _RUNG_KEYS = ("rate_kbps", "width", "height", "fps")
 _ENCODER_KEYS = ("preset", "tune", "keyint_frames", "vbv_frames")
+LADDER_CODECS = ("h264", "vp8", "av1")  # the values of a ladder file's `codec`
 
 
 def _positive(value: Any, where: str, *, integer: bool = False, even: bool = False):
@@ -71,8 +81,15 @@ class EncoderSettings:
     keyint_frames: int = 250
     vbv_frames: float = 4.0
 
+    KEYS = _ENCODER_KEYS
+
     def __post_init__(self) -> None:
         _check_encoder(asdict(self), lambda key: f"encoder {key}")
+
+    @classmethod
+    def check(cls, values: dict[str, Any], where: Callable[[str], str]) -> None:
+        """Raise `ConfigError` naming `where(key)` for the first bad value in `values`."""
+        _check_encoder(values, where)
 
     def kwargs(self) -> dict[str, Any]:
         """Keyword arguments for `H264Encoder`."""
@@ -81,13 +98,24 @@ class EncoderSettings:
 
 @dataclass(frozen=True)
 class Ladder:
-    """Rungs in strictly ascending rate; `source` names the file for messages."""
+    """Rungs in strictly ascending rate; `source` names the file for messages.
+
+    `encoder` is the settings object of `codec` (`EncoderSettings` for H.264, `VP8Settings`,
+    `AV1Settings`); its `kwargs()` are the keyword arguments of that codec's encoder.
+    """
 
     rungs: tuple[Rung, ...]
-    encoder: EncoderSettings = field(default_factory=EncoderSettings)
+    encoder: Any = field(default_factory=EncoderSettings)
     source: str = "<ladder>"
+    codec: str = "h264"
 
     def __post_init__(self) -> None:
+        expected = settings_class(self.codec, f"{self.source}: codec")
+        if not isinstance(self.encoder, expected):
+            raise ConfigError(
+                f"{self.source}: encoder: expected {expected.__name__} for codec {self.codec!r}, "
+                f"got {type(self.encoder).__name__}"
+            )
         if not self.rungs:
             raise ConfigError(f"{self.source}: rungs: expected at least one rung")
         for index in range(1, len(self.rungs)):
@@ -116,10 +144,27 @@ def _check_encoder(values: dict[str, Any], where: Callable[[str], str]) -> None:
         raise ConfigError(f"{where('vbv_frames')}: expected at least 1, got {vbv_frames!r}")
 
 
-def default_ladder_path() -> Path:
+def settings_class(codec: str, where: str = "codec") -> type:
+    """The encoder-settings class of a ladder's `codec`; `ConfigError` naming `where` if unknown."""
+    if codec == "h264":
+        return EncoderSettings
+    if codec == "vp8":
+        from uma.video.vp8 import VP8Settings
+
+        return VP8Settings
+    if codec == "av1":
+        from uma.video.av1 import AV1Settings
+
+        return AV1Settings
+    raise ConfigError(f"{where}: expected one of {', '.join(LADDER_CODECS)}, got {codec!r}")
+
+
+def default_ladder_path(codec: str = "h264") -> Path:
+    """The project's ladder file of `codec`, `codecs/<codec>.yaml`."""
     from uma.paths import codecs_dir
 
-    return codecs_dir() / "h264.yaml"
+    settings_class(codec)
+    return codecs_dir() / f"{codec}.yaml"
 
 
 def _mapping(
@@ -150,7 +195,9 @@ def load_ladder(path: str | Path | None = None) -> Ladder:
 
     path = Path(path) if path is not None else default_ladder_path()
     data, lines = load_yaml(path)
-    top = _mapping(data, ("rungs", "encoder"), ("rungs",), lines, ())
+    top = _mapping(data, ("rungs", "encoder", "codec"), ("rungs",), lines, ())
+    codec = top.get("codec", "h264")
+    settings = settings_class(codec, lines.where(("codec",)))
     if not isinstance(top["rungs"], list):
         raise ConfigError(
             f"{lines.where(('rungs',))}: expected a list of rungs, got {top['rungs']!r}"
@@ -179,9 +226,9 @@ def load_ladder(path: str | Path | None = None) -> Ladder:
                 f"{lines.where(('rungs', index, 'rate_kbps'))}: expected more than the rung below "
                 f"({rungs[index - 1].rate_kbps:g}), got {rungs[index].rate_kbps:g}"
             )
-    encoder = EncoderSettings()
+    encoder = settings()
     if "encoder" in top:
-        settings = _mapping(top["encoder"], _ENCODER_KEYS, (), lines, ("encoder",))
-        _check_encoder(settings, lambda key: lines.where(("encoder", key)))
-        encoder = EncoderSettings(**settings)
-    return Ladder(tuple(rungs), encoder=encoder, source=str(path))
+        values = _mapping(top["encoder"], settings.KEYS, (), lines, ("encoder",))
+        settings.check(values, lambda key: lines.where(("encoder", key)))
+        encoder = settings(**values)
+    return Ladder(tuple(rungs), encoder=encoder, source=str(path), codec=codec)

@@ -1,0 +1,204 @@
+"""What the VP8 and AV1 codecs share: one PyAV encoder context per rung, one decoder context.
+
+Units: rates in kbit/s, frame rates in frames/s. Frames are planar YUV 4:2:0 arrays of shape
+(H * 3 // 2, W), uint8, as everywhere in uma. The classes here have exactly the interface of
+`uma.video.h264` (`encode(frame, force_idr=...) -> EncodedFrame`, `decode(data) -> array | None`),
+so a codec module only chooses the library and its options.
+"""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Callable
+from dataclasses import asdict
+from fractions import Fraction
+from typing import Any
+
+import numpy as np
+
+from uma.errors import ConfigError, VideoError
+from uma.video.h264 import EncodedFrame
+
+__all__ = ["PyavEncoder", "PyavDecoder", "CodecSettings", "check_rung", "check_keyint_vbv"]
+
+
+def check_rung(where: str, width: int, height: int, fps: float, rate_kbps: float) -> None:
+    """Refuse a size that is not even and positive, or a frame rate or rate that is not positive."""
+    if width <= 0 or height <= 0 or width % 2 or height % 2:
+        raise VideoError(f"{where}: expected an even positive size, got {width}x{height}")
+    if not fps > 0 or not rate_kbps > 0:
+        raise VideoError(f"{where}: expected positive fps and rate, got {fps}, {rate_kbps}")
+
+
+def check_keyint_vbv(values: dict[str, Any], where: Callable[[str], str]) -> None:
+    """`keyint_frames` a positive integer and `vbv_frames` at least 1, where present."""
+    keyint = values.get("keyint_frames", 1)
+    if not isinstance(keyint, int) or isinstance(keyint, bool) or keyint < 1:
+        raise ConfigError(f"{where('keyint_frames')}: expected a positive integer, got {keyint!r}")
+    vbv = values.get("vbv_frames", 1.0)
+    if not isinstance(vbv, int | float) or isinstance(vbv, bool) or not vbv >= 1:
+        raise ConfigError(f"{where('vbv_frames')}: expected a number of at least 1, got {vbv!r}")
+
+
+class CodecSettings:
+    """Base of a codec's frozen settings dataclass: what a ladder's `encoder:` section holds.
+
+    A subclass names its `KEYS` (the dataclass fields, the keys a ladder may give) and
+    `validate(values, where)`, which raises `ConfigError` naming `where(key)`; the values are
+    checked on construction too. `kwargs()` are the keyword arguments of the codec's encoder.
+    """
+
+    NAME = "encoder"
+    KEYS: tuple[str, ...] = ()
+
+    @staticmethod
+    def validate(values: dict[str, Any], where: Callable[[str], str]) -> None:
+        raise NotImplementedError
+
+    def __post_init__(self) -> None:
+        self.validate(asdict(self), lambda key: f"{self.NAME} {key}")
+
+    @classmethod
+    def check(cls, values: dict[str, Any], where: Callable[[str], str]) -> None:
+        """Raise `ConfigError` naming `where(key)` for the first bad value in `values`."""
+        cls.validate(values, where)
+
+    def kwargs(self) -> dict[str, Any]:
+        return asdict(self)
+
+
+class PyavEncoder:
+    """A PyAV encoder context opened with `options`; one encoded frame out per frame in.
+
+    `name` is the codec's label in messages (`VP8 encoder`), `library` the FFmpeg encoder name
+    (`libvpx`). `options` are FFmpeg's AVOptions, the same names and values the ffmpeg command
+    line takes (`-deadline realtime` is `{"deadline": "realtime"}`), kept in `self.options` so
+    a benchmark can repeat the encode with the command line.
+    """
+
+    def __init__(
+        self,
+        name: str,
+        library: str,
+        width: int,
+        height: int,
+        fps: float,
+        rate_kbps: float,
+        options: dict[str, str],
+    ) -> None:
+        import av
+
+        check_rung(name, width, height, fps, rate_kbps)
+        self.name, self.library = name, library
+        self.width, self.height, self.fps, self.rate_kbps = width, height, float(fps), rate_kbps
+        self.bit_rate = int(round(rate_kbps * 1000))
+        self.options = dict(options)
+        rate = Fraction(fps).limit_denominator(1001)
+        context = av.CodecContext.create(library, "w")
+        context.width = width
+        context.height = height
+        context.pix_fmt = "yuv420p"
+        context.time_base = 1 / rate
+        context.framerate = rate
+        context.bit_rate = self.bit_rate
+        context.options = self.options
+        try:
+            context.open()
+        except av.FFmpegError as err:
+            raise VideoError(f"{name}: {library} refused the settings ({err})") from None
+        self._context = context
+        self._picture_i = av.video.frame.PictureType.I
+        self._pts = 0
+
+    def encode(self, frame: np.ndarray, *, force_idr: bool = False) -> EncodedFrame:
+        """Encode one YUV 4:2:0 frame of the encoder's size; `force_idr` makes it a key frame."""
+        import av
+
+        expected = (self.height * 3 // 2, self.width)
+        if frame.shape != expected or frame.dtype != np.uint8:
+            raise VideoError(
+                f"{self.name}: expected a {expected} uint8 frame, got {frame.shape} {frame.dtype}"
+            )
+        if self._context is None:
+            raise VideoError(f"{self.name}: the encoder is closed")
+        picture = av.VideoFrame.from_ndarray(np.ascontiguousarray(frame), format="yuv420p")
+        picture.pts = self._pts
+        if force_idr:
+            picture.pict_type = self._picture_i
+        try:
+            packets = self._context.encode(picture)
+        except av.FFmpegError as err:
+            raise VideoError(
+                f"{self.name}: {self.library} failed on frame {self._pts} ({err})"
+            ) from None
+        if len(packets) != 1:
+            # the simulation's timing assumes no encoder delay (no lookahead, no frame dropping)
+            raise VideoError(
+                f"{self.name}: expected 1 packet for frame {self._pts}, got {len(packets)}"
+            )
+        self._pts += 1
+        packet = packets[0]
+        return EncodedFrame(
+            data=bytes(packet), pts=picture.pts, is_keyframe=bool(packet.is_keyframe)
+        )
+
+    def close(self) -> None:
+        """Flush the encoder (SVT-AV1 complains on stderr when torn down without it)."""
+        context, self._context = getattr(self, "_context", None), None
+        if context is not None:
+            # closing must not raise (it runs from __del__); a low-delay encoder holds nothing
+            with contextlib.suppress(Exception):
+                context.encode(None)
+
+    def __del__(self) -> None:
+        self.close()
+
+
+class PyavDecoder:
+    """An FFmpeg decoder through PyAV; `decode` gives the picture of one packet, or None.
+
+    One thread, so that every packet gives its picture at once. The decoder follows size changes
+    in the stream (a new rung starts with a key frame). A damaged packet FFmpeg can still conceal
+    gives a concealed picture and counts in `concealed_frames`; with `conceal=False` it raises
+    `VideoError` instead. A packet FFmpeg rejects outright raises `VideoError`, never a PyAV
+    error, and the decoder stays usable: the next key frame decodes.
+    """
+
+    def __init__(
+        self, name: str, library: str, *, conceal: bool = True, options: dict | None = None
+    ) -> None:
+        import av
+
+        self.name, self.library = name, library
+        self.conceal = conceal
+        self.concealed_frames = 0
+        self._context = av.CodecContext.create(library, "r")
+        self._context.thread_count = 1
+        if options:
+            self._context.options = dict(options)
+
+    def decode(self, data: bytes) -> np.ndarray | None:
+        """Decode one packet to a YUV 4:2:0 frame of the stream's current size.
+
+        None when the packet yields no picture. Empty data raises `VideoError` (an empty packet
+        would otherwise flush and end the decoder).
+        """
+        import av
+
+        if not data:
+            raise VideoError(f"{self.name}: empty packet (0 bytes)")
+        try:
+            frames = self._context.decode(av.Packet(data))
+        except av.FFmpegError as err:
+            raise VideoError(f"{self.name}: corrupt bitstream ({err})") from None
+        if not frames:
+            return None
+        frame = frames[-1]
+        if frame.is_corrupt:
+            self.concealed_frames += 1
+            if not self.conceal:
+                raise VideoError(
+                    f"{self.name}: corrupt bitstream (picture {self.concealed_frames} "
+                    "needed error concealment)"
+                )
+        return frame.to_ndarray(format="yuv420p")
