@@ -39,7 +39,7 @@ def handle(args: argparse.Namespace) -> int:
     from uma.atomic import atomic_write_text, prepare_out_dir
     from uma.config import load_scenario
     from uma.errors import ConfigError
-    from uma.experiments.point import completed_metrics, point_task, run_point
+    from uma.experiments.point import point_task, read_metrics, run_point
     from uma.experiments.regress import (
         baseline_yaml,
         compare,
@@ -48,6 +48,7 @@ def handle(args: argparse.Namespace) -> int:
         load_suite,
     )
     from uma.experiments.spec import scenario_hash
+    from uma.metrics.results import RUN_FILES
 
     if args.workers < 1:
         raise ConfigError(f"--workers: expected a positive integer, got {args.workers}")
@@ -69,13 +70,15 @@ def handle(args: argparse.Namespace) -> int:
         if not results.is_dir():
             raise ConfigError(f"--results: expected a folder of results, got {str(results)!r}")
         for name in names:
-            now[name] = completed_metrics(results / name)
+            now[name] = read_metrics(results / name / "metrics.json")
             if now[name] is None:
                 failures.append(f"{name}: no {results / name / 'metrics.json'}")
     else:
         from uma.experiments.executor import LocalExecutor
 
         out = prepare_out_dir(Path(args.out) if args.out else Path("results") / "regress")
+        for name in names:  # each run's folder is replaced whole: refuse before running
+            prepare_out_dir(out / name, what="--out", replaceable=RUN_FILES)
         tasks = [
             point_task(s, out / s.name, index=i, hash=scenario_hash(s))
             for i, s in enumerate(scenarios)

@@ -1,4 +1,4 @@
-"""Run one sweep point in whatever process an executor gives it, and write its folder.
+"""Run one sweep point in whatever process an executor gives it, and write its folder whole.
 
 The task is small (the resolved scenario as JSON-ready data and a folder name): the worker
 opens its own source and traces, so nothing large travels to it. Any failure becomes a value
@@ -12,7 +12,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-__all__ = ["run_point", "point_task", "completed_metrics"]
+__all__ = ["run_point", "point_task", "completed_metrics", "read_metrics"]
 
 
 def point_task(scenario, out_dir: str | Path, *, index: int, hash: str) -> dict[str, Any]:
@@ -34,13 +34,49 @@ def completed_metrics(out_dir: str | Path) -> dict[str, Any] | None:
         return None
 
 
+def read_metrics(path: str | Path) -> dict[str, Any] | None:
+    """The mapping in metrics file `path`; None when there is no such file.
+
+    A file that is there but not a JSON object (truncated, garbled, not UTF-8) is a
+    `ConfigError` naming the file and line, not "missing".
+    """
+    from uma.errors import ConfigError
+
+    path = Path(path)
+    try:
+        data = path.read_bytes()
+    except FileNotFoundError:
+        return None
+    except OSError as err:
+        raise ConfigError(f"{path}: cannot read ({err.strerror or err})") from None
+    try:
+        metrics = json.loads(data.decode("utf-8"))
+    except UnicodeDecodeError as err:
+        line = data[: err.start].count(b"\n") + 1
+        raise ConfigError(
+            f"{path}:{line}: expected UTF-8 JSON, got byte 0x{data[err.start]:02x}"
+        ) from None
+    except json.JSONDecodeError as err:
+        cause = "truncated" if err.pos >= len(data.rstrip()) else "unparseable"
+        raise ConfigError(
+            f"{path}:{err.lineno}: expected the JSON metrics of a finished run, got {cause} "
+            f"JSON ({err.msg}, column {err.colno})"
+        ) from None
+    if not isinstance(metrics, dict):
+        raise ConfigError(
+            f"{path}:1: expected a JSON object of metrics, got {type(metrics).__name__}"
+        )
+    return metrics
+
+
 def run_point(task: dict[str, Any]) -> dict[str, Any]:
     """Simulate the task's scenario, write its results; `{index, hash, status, error, metrics}`.
 
     Scoring runs inline (`metrics.workers: 0`): a sweep's parallelism is across points, and the
     results do not depend on it.
     """
-    from uma.atomic import atomic_write_text
+    from uma.atomic import atomic_dir
+    from uma.metrics.results import RUN_FILES
 
     out = Path(task["out_dir"])
     reply: dict[str, Any] = {"index": task["index"], "hash": task["hash"], "error": ""}
@@ -52,12 +88,12 @@ def run_point(task: dict[str, Any]) -> dict[str, Any]:
         data = dict(task["scenario"])
         data["metrics"] = dict(data.get("metrics", {}), workers=0)
         scenario = Scenario.model_validate(data)
-        (out / "error.txt").unlink(missing_ok=True)
         metrics = save_run(run_scenario(scenario), out)
     except Exception as err:  # recorded with the point, never lost: the sweep goes on
         message = " ".join(str(err).split()) or type(err).__name__
         reply |= {"status": "failed", "error": f"{type(err).__name__}: {message}", "metrics": {}}
-        with contextlib.suppress(Exception):  # the reply still carries the error
-            atomic_write_text(out / "error.txt", reply["error"] + "\n")
+        with contextlib.suppress(Exception), atomic_dir(out, replaceable=RUN_FILES) as staging:
+            # The reply still carries the error if this fails; the folder is whole either way.
+            (staging / "error.txt").write_text(reply["error"] + "\n", encoding="utf-8")
         return reply
     return reply | {"status": "ok", "metrics": metrics}
