@@ -21,11 +21,10 @@ from typing import Any
 from uma.experiments.executor import Executor
 from uma.experiments.point import completed_metrics, point_task, run_point
 from uma.experiments.spec import Experiment
-from uma.experiments.table import cell, flatten, write_table
+from uma.experiments.table import STATUSES, cell, flatten, write_table
 
 __all__ = ["SweepResult", "run_sweep", "STATUSES"]
 
-STATUSES = ("ok", "failed", "missing")
 _TABLE_EVERY_S = 2.0  # rewrite the table at most this often while points finish
 
 
