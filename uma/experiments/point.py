@@ -57,7 +57,9 @@ def read_metrics(path: str | Path) -> dict[str, Any] | None:
             f"{path}:{line}: expected UTF-8 JSON, got byte 0x{data[err.start]:02x}"
         ) from None
     except json.JSONDecodeError as err:
-        cause = "truncated" if err.pos >= len(data.rstrip()) else "unparseable"
+        # A cut-off file fails at its end, or inside a string that runs to its end.
+        cut = err.pos >= len(data.rstrip()) or err.msg.startswith("Unterminated string")
+        cause = "truncated" if cut else "unparseable"
         raise ConfigError(
             f"{path}:{err.lineno}: expected the JSON metrics of a finished run, got {cause} "
             f"JSON ({err.msg}, column {err.colno})"
