@@ -242,3 +242,13 @@ def test_atomic_files_replace_every_file_or_none(tmp_path, monkeypatch):
         "a.parquet": b"old",
         "a.csv": b"old",
     }
+
+
+def test_the_current_folder_is_never_swapped(tmp_path, monkeypatch):
+    from uma.errors import OutputError
+
+    monkeypatch.chdir(tmp_path)
+    for out in (".", str(tmp_path), ".."):
+        with pytest.raises(OutputError, match="other than the current folder"):
+            _write_run(Path(out), "new")
+    assert list(tmp_path.iterdir()) == []

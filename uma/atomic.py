@@ -82,8 +82,17 @@ def check_replaceable(
 
     from uma.errors import OutputError
 
-    folder = Path(path)
-    if not folder.exists() and not folder.is_symlink():
+    folder = Path(os.path.realpath(path))
+    try:
+        here = Path.cwd().resolve()
+    except OSError:  # the current folder was deleted: nothing to protect
+        here = None
+    if here is not None and (folder == here or folder in here.parents):
+        raise OutputError(
+            f"{what}: expected a results folder other than the current folder or one "
+            f"holding it, got {str(path)!r}"
+        )
+    if not folder.exists():
         return
     if not folder.is_dir():
         raise OutputError(
@@ -249,9 +258,7 @@ def atomic_dir(
     """
     from uma.errors import OutputError
 
-    target = Path(path)
-    if target.is_symlink():
-        target = Path(os.path.realpath(target))
+    target = Path(os.path.realpath(path))  # a symlink's folder is replaced, not the link
     check_replaceable(target, replaceable, what=what)
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
