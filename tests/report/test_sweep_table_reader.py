@@ -11,8 +11,9 @@ from hypothesis import strategies as st
 
 from uma.cli import main
 from uma.errors import ConfigError
-from uma.experiments.table import read_sweep_table, write_table
+from uma.experiments.table import write_table
 from uma.report.sweep_plot import sweep_series
+from uma.report.sweep_table import read_sweep_table
 
 
 def _rows():
@@ -138,3 +139,10 @@ def test_foreign_bytes_are_one_line(tmp_path, data):
 def test_inserted_bytes_are_the_table_or_one_line(tmp_path, good_table, at, junk):
     cut = int(at * len(good_table))
     _check(tmp_path, good_table[:cut] + junk + good_table[cut:])
+
+
+def test_the_reader_knows_every_status_the_sweep_writes():
+    from uma.experiments.table import STATUSES as WRITTEN
+    from uma.report.sweep_table import STATUSES as READ
+
+    assert READ == WRITTEN

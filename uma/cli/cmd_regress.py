@@ -39,7 +39,7 @@ def handle(args: argparse.Namespace) -> int:
     from uma.atomic import atomic_write_text, prepare_out_dir
     from uma.config import load_scenario
     from uma.errors import ConfigError
-    from uma.experiments.point import point_task, read_metrics, run_point
+    from uma.experiments.point import point_task, run_point
     from uma.experiments.regress import (
         baseline_yaml,
         compare,
@@ -48,7 +48,7 @@ def handle(args: argparse.Namespace) -> int:
         load_suite,
     )
     from uma.experiments.spec import scenario_hash
-    from uma.metrics.results import RUN_FILES
+    from uma.metrics.results import RUN_FILES, read_metrics
 
     if args.workers < 1:
         raise ConfigError(f"--workers: expected a positive integer, got {args.workers}")

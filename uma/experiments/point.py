@@ -12,7 +12,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-__all__ = ["run_point", "point_task", "completed_metrics", "read_metrics"]
+__all__ = ["run_point", "point_task", "completed_metrics"]
 
 
 def point_task(scenario, out_dir: str | Path, *, index: int, hash: str) -> dict[str, Any]:
@@ -32,43 +32,6 @@ def completed_metrics(out_dir: str | Path) -> dict[str, Any] | None:
         return json.loads(path.read_text(encoding="utf-8"))
     except (OSError, ValueError):
         return None
-
-
-def read_metrics(path: str | Path) -> dict[str, Any] | None:
-    """The mapping in metrics file `path`; None when there is no such file.
-
-    A file that is there but not a JSON object (truncated, garbled, not UTF-8) is a
-    `ConfigError` naming the file and line, not "missing".
-    """
-    from uma.errors import ConfigError
-
-    path = Path(path)
-    try:
-        data = path.read_bytes()
-    except FileNotFoundError:
-        return None
-    except OSError as err:
-        raise ConfigError(f"{path}: cannot read ({err.strerror or err})") from None
-    try:
-        metrics = json.loads(data.decode("utf-8"))
-    except UnicodeDecodeError as err:
-        line = data[: err.start].count(b"\n") + 1
-        raise ConfigError(
-            f"{path}:{line}: expected UTF-8 JSON, got byte 0x{data[err.start]:02x}"
-        ) from None
-    except json.JSONDecodeError as err:
-        # A cut-off file fails at its end, or inside a string that runs to its end.
-        cut = err.pos >= len(data.rstrip()) or err.msg.startswith("Unterminated string")
-        cause = "truncated" if cut else "unparseable"
-        raise ConfigError(
-            f"{path}:{err.lineno}: expected the JSON metrics of a finished run, got {cause} "
-            f"JSON ({err.msg}, column {err.colno})"
-        ) from None
-    if not isinstance(metrics, dict):
-        raise ConfigError(
-            f"{path}:1: expected a JSON object of metrics, got {type(metrics).__name__}"
-        )
-    return metrics
 
 
 def run_point(task: dict[str, Any]) -> dict[str, Any]:

@@ -46,7 +46,7 @@ def _is_float(text: str) -> bool:
 
 
 def _read_metrics(path: Path) -> dict[str, Any]:
-    from uma.experiments.point import read_metrics
+    from uma.metrics.results import read_metrics
 
     metrics = read_metrics(path)
     if metrics is None:

@@ -51,7 +51,7 @@ class SweepSeries:
 
 def sweep_series(sweep_dir: str | Path, *, metric: str, x: str | None) -> SweepSeries:
     """Read `sweep_dir/sweep.csv` and gather `metric` by `x`; `ConfigError` for bad input."""
-    from uma.experiments.table import read_sweep_table
+    from uma.report.sweep_table import read_sweep_table
 
     table_path = Path(sweep_dir) / "sweep.csv"
     if not table_path.is_file():
