@@ -311,3 +311,17 @@ def test_sigterm_ends_the_workers_and_writes_the_table_marked_incomplete(folder)
         for pid in workers:
             if _alive(pid):
                 os.kill(pid, signal.SIGKILL)
+
+
+def test_shipped_data_a_point_reads_unnamed_counts_too(folder, tmp_path_factory, monkeypatch):
+    import shutil
+
+    from uma.paths import codecs_dir
+
+    home = tmp_path_factory.mktemp("home")
+    shutil.copytree(codecs_dir(), home / "codecs")
+    monkeypatch.setenv("UMA_HOME", str(home))
+    before = _hashes(folder)
+    ladder = home / "codecs" / "h264.yaml"
+    ladder.write_text(ladder.read_text() + "\n# edited\n")
+    assert not set(before) & set(_hashes(folder))

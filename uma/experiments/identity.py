@@ -4,7 +4,10 @@ Two points are the same run only when their scenarios are equal and each file th
 (traces, the source video, the face description or points file, the ladder) has the same bytes.
 A YAML or JSON file's own references (a points file's `video:`) count too: a string value that
 names an existing file, relative to that file's folder or `shared:PATH` under the shared data
-folder, is read in turn. So a trace edited in place makes its points run again.
+folder, is read in turn. So a trace edited in place makes its points run again. The shipped
+data a run reads without naming it (the default ladder, the face model, the talking head's
+points, all under `codecs/`) is hashed too. The code itself is not: after changing uma, sweep
+into a new folder.
 """
 
 from __future__ import annotations
@@ -100,6 +103,18 @@ def file_digests(data: Any) -> dict[str, str]:
     return dict(sorted(digests.items()))
 
 
+def _shipped_digests() -> dict[str, str]:
+    """SHA-256 of every file under `codecs/`, keyed by its path there (not where the clone is)."""
+    from uma.paths import codecs_dir
+
+    root = codecs_dir()
+    digests = {}
+    for path in sorted(root.rglob("*")) if root.is_dir() else []:
+        if path.is_file() and (digest := _digest(path)) is not None:
+            digests[f"codecs/{path.relative_to(root).as_posix()}"] = digest
+    return digests
+
+
 def scenario_hash(scenario) -> str:
     """16 hex digits of SHA-256 over the resolved scenario and the contents of the files it reads.
 
@@ -108,7 +123,6 @@ def scenario_hash(scenario) -> str:
     """
     data = scenario.model_dump(mode="json")
     data["metrics"].pop("workers", None)
-    text = json.dumps(
-        {"scenario": data, "files": file_digests(data)}, sort_keys=True, separators=(",", ":")
-    )
+    files = file_digests(data) | _shipped_digests()
+    text = json.dumps({"scenario": data, "files": files}, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
