@@ -17,7 +17,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-__all__ = ["scenario_hash", "file_digests"]
+__all__ = ["scenario_hash", "file_digests", "shipped_digests"]
 
 _FOLLOWED = (".yaml", ".yml", ".json")  # text files whose values may name further files
 _MAX_DEPTH = 3
@@ -56,6 +56,8 @@ def _as_file(value: str, folder: Path | None) -> Path | None:
     """The existing regular file `value` names (absolute, `shared:`, or relative to `folder`)."""
     if not value or len(value) > 4096 or "\n" in value:
         return None
+    if folder is None and not value.startswith(("/", "~", _SHARED_PREFIX)):
+        return None  # the scenario's paths are absolute once resolved
     if value.startswith(_SHARED_PREFIX):
         from uma.paths import shared_data_dir
 
@@ -103,7 +105,7 @@ def file_digests(data: Any) -> dict[str, str]:
     return dict(sorted(digests.items()))
 
 
-def _shipped_digests() -> dict[str, str]:
+def shipped_digests() -> dict[str, str]:
     """SHA-256 of every file under `codecs/`, keyed by its path there (not where the clone is)."""
     from uma.paths import codecs_dir
 
@@ -115,14 +117,16 @@ def _shipped_digests() -> dict[str, str]:
     return digests
 
 
-def scenario_hash(scenario) -> str:
+def scenario_hash(scenario, *, shipped: dict[str, str] | None = None) -> str:
     """16 hex digits of SHA-256 over the resolved scenario and the contents of the files it reads.
+
+    `shipped` is `shipped_digests()`, passed in to hash many points against one reading of it.
 
     `metrics.workers` does not change results (see `MetricsConfig`), so it is not part of a
     point's identity.
     """
     data = scenario.model_dump(mode="json")
     data["metrics"].pop("workers", None)
-    files = file_digests(data) | _shipped_digests()
+    files = file_digests(data) | (shipped_digests() if shipped is None else shipped)
     text = json.dumps({"scenario": data, "files": files}, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]

@@ -30,7 +30,7 @@ from typing import Any
 from uma.config.scenario import Scenario
 from uma.config.yamlfile import KeyLines
 from uma.errors import ConfigError
-from uma.experiments.identity import scenario_hash
+from uma.experiments.identity import scenario_hash, shipped_digests
 
 __all__ = ["Experiment", "Point", "load_experiment", "scenario_hash", "MAX_POINTS"]
 
@@ -168,6 +168,7 @@ def load_experiment(path: str | Path) -> Experiment:
             f"({sizes} values{f' x repeat {repeat}' if repeat > 1 else ''}); split the experiment"
         )
 
+    shipped = shipped_digests()  # once: every point reads the same shipped data
     points: list[Point] = []
     by_hash: dict[str, Point] = {}
     base_dir = base_path.resolve().parent
@@ -195,7 +196,8 @@ def load_experiment(path: str | Path) -> Experiment:
                 scenario = scenario_from_dict(point_data, point_lines, base_dir=base_dir)
             except ConfigError as err:
                 raise ConfigError(f"{err} (grid point {shown})") from None
-            point = Point(len(points), values, rep, scenario, scenario_hash(scenario))
+            digest = scenario_hash(scenario, shipped=shipped)
+            point = Point(len(points), values, rep, scenario, digest)
             twin = by_hash.setdefault(point.hash, point)
             if twin is not point:
                 raise ConfigError(
