@@ -13,8 +13,9 @@ gated metric with the suite's baseline file under its tolerance and direction. P
 scenario, metric, baseline, now, change, tolerance, verdict.
 
 --update rewrites the baseline from these results, on purpose, and shows what changed.
-Exit status: 0 every metric within its tolerance, 1 a regression (a missing metric or a failed
-run is one), 2 bad input (suite, baseline or scenario files)."""
+Each run's folder under --out is replaced whole. Exit status: 0 every metric within its
+tolerance, 1 a regression (a missing metric, a missing metrics.json or a failed run is one),
+2 bad input (suite, baseline or scenario files, a metrics.json cut short or unparseable)."""
 
 
 def register(sub: argparse._SubParsersAction) -> None:
