@@ -14,6 +14,7 @@ class Terminated(KeyboardInterrupt):
 
 
 def _terminated(signum, frame) -> None:
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)  # a second SIGTERM must not cut the cleanup
     raise Terminated
 
 
@@ -86,7 +87,7 @@ def handle(args: argparse.Namespace) -> int:
         result = run_sweep(experiment, out_dir, executor, progress=progress)
     except KeyboardInterrupt as err:
         if main_thread:
-            signal.signal(signal.SIGTERM, signal.SIG_IGN)  # one interruption is enough
+            signal.signal(signal.SIGTERM, signal.SIG_IGN)  # Ctrl-C then SIGTERM: one is enough
         executor.terminate()
         if bar is not None:
             bar.close()

@@ -87,11 +87,11 @@ def run_sweep(
         write_table(rows, csv_path, parquet_path)
         return rows
 
-    table()  # before any point runs: an interrupted sweep is marked incomplete from the start
-    if progress is not None:
-        progress(skipped, total)
-    written = time.monotonic()
     try:
+        table()  # before any point runs: an interrupted sweep is marked incomplete from the start
+        if progress is not None:
+            progress(skipped, total)
+        written = time.monotonic()
         for reply in executor.map_unordered(run_point, tasks):
             replies[reply["index"]] = reply
             if progress is not None:
