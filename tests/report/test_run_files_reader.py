@@ -69,3 +69,17 @@ def test_damaged_run_files_are_the_run_or_one_line(tmp_path, run_files, name, ki
         read_run(tmp_path)
     except ConfigError as err:
         assert "\n" not in str(err), str(err)
+
+
+@settings(
+    max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+@given(data=st.binary(max_size=300) | st.text(max_size=200).map(str.encode))
+def test_read_metrics_is_a_mapping_or_one_line(tmp_path, data):
+    from uma.metrics.results import read_metrics
+
+    (tmp_path / "metrics.json").write_bytes(data)
+    try:
+        assert isinstance(read_metrics(tmp_path / "metrics.json"), dict)
+    except ConfigError as err:
+        assert "\n" not in str(err) and "metrics.json" in str(err), str(err)
