@@ -252,3 +252,26 @@ def test_the_current_folder_is_never_swapped(tmp_path, monkeypatch):
         with pytest.raises(OutputError, match="other than the current folder"):
             _write_run(Path(out), "new")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_only_an_ended_writers_leftovers_on_this_host_are_removed(tmp_path):
+    import socket
+
+    from uma.atomic import atomic_files
+
+    ended = subprocess.run(
+        [sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True
+    )
+    dead = int(ended.stdout)
+    host = socket.gethostname()
+    names = {
+        f".sweep.csv.uma-{dead}@{host}-abc.tmp": "dead writer here: removed",
+        f".sweep.csv.uma-{os.getppid()}@{host}-abc.tmp": "live writer: kept",
+        f".sweep.csv.uma-{dead}@elsewhere-abc.tmp": "another host's writer: kept",
+        ".sweep.csv.abc.tmp": "not ours: kept",
+    }
+    for name in names:
+        (tmp_path / name).write_text("x")
+    atomic_files(tmp_path, {"sweep.csv": b"new"})
+    left = {p.name for p in tmp_path.iterdir()}
+    assert left == {"sweep.csv"} | {n for n, why in names.items() if why.endswith("kept")}

@@ -8,7 +8,8 @@ hidden sibling, fsyncs it, then swaps it in. On Linux the swap is one `renameat2
 call, so there is no moment without a folder; elsewhere (or on a file system without it) the
 old folder is renamed aside and the new one renamed in, and between those two renames the
 folder is absent (never mixed). A crash leaves at most a hidden sibling
-`.NAME.uma-PID-*.tmp`, which the next write of NAME removes once PID has ended.
+`.NAME.uma-PID@HOST-*.tmp`, which the next write of NAME on HOST removes once PID has ended
+(temporary files of single files are named and cleared alike).
 
 Several files in a shared folder (a sweep's CSV and Parquet tables): `atomic_files` writes every
 temporary file first and replaces them in the order given; only a crash between two `os.replace`
@@ -119,7 +120,8 @@ def atomic_open(path: str | os.PathLike, mode: str = "w", **kwargs) -> Iterator[
     target = Path(path)
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+        _remove_stale(target.parent, target.name)
+        fd, tmp = tempfile.mkstemp(prefix=_prefix(target.name), suffix=".tmp", dir=target.parent)
     except OSError as err:
         raise OutputError(f"{target}: cannot write ({err.strerror or err})") from None
     try:
@@ -233,16 +235,36 @@ def _pid_alive(pid: int) -> bool:
     return True
 
 
-def _remove_stale(target: Path) -> None:
-    """Delete hidden siblings an ended writer of `target` left (crashed mid-write or mid-swap)."""
-    prefix = f".{target.name}.uma-"
+def _prefix(name: str) -> str:
+    """Temporary names say who writes them, so that only an ended writer's leftovers are removed."""
+    import socket
+
+    return f".{name}.uma-{os.getpid()}@{socket.gethostname()}-"
+
+
+def _remove_stale(folder: Path, name: str) -> None:
+    """Delete what an ended writer of `name` on this host left in `folder` (killed mid-write).
+
+    A writer on another host sharing the folder (a Dask worker) may still be alive: its
+    leftovers are kept.
+    """
+    import socket
+
+    prefix = f".{name}.uma-"
     with contextlib.suppress(OSError):
-        for entry in os.scandir(target.parent):
-            if not entry.name.startswith(prefix):
+        for entry in os.scandir(folder):
+            if not entry.name.startswith(prefix) or "-" not in entry.name[len(prefix) :]:
                 continue
-            pid = entry.name[len(prefix) :].split("-", 1)[0]
-            if pid.isdigit() and int(pid) != os.getpid() and not _pid_alive(int(pid)):
-                shutil.rmtree(entry.path, ignore_errors=True)
+            owner = entry.name[len(prefix) :].rsplit("-", 1)[0]
+            pid, _, host = owner.partition("@")
+            if host != socket.gethostname() or not pid.isdigit() or int(pid) == os.getpid():
+                continue
+            if not _pid_alive(int(pid)):
+                if entry.is_dir(follow_symlinks=False):
+                    shutil.rmtree(entry.path, ignore_errors=True)
+                else:
+                    with contextlib.suppress(OSError):
+                        os.unlink(entry.path)
 
 
 @contextlib.contextmanager
@@ -262,11 +284,9 @@ def atomic_dir(
     check_replaceable(target, replaceable, what=what)
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
-        _remove_stale(target)
+        _remove_stale(target.parent, target.name)
         staging = Path(
-            tempfile.mkdtemp(
-                prefix=f".{target.name}.uma-{os.getpid()}-", suffix=".tmp", dir=target.parent
-            )
+            tempfile.mkdtemp(prefix=_prefix(target.name), suffix=".tmp", dir=target.parent)
         )
         umask = os.umask(0)
         os.umask(umask)
@@ -301,7 +321,8 @@ def atomic_files(folder: str | os.PathLike, files: Mapping[str, bytes]) -> None:
     try:
         out.mkdir(parents=True, exist_ok=True)
         for name, data in files.items():
-            fd, tmp = tempfile.mkstemp(prefix=f".{name}.", suffix=".tmp", dir=out)
+            _remove_stale(out, name)
+            fd, tmp = tempfile.mkstemp(prefix=_prefix(name), suffix=".tmp", dir=out)
             temps.append((name, Path(tmp)))
             _chmod_plain(tmp)
             with os.fdopen(fd, "wb") as handle:
