@@ -87,6 +87,9 @@ def handle(args: argparse.Namespace) -> int:
         executor = LocalExecutor(min(args.workers, len(tasks)))
         try:
             replies = {r["index"]: r for r in executor.map_unordered(run_point, tasks)}
+        except BaseException:
+            executor.terminate()  # Ctrl-C: end the runs now rather than wait for them
+            raise
         finally:
             executor.close()
         for i, name in enumerate(names):
