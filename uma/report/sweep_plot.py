@@ -97,13 +97,14 @@ def draw_sweep_summary(
     """Draw `sweep_dir/summary-<metric>.png` (or `out_png`) atomically; returns its path."""
     import io
 
+    folder = Path(sweep_dir)
+    data = sweep_series(folder, metric=metric, x=x)  # bad input fails before matplotlib loads
+
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
     from uma.atomic import atomic_write_bytes
 
-    folder = Path(sweep_dir)
-    data = sweep_series(folder, metric=metric, x=x)
     fig = Figure(figsize=(7.5, 4.8), dpi=100, layout="constrained")
     ax = fig.subplots()
     xs_all = list(data.xs)
