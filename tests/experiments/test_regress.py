@@ -133,3 +133,35 @@ def test_bad_suite_names_the_key(tmp_path, capsys):
     )
     assert main(["regress", str(tmp_path / "suite.yaml")]) == 2
     assert "suite.yaml:4 (metrics.kbps_h264) worse: expected up or down" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    "damage, said",
+    [
+        (
+            lambda text: text[: len(text) // 2],
+            r"metrics.json:\d+: expected the JSON metrics .* got truncated JSON",
+        ),
+        (lambda text: '{\n  "psnr_db": 3,, \n}\n', r"metrics.json:2: .*got unparseable JSON"),
+        (lambda text: "[1, 2]\n", r"metrics.json:1: expected a JSON object of metrics, got list"),
+    ],
+)
+def test_truncated_metrics_file_is_named_as_such_not_missing(suite, capsys, tmp_path, damage, said):
+    results = tmp_path / "tiny"
+    results.mkdir()
+    text = (suite / "runs" / "tiny" / "metrics.json").read_text()
+    (results / "metrics.json").write_text(damage(text))
+    capsys.readouterr()
+    assert main(["regress", str(suite / "suite.yaml"), "--results", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert len(err.splitlines()) == 1 and "no " not in err, err
+    assert re.search(said, err), err
+
+
+def test_regress_refuses_an_out_folder_holding_other_files_before_running(suite, capsys, tmp_path):
+    (tmp_path / "tiny").mkdir()
+    (tmp_path / "tiny" / "notes.txt").write_text("mine")
+    capsys.readouterr()
+    assert main(["regress", str(suite / "suite.yaml"), "--out", str(tmp_path)]) == 2
+    assert "holds files that are not results (notes.txt)" in capsys.readouterr().err
+    assert (tmp_path / "tiny" / "notes.txt").read_text() == "mine"

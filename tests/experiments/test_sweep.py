@@ -59,7 +59,10 @@ def test_grid_expands_with_repeats_and_distinct_hashes(folder):
             "grid:\n  engine.safety: []\n",
             r"exp.yaml:4 \(grid.engine.safety\): expected a non-empty list",
         ),
-        ("grid:\n  engine.safety: [0.5, 2]\n", r"grid point engine.safety=2: .*engine.safety"),
+        (
+            "grid:\n  engine.safety: [0.5, 2]\n",
+            r"exp.yaml:4 \(grid.engine.safety\[1\]\): input should be .* got 2 \(grid point",
+        ),
     ],
 )
 def test_bad_experiments_are_one_config_error(folder, grid, message):

@@ -13,8 +13,9 @@ gated metric with the suite's baseline file under its tolerance and direction. P
 scenario, metric, baseline, now, change, tolerance, verdict.
 
 --update rewrites the baseline from these results, on purpose, and shows what changed.
-Exit status: 0 every metric within its tolerance, 1 a regression (a missing metric or a failed
-run is one), 2 bad input (suite, baseline or scenario files)."""
+Each run's folder under --out is replaced whole. Exit status: 0 every metric within its
+tolerance, 1 a regression (a missing metric, a missing metrics.json or a failed run is one),
+2 bad input (suite, baseline or scenario files, a metrics.json cut short or unparseable)."""
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -39,7 +40,7 @@ def handle(args: argparse.Namespace) -> int:
     from uma.atomic import atomic_write_text, prepare_out_dir
     from uma.config import load_scenario
     from uma.errors import ConfigError
-    from uma.experiments.point import completed_metrics, point_task, run_point
+    from uma.experiments.point import point_task, run_point
     from uma.experiments.regress import (
         baseline_yaml,
         compare,
@@ -48,6 +49,7 @@ def handle(args: argparse.Namespace) -> int:
         load_suite,
     )
     from uma.experiments.spec import scenario_hash
+    from uma.metrics.results import RUN_FILES, read_metrics
 
     if args.workers < 1:
         raise ConfigError(f"--workers: expected a positive integer, got {args.workers}")
@@ -69,13 +71,15 @@ def handle(args: argparse.Namespace) -> int:
         if not results.is_dir():
             raise ConfigError(f"--results: expected a folder of results, got {str(results)!r}")
         for name in names:
-            now[name] = completed_metrics(results / name)
+            now[name] = read_metrics(results / name / "metrics.json")
             if now[name] is None:
                 failures.append(f"{name}: no {results / name / 'metrics.json'}")
     else:
         from uma.experiments.executor import LocalExecutor
 
         out = prepare_out_dir(Path(args.out) if args.out else Path("results") / "regress")
+        for name in names:  # each run's folder is replaced whole: refuse before running
+            prepare_out_dir(out / name, what="--out", replaceable=RUN_FILES)
         tasks = [
             point_task(s, out / s.name, index=i, hash=scenario_hash(s))
             for i, s in enumerate(scenarios)
@@ -83,6 +87,9 @@ def handle(args: argparse.Namespace) -> int:
         executor = LocalExecutor(min(args.workers, len(tasks)))
         try:
             replies = {r["index"]: r for r in executor.map_unordered(run_point, tasks)}
+        except BaseException:
+            executor.terminate()  # Ctrl-C: end the runs now rather than wait for them
+            raise
         finally:
             executor.close()
         for i, name in enumerate(names):

@@ -14,8 +14,10 @@ displayed beside the source, with codec, rate and technology in a corner (the ru
 again from its scenario.yaml, which repeats it exactly).
 
 For a sweep's folder (it holds sweep.csv): draw summary-<metric>.png, --metric against the grid
-key --x, one line per combination of the other grid keys, seeds averaged.
-Exit status: 0 done, 2 bad input (no results there, unknown metric or key)."""
+key --x, one line per combination of the other grid keys, seeds averaged; failed points and
+points not run yet (status missing: the sweep is incomplete) are counted in the title.
+Exit status: 0 done, 2 bad input (no results there, a damaged file: one line naming its line,
+unknown metric or key)."""
 
 
 def register(sub: argparse._SubParsersAction) -> None:

@@ -15,7 +15,9 @@ across WLAN, 3G, GPRS, GSM). Without SCENARIO, runs scenarios/stockholm-uppsala.
 Writes results/<scenario>/ (or --out DIR): metrics.json (aggregates), frames.csv (one row
 per displayed frame), events.csv (rung switches, handovers, keyframe requests) and the
 resolved scenario.yaml that repeats the run; with --report also timeline.png (see
-`uma report`). Exit status: 0 done, 2 bad input."""
+`uma report`). The folder is replaced whole: after a failure or a kill it holds the earlier
+run whole or this one whole, never a mix; a folder holding other files is refused.
+Exit status: 0 done, 2 bad input."""
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -49,7 +51,12 @@ def handle(args: argparse.Namespace) -> int:
         if args.seed < 0:
             raise ConfigError(f"--seed: expected a non-negative integer, got {args.seed}")
         scenario = scenario.with_seed(args.seed)
-    out_dir = prepare_out_dir(Path(args.out) if args.out else Path("results") / scenario.name)
+    from uma.metrics.results import RUN_FILES
+
+    # Checked before the simulation: the folder is replaced whole, so it may hold only results.
+    out_dir = prepare_out_dir(
+        Path(args.out) if args.out else Path("results") / scenario.name, replaceable=RUN_FILES
+    )
 
     bar = None
     if not args.quiet and sys.stderr.isatty():

@@ -3,9 +3,20 @@
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
 
-__all__ = ["register"]
+__all__ = ["register", "Terminated"]
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised where the main thread is, so the sweep stops as on Ctrl-C."""
+
+
+def _terminated(signum, frame) -> None:
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)  # a second SIGTERM must not cut the cleanup
+    raise Terminated
+
 
 HELP = """\
 Run every point of an experiment: a base scenario and a grid over its keys (see
@@ -13,10 +24,14 @@ uma/experiments/spec.py, or the README). Points run on local worker processes (-
 default 2), or on a Dask cluster when --scheduler gives its address (tcp://host:port; the
 workers must see the same files and the --out folder).
 
-Writes OUT/sweep.csv and OUT/sweep.parquet (one row per run: the grid's keys and every metric)
-and OUT/points/<hash>/ per run. Rerunning skips points already complete (keyed by the hash of
-the resolved scenario); a failed point is recorded with its error and the others go on.
-Exit status: 0 all points ran, 1 some point failed, 2 bad input."""
+Writes OUT/sweep.csv and OUT/sweep.parquet (one row per run: the grid's keys, a status, every
+metric) and OUT/points/<hash>/ per run, each folder whole. Rerunning skips points already
+complete (keyed by the hash of the resolved scenario and of the contents of every file it
+reads); a failed point is recorded with its error and the others go on. The table is written
+before the first point runs and kept current: a point not run yet has status `missing`. Ctrl-C
+or SIGTERM ends the workers, writes the table of what is done and exits 130 or 143; workers
+also end when this process is killed. A grid over 10,000 runs, or with a value given twice,
+is refused. Exit status: 0 all points ran, 1 some point failed, 2 bad input."""
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -64,19 +79,39 @@ def handle(args: argparse.Namespace) -> int:
         def progress(done: int, total: int) -> None:
             bar.update(done - bar.n)
 
+    import threading
+
+    main_thread = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGTERM, _terminated) if main_thread else None
     try:
         result = run_sweep(experiment, out_dir, executor, progress=progress)
+    except KeyboardInterrupt as err:
+        if main_thread:
+            signal.signal(signal.SIGTERM, signal.SIG_IGN)  # Ctrl-C then SIGTERM: one is enough
+        executor.terminate()
+        if bar is not None:
+            bar.close()
+        what = "SIGTERM" if isinstance(err, Terminated) else "Ctrl-C"
+        print(
+            f"uma sweep: interrupted ({what}); {out_dir / 'sweep.csv'} lists the points not "
+            f"run as missing; run the sweep again to finish them",
+            file=sys.stderr,
+        )
+        return 143 if isinstance(err, Terminated) else 130
     finally:
+        if main_thread:
+            signal.signal(signal.SIGTERM, previous)
         executor.close()
         if bar is not None:
             bar.close()
     if not args.quiet:
         print(
             f"sweep {experiment.name}: {len(result.rows)} points, {result.ran} run, "
-            f"{result.skipped} already complete, {result.failed} failed\n"
-            f"  table    {result.csv_path} and {result.parquet_path.name}"
+            f"{result.skipped} already complete, {result.failed} failed"
+            + (f", {result.missing} not run" if result.missing else "")
+            + f"\n  table    {result.csv_path} and {result.parquet_path.name}"
         )
         for row in result.rows:
-            if row["status"] != "ok":
+            if row["status"] == "failed":
                 print(f"  failed   point {row['point']} ({row['hash']}): {row['error']}")
-    return 1 if result.failed else 0
+    return 1 if result.failed or result.missing else 0

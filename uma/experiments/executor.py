@@ -2,18 +2,28 @@
 
 `executor.map_unordered(fn, tasks)` yields `fn(task)` for every task as each finishes. Locally
 that is a `concurrent.futures.ProcessPoolExecutor` (spawned processes: no state inherited from
-the parent's threads); with a scheduler address, a `distributed.Client`, `client.map(fn, tasks,
-pure=False)` and `distributed.as_completed`. Dask is imported only when a scheduler is given.
+the parent's threads) that end with their parent: on Linux the kernel kills each when the
+parent dies (`PR_SET_PDEATHSIG`), and everywhere a thread in each polls the parent's pid, so a
+SIGKILLed sweep leaves no worker behind. `terminate()` ends the workers at once (a SIGTERM or
+Ctrl-C of the sweep). With a scheduler address: a `distributed.Client` after
+`uma.experiments.scheduler.check_scheduler` has seen a Dask greeting there within the timeout,
+then `client.map(fn, tasks, pure=False)` and `distributed.as_completed`. Dask is imported only
+when a scheduler is given.
 """
 
 from __future__ import annotations
 
+import os
+import sys
 from collections.abc import Callable, Iterable, Iterator
 from typing import Any, Protocol
 
 from uma.errors import ConfigError
 
-__all__ = ["Executor", "LocalExecutor", "DaskExecutor", "make_executor"]
+_PARENT_POLL_S = 0.5
+_PR_SET_PDEATHSIG = 1  # linux/prctl.h
+
+__all__ = ["Executor", "LocalExecutor", "DaskExecutor", "make_executor", "end_with_parent"]
 
 
 class Executor(Protocol):
@@ -22,6 +32,34 @@ class Executor(Protocol):
     def map_unordered(self, fn: Callable[[Any], Any], tasks: Iterable[Any]) -> Iterator[Any]: ...
 
     def close(self) -> None: ...
+
+    def terminate(self) -> None: ...
+
+
+def end_with_parent(parent_pid: int) -> None:
+    """Worker initializer: this process exits when process `parent_pid` is no longer its parent."""
+    import signal
+    import threading
+    import time
+
+    if sys.platform.startswith("linux"):
+        import ctypes
+
+        try:
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+        except (OSError, AttributeError):
+            pass  # the polling thread below still ends this worker
+    if os.getppid() != parent_pid:  # the parent died before the watch was set
+        os._exit(1)
+
+    def watch() -> None:
+        while True:
+            time.sleep(_PARENT_POLL_S)
+            if os.getppid() != parent_pid:
+                os._exit(1)
+
+    threading.Thread(target=watch, name="uma-parent-watch", daemon=True).start()
 
 
 class LocalExecutor:
@@ -42,7 +80,10 @@ class LocalExecutor:
             return
         if self._pool is None:
             self._pool = ProcessPoolExecutor(
-                max_workers=self.workers, mp_context=multiprocessing.get_context("spawn")
+                max_workers=self.workers,
+                mp_context=multiprocessing.get_context("spawn"),
+                initializer=end_with_parent,
+                initargs=(os.getpid(),),
             )
         futures = [self._pool.submit(fn, task) for task in tasks]
         try:
@@ -57,11 +98,27 @@ class LocalExecutor:
             self._pool.shutdown(wait=True, cancel_futures=True)
             self._pool = None
 
+    def terminate(self) -> None:
+        """End the workers now, running tasks and all (their results are lost)."""
+        if self._pool is None:
+            return
+        # The pool has no public way to stop a running task; its processes are in `_processes`.
+        processes = list((getattr(self._pool, "_processes", None) or {}).values())
+        for process in processes:
+            process.kill()
+        for process in processes:
+            process.join(5.0)
+        self._pool.shutdown(wait=True, cancel_futures=True)
+        self._pool = None
+
 
 class DaskExecutor:
     """Tasks on the Dask cluster whose scheduler listens at `address` (`tcp://host:port`)."""
 
     def __init__(self, address: str, *, timeout_s: float = 10.0) -> None:
+        from uma.experiments.scheduler import check_scheduler
+
+        check_scheduler(address, timeout_s=timeout_s)
         from distributed import Client
 
         try:
@@ -89,6 +146,10 @@ class DaskExecutor:
     def close(self) -> None:
         self._client.close()
 
+    def terminate(self) -> None:
+        """Leave the cluster: this client's tasks are cancelled as it disconnects."""
+        self.close()
+
 
 def make_executor(
     *, workers: int | None = None, scheduler: str | None = None, timeout_s: float = 10.0
@@ -96,6 +157,4 @@ def make_executor(
     """Dask when `scheduler` is an address, else local processes (default: 2, this machine's cores)."""
     if scheduler:
         return DaskExecutor(scheduler, timeout_s=timeout_s)
-    import os
-
     return LocalExecutor(workers if workers is not None else min(2, os.cpu_count() or 1))

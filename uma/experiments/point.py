@@ -1,4 +1,4 @@
-"""Run one sweep point in whatever process an executor gives it, and write its folder.
+"""Run one sweep point in whatever process an executor gives it, and write its folder whole.
 
 The task is small (the resolved scenario as JSON-ready data and a folder name): the worker
 opens its own source and traces, so nothing large travels to it. Any failure becomes a value
@@ -40,7 +40,8 @@ def run_point(task: dict[str, Any]) -> dict[str, Any]:
     Scoring runs inline (`metrics.workers: 0`): a sweep's parallelism is across points, and the
     results do not depend on it.
     """
-    from uma.atomic import atomic_write_text
+    from uma.atomic import atomic_dir
+    from uma.metrics.results import RUN_FILES
 
     out = Path(task["out_dir"])
     reply: dict[str, Any] = {"index": task["index"], "hash": task["hash"], "error": ""}
@@ -52,12 +53,12 @@ def run_point(task: dict[str, Any]) -> dict[str, Any]:
         data = dict(task["scenario"])
         data["metrics"] = dict(data.get("metrics", {}), workers=0)
         scenario = Scenario.model_validate(data)
-        (out / "error.txt").unlink(missing_ok=True)
         metrics = save_run(run_scenario(scenario), out)
     except Exception as err:  # recorded with the point, never lost: the sweep goes on
         message = " ".join(str(err).split()) or type(err).__name__
         reply |= {"status": "failed", "error": f"{type(err).__name__}: {message}", "metrics": {}}
-        with contextlib.suppress(Exception):  # the reply still carries the error
-            atomic_write_text(out / "error.txt", reply["error"] + "\n")
+        with contextlib.suppress(Exception), atomic_dir(out, replaceable=RUN_FILES) as staging:
+            # The reply still carries the error if this fails; the folder is whole either way.
+            (staging / "error.txt").write_text(reply["error"] + "\n", encoding="utf-8")
         return reply
     return reply | {"status": "ok", "metrics": metrics}

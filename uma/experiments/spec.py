@@ -11,25 +11,33 @@ grid:                                        # key path -> the values to try
 repeat: 2                                    # optional: seeds seed, seed + 1, ... per point
 ```
 
-Every point is validated before anything runs (an unknown key, an empty grid, a value the
-schema refuses: one `ConfigError` naming the file, line and key). A point's identity is the hash
-of its fully resolved scenario, which makes a sweep resumable.
+Every point is validated before anything runs (an unknown key, an empty grid, a value given
+twice, a value the schema refuses: one `ConfigError` naming the experiment file's line and key).
+A grid of more than `MAX_POINTS` runs is refused before it is expanded. A point's identity is the
+hash of its fully resolved scenario and of the contents of the files it reads (see
+`uma.experiments.identity`), which makes a sweep resumable.
 """
 
 from __future__ import annotations
 
 import copy
 import itertools
+import json
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from uma.config.scenario import Scenario
+from uma.config.yamlfile import KeyLines
 from uma.errors import ConfigError
+from uma.experiments.identity import scenario_hash, shipped_digests
 
-__all__ = ["Experiment", "Point", "load_experiment", "scenario_hash"]
+__all__ = ["Experiment", "Point", "load_experiment", "scenario_hash", "MAX_POINTS"]
 
 _TOP_KEYS = ("name", "description", "base", "set", "grid", "repeat")
+# Runs (grid combinations times repeats) one experiment may hold: beyond this, validating the
+# points alone takes minutes and the memory grows with them; split the experiment instead.
+MAX_POINTS = 10_000
 
 
 @dataclass(frozen=True)
@@ -51,19 +59,24 @@ class Experiment:
     points: tuple[Point, ...]
 
 
-def scenario_hash(scenario: Scenario) -> str:
-    """16 hex digits of SHA-256 over the resolved scenario, the threads that score it left out.
+@dataclass(frozen=True)
+class _PointLines(KeyLines):
+    """A point's key lines: a key the grid or `set` gives cites the experiment file's line."""
 
-    `metrics.workers` does not change results (see `MetricsConfig`), so it is not part of a
-    point's identity.
-    """
-    import hashlib
-    import json
+    experiment: KeyLines | None = None
+    given: tuple[tuple[tuple, tuple], ...] = ()  # (scenario key path, experiment key path)
 
-    data = scenario.model_dump(mode="json")
-    data["metrics"].pop("workers", None)
-    text = json.dumps(data, sort_keys=True, separators=(",", ":"))
-    return hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
+    def where(self, key_path) -> str:
+        key = tuple(key_path)
+        for parsed, origin in self.given:
+            if key[: len(parsed)] == parsed and self.experiment is not None:
+                return self.experiment.where(origin + key[len(parsed) :])
+        return super().where(key_path)
+
+
+def _same_key(value: Any) -> str:
+    """Equal grid values give equal keys (150 and 150 alike, mappings in any order)."""
+    return json.dumps(value, sort_keys=True, default=str)
 
 
 def _absolute(value: Any, folder: Path) -> Any:
@@ -128,7 +141,7 @@ def load_experiment(path: str | Path) -> Experiment:
     def value_for(parsed: tuple, value: Any) -> Any:
         return _absolute(value, folder) if parsed[-1] in PATH_KEYS else value
 
-    fixed_paths = [(key_path("set", k), v) for k, v in fixed.items()]
+    fixed_paths = [(key_path("set", k), k, v) for k, v in fixed.items()]
     axes = []
     for text, values in grid.items():
         parsed = key_path("grid", text)
@@ -136,25 +149,61 @@ def load_experiment(path: str | Path) -> Experiment:
             raise ConfigError(
                 f"{lines.where(('grid', text))}: expected a non-empty list of values, got {values!r}"
             )
+        seen: dict[str, int] = {}
+        for i, value in enumerate(values):
+            first = seen.setdefault(_same_key(value_for(parsed, value)), i)
+            if first != i:
+                raise ConfigError(
+                    f"{lines.where(('grid', text, i))}: duplicate value {value!r} of {text}, "
+                    f"already item [{first}]; each value runs once (use repeat: for seeds)"
+                )
         axes.append((text, parsed, values))
+    count = repeat
+    for _, _, values in axes:
+        count *= len(values)
+    if count > MAX_POINTS:
+        sizes = " x ".join(str(len(values)) for _, _, values in axes)
+        raise ConfigError(
+            f"{lines.where(('grid',))}: expected at most {MAX_POINTS} runs, got {count} "
+            f"({sizes} values{f' x repeat {repeat}' if repeat > 1 else ''}); split the experiment"
+        )
 
+    shipped = shipped_digests()  # once: every point reads the same shipped data
     points: list[Point] = []
+    by_hash: dict[str, Point] = {}
     base_dir = base_path.resolve().parent
-    for combo in itertools.product(*(values for _, _, values in axes)):
+    for combo in itertools.product(*(enumerate(values) for _, _, values in axes)):
+        given = tuple((parsed, ("set", text)) for parsed, text, _ in fixed_paths) + tuple(
+            (parsed, ("grid", text, i))
+            for (text, parsed, _), (i, _) in zip(axes, combo, strict=True)
+        )
+        # Grid keys last, so a grid key below a `set` key cites the grid.
+        point_lines = _PointLines(
+            base_lines.path, base_lines.lines, experiment=lines, given=given[::-1]
+        )
+        values = {text: value for (text, _, _), (_, value) in zip(axes, combo, strict=True)}
+        shown = ", ".join(f"{k}={v!r}" for k, v in values.items())
         for rep in range(repeat):
             point_data = copy.deepcopy(base_data)
-            for parsed, value in fixed_paths:
+            for parsed, _, value in fixed_paths:
                 set_key_path(point_data, parsed, value_for(parsed, value))
-            for (_, parsed, _), value in zip(axes, combo, strict=True):
+            for (_, parsed, _), (_, value) in zip(axes, combo, strict=True):
                 set_key_path(point_data, parsed, value_for(parsed, value))
             seed = point_data.get("seed", 0)
             if rep:
                 point_data["seed"] = (seed if isinstance(seed, int) else 0) + rep
-            values = {text: value for (text, _, _), value in zip(axes, combo, strict=True)}
             try:
-                scenario = scenario_from_dict(point_data, base_lines, base_dir=base_dir)
+                scenario = scenario_from_dict(point_data, point_lines, base_dir=base_dir)
             except ConfigError as err:
-                shown = ", ".join(f"{k}={v!r}" for k, v in values.items())
-                raise ConfigError(f"{path}: grid point {shown}: {err}") from None
-            points.append(Point(len(points), values, rep, scenario, scenario_hash(scenario)))
+                raise ConfigError(f"{err} (grid point {shown})") from None
+            digest = scenario_hash(scenario, shipped=shipped)
+            point = Point(len(points), values, rep, scenario, digest)
+            twin = by_hash.setdefault(point.hash, point)
+            if twin is not point:
+                raise ConfigError(
+                    f"{lines.where(('grid',))}: grid points {twin.index} and {point.index} "
+                    f"({shown}, repeat {rep}) are the same run (equal scenarios and files); "
+                    f"each point must differ"
+                )
+            points.append(point)
     return Experiment(name, path, tuple(text for text, _, _ in axes), tuple(points))

@@ -1,13 +1,18 @@
 """Run every point of an experiment on an executor; resumable, failures recorded.
 
 Layout of `OUT/`: `points/<hash>/` holds each run's result files (as `uma run` writes them,
-or `error.txt` for a failed point); `sweep.csv` and `sweep.parquet` one row per point: point,
-hash, repeat, every grid key, seed, status (`ok`, `failed`), error, then every metric. A point
-whose folder already holds a complete `metrics.json` is not run again.
+whole, or `error.txt` for a failed point); `sweep.csv` and `sweep.parquet` one row per point:
+point, hash, repeat, every grid key, seed, status, error, then every metric. Status is `ok`,
+`failed`, or `missing` (not run yet: the sweep is incomplete). The table is written before the
+first point runs (every point not yet complete `missing`), again every few seconds as points
+finish, and when the sweep ends or is interrupted, so it never lists fewer points than the grid
+nor calls a point done that is not. A point whose folder already holds a `metrics.json` is not
+run again: its hash covers the scenario and the contents of the files it reads.
 """
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -16,9 +21,11 @@ from typing import Any
 from uma.experiments.executor import Executor
 from uma.experiments.point import completed_metrics, point_task, run_point
 from uma.experiments.spec import Experiment
-from uma.experiments.table import cell, flatten, write_table
+from uma.experiments.table import STATUSES, cell, flatten, write_table
 
-__all__ = ["SweepResult", "run_sweep"]
+__all__ = ["SweepResult", "run_sweep", "STATUSES"]
+
+_TABLE_EVERY_S = 2.0  # rewrite the table at most this often while points finish
 
 
 @dataclass(frozen=True)
@@ -29,6 +36,10 @@ class SweepResult:
     failed: int
     csv_path: Path
     parquet_path: Path
+    missing: int = 0
+
+
+_MISSING = {"status": "missing", "error": "", "metrics": {}}
 
 
 def _row(experiment: Experiment, point, reply: dict[str, Any]) -> dict[str, Any]:
@@ -47,9 +58,15 @@ def run_sweep(
     *,
     progress: Callable[[int, int], None] | None = None,
 ) -> SweepResult:
-    """Run the points not yet complete in `out_dir`, then write the table of all of them."""
+    """Run the points not yet complete in `out_dir`, keeping the table of all of them current.
+
+    An exception while points run (a failure of the executor, or `KeyboardInterrupt` from
+    Ctrl-C or a SIGTERM handler) writes the table of what is done, the rest `missing`, and
+    propagates.
+    """
     out = Path(out_dir)
     points_dir = out / "points"
+    csv_path, parquet_path = out / "sweep.csv", out / "sweep.parquet"
     replies: dict[int, dict[str, Any]] = {}
     tasks = []
     for point in experiment.points:
@@ -64,14 +81,28 @@ def run_sweep(
             )
     skipped = len(replies)
     total = len(experiment.points)
-    if progress is not None:
-        progress(skipped, total)
-    for reply in executor.map_unordered(run_point, tasks):
-        replies[reply["index"]] = reply
+
+    def table() -> tuple[dict[str, Any], ...]:
+        rows = tuple(_row(experiment, p, replies.get(p.index, _MISSING)) for p in experiment.points)
+        write_table(rows, csv_path, parquet_path)
+        return rows
+
+    try:
+        table()  # before any point runs: an interrupted sweep is marked incomplete from the start
         if progress is not None:
-            progress(len(replies), total)
-    rows = tuple(_row(experiment, p, replies[p.index]) for p in experiment.points)
-    csv_path, parquet_path = out / "sweep.csv", out / "sweep.parquet"
-    write_table(rows, csv_path, parquet_path)
-    failed = sum(row["status"] != "ok" for row in rows)
-    return SweepResult(rows, len(tasks), skipped, failed, csv_path, parquet_path)
+            progress(skipped, total)
+        written = time.monotonic()
+        for reply in executor.map_unordered(run_point, tasks):
+            replies[reply["index"]] = reply
+            if progress is not None:
+                progress(len(replies), total)
+            if time.monotonic() - written >= _TABLE_EVERY_S:
+                table()
+                written = time.monotonic()
+    except BaseException:
+        table()
+        raise
+    rows = table()
+    failed = sum(row["status"] == "failed" for row in rows)
+    missing = sum(row["status"] == "missing" for row in rows)
+    return SweepResult(rows, len(tasks), skipped, failed, csv_path, parquet_path, missing=missing)

@@ -13,9 +13,18 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from uma.atomic import atomic_write_bytes, atomic_write_text
+from uma.atomic import atomic_files
 
-__all__ = ["flatten", "cell", "write_table", "read_table_csv"]
+__all__ = [
+    "flatten",
+    "cell",
+    "write_table",
+    "read_table_csv",
+    "STATUSES",
+]
+
+
+STATUSES = ("ok", "failed", "missing")  # missing: not run yet, the sweep is incomplete
 
 
 def flatten(data: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
@@ -45,7 +54,11 @@ def _columns(rows: Sequence[Mapping[str, Any]]) -> list[str]:
 
 
 def write_table(rows: Sequence[Mapping[str, Any]], csv_path: Path, parquet_path: Path) -> None:
-    """Write `rows` to both files; a column missing from a row is empty (CSV) or null."""
+    """Write `rows` to both files (same folder); a column missing from a row is empty (CSV) or null.
+
+    Both files are written before either replaces its old version, the CSV (what `uma report`
+    reads) last.
+    """
     import pyarrow as pa
     import pyarrow.parquet as pq
 
@@ -66,8 +79,12 @@ def write_table(rows: Sequence[Mapping[str, Any]], csv_path: Path, parquet_path:
         arrays[column] = pa.array(values)
     buffer = io.BytesIO()
     pq.write_table(pa.table(arrays) if columns else pa.table({}), buffer)
-    atomic_write_bytes(parquet_path, buffer.getvalue())
-    atomic_write_text(csv_path, text.getvalue())
+    if parquet_path.parent != csv_path.parent:
+        raise ValueError("write_table: expected both tables in one folder")
+    atomic_files(
+        csv_path.parent,
+        {parquet_path.name: buffer.getvalue(), csv_path.name: text.getvalue().encode("utf-8")},
+    )
 
 
 def read_table_csv(path: str | Path) -> list[dict[str, str]]:

@@ -1,7 +1,7 @@
 """Write one run's results: `scenario.yaml`, `frames.csv`, `events.csv`, `metrics.json`.
 
-Each file is written atomically (temporary file, then `os.replace`), and `metrics.json` last, so
-a reader that finds it finds the rest complete.
+The folder is written whole or not at all (`uma.atomic.atomic_dir`): a folder that held an
+earlier run holds, after any failure or kill, that earlier run whole, or else the new one whole.
 """
 
 from __future__ import annotations
@@ -11,9 +11,23 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
-from uma.atomic import atomic_write_text
+from uma.atomic import atomic_dir
 
-__all__ = ["write_results", "events_csv"]
+__all__ = ["write_results", "read_metrics", "events_csv", "RUN_FILES"]
+
+# What a run's folder may hold and a new run may therefore replace: the result files, the
+# pictures and video `uma report` draws from them, a failed sweep point's error, and the
+# temporary files of older versions of uma.
+RUN_FILES = (
+    "scenario.yaml",
+    "metrics.json",
+    "frames.csv",
+    "events.csv",
+    "error.txt",
+    "timeline*.png",
+    "receiver*.mp4",
+    ".*.tmp",
+)
 
 
 def events_csv(events: Iterable[Any]) -> str:
@@ -33,10 +47,56 @@ def write_results(
     frames_csv: str,
     events_csv_text: str,
 ) -> Path:
-    """Write the four result files into `out_dir` (created if needed); returns `out_dir`."""
+    """Replace folder `out_dir` by the four result files, whole; returns `out_dir`.
+
+    Raises `OutputError` (nothing replaced) when `out_dir` holds files other than `RUN_FILES`.
+    """
     out = Path(out_dir)
-    atomic_write_text(out / "scenario.yaml", scenario_yaml)
-    atomic_write_text(out / "frames.csv", frames_csv)
-    atomic_write_text(out / "events.csv", events_csv_text)
-    atomic_write_text(out / "metrics.json", json.dumps(metrics, indent=2, sort_keys=False) + "\n")
+    files = {
+        "scenario.yaml": scenario_yaml,
+        "frames.csv": frames_csv,
+        "events.csv": events_csv_text,
+        "metrics.json": json.dumps(metrics, indent=2, sort_keys=False) + "\n",
+    }
+    with atomic_dir(out, replaceable=RUN_FILES) as staging:
+        for name, text in files.items():
+            with open(staging / name, "w", encoding="utf-8", newline="\n") as handle:
+                handle.write(text)
     return out
+
+
+def read_metrics(path: str | Path) -> dict[str, Any] | None:
+    """The mapping in metrics file `path`; None when there is no such file.
+
+    A file that is there but not a JSON object (truncated, garbled, not UTF-8) is a
+    `ConfigError` naming the file and line, not "missing".
+    """
+    from uma.errors import ConfigError
+
+    path = Path(path)
+    try:
+        data = path.read_bytes()
+    except FileNotFoundError:
+        return None
+    except OSError as err:
+        raise ConfigError(f"{path}: cannot read ({err.strerror or err})") from None
+    try:
+        metrics = json.loads(data.decode("utf-8"))
+    except UnicodeDecodeError as err:
+        line = data[: err.start].count(b"\n") + 1
+        raise ConfigError(
+            f"{path}:{line}: expected UTF-8 JSON, got byte 0x{data[err.start]:02x}"
+        ) from None
+    except json.JSONDecodeError as err:
+        # A cut-off file fails at its end, or inside a string that runs to its end.
+        cut = err.pos >= len(data.rstrip()) or err.msg.startswith("Unterminated string")
+        cause = "truncated" if cut else "unparseable"
+        raise ConfigError(
+            f"{path}:{err.lineno}: expected the JSON metrics of a finished run, got {cause} "
+            f"JSON ({err.msg}, column {err.colno})"
+        ) from None
+    if not isinstance(metrics, dict):
+        raise ConfigError(
+            f"{path}:1: expected a JSON object of metrics, got {type(metrics).__name__}"
+        )
+    return metrics
