@@ -70,15 +70,17 @@ def _prepared_source(scenario: Scenario, frames: int) -> _ListSource:
 
 def _replay(scenario: Scenario, result, source: _ListSource) -> tuple[float, float, dict]:
     """Redo the run's codec work and metrics alone, through the same codec registry and chain
-    as the run (every codec it used: H.264, and MBC's initialisations, tracking, coding and
+    as the run (every codec it used: the full-frame codec, and MBC's initialisations, tracking, coding and
     rendering); returns (codec_s, metrics_s, codec seconds per codec)."""
-    from uma.engine.points import codec_indices
+    from uma.codecs import Role
+    from uma.engine.points import role_indices
     from uma.sim.codecs import CodecChain
     from uma.sim.packets import EncodedUnit
+    from uma.sim.points import ladder_path
     from uma.sim.quality import QualityMeter
     from uma.video import load_ladder
 
-    ladder = load_ladder(scenario.engine.ladder)
+    ladder = load_ladder(ladder_path(scenario))
     log = result.log
     chain = CodecChain(
         scenario,
@@ -90,7 +92,7 @@ def _replay(scenario: Scenario, result, source: _ListSource) -> tuple[float, flo
         account=True,
         description=result.description,
     )
-    mbc = codec_indices(result.points, "mbc")
+    mbc = role_indices(result.points, Role.MODEL)
     inits = set(result.mbc_init_frames)
     # The bare metric work, one plane pair after another on one core.
     serial = scenario.metrics.model_copy(update={"workers": 0})
@@ -144,9 +146,9 @@ def _replay(scenario: Scenario, result, source: _ListSource) -> tuple[float, flo
 def _warm_up(scenario: Scenario, source: _ListSource) -> None:
     """One untimed MBC initialisation when the run may switch: numba loads its compiled
     kernels on first use, which neither the run nor the replay should be charged for."""
-    from uma.sim.world import mbc_description
+    from uma.sim.points import model_description
 
-    description, _ = mbc_description(scenario, source)
+    description, _ = model_description(scenario, source)
     if description is None or not source._frames:
         return
     from uma.mbc import FaceTracker

@@ -11,7 +11,17 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated, Literal
 
-from pydantic import AllowInfNan, BaseModel, ConfigDict, Field, Strict, model_validator
+from pydantic import (
+    AllowInfNan,
+    BaseModel,
+    ConfigDict,
+    Field,
+    Strict,
+    field_validator,
+    model_validator,
+)
+
+from uma.codecs import full_frame_names
 
 __all__ = [
     "Scenario",
@@ -300,9 +310,15 @@ class FaceRegionConfig(_Section):
 
 
 class EngineConfig(_Section):
-    """The UMA engine: rate policy by name, ladder file, modelled compute cost."""
+    """The UMA engine: rate policy by name, full-frame codec and its ladder file, modelled
+    compute cost.
+
+    `codec`: the full-frame codec of the rate ladder (a full-frame name of `uma.codecs`);
+    `ladder`: its ladder file (None: the codec's own under `codecs/`).
+    """
 
     policy: Str = "throughput"
+    codec: Str = "h264"
     ladder: Str | None = None
     safety: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, le=1)] = 0.85
     up_hold_ms: NonNeg = 1000.0
@@ -319,6 +335,14 @@ class EngineConfig(_Section):
     max_backlog_ms: PosNum = 300.0
     presume_lost_ms: PosNum = 2000.0
     probe_interval_ms: PosNum = 1000.0
+
+    @field_validator("codec")
+    @classmethod
+    def _full_frame_codec(cls, value: str) -> str:
+        choices = full_frame_names()
+        if value not in choices:
+            raise ValueError(f"expected a full-frame codec, one of {', '.join(choices)}")
+        return value
 
 
 class AdaptivePlayoutConfig(_Section):

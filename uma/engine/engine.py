@@ -109,7 +109,7 @@ class UmaEngine:
         self.points = points
         # The rate ladder (face-region and full-frame H.264, by rate) and its full-frame part.
         self.h264 = rate_indices(points)
-        self.full_frame = codec_indices(points, "h264") or self.h264
+        self.full_frame = codec_indices(points, config.codec) or self.h264
         self.face_blocked_until_s = float("-inf")
         mbc = codec_indices(points, "mbc")
         self.mbc_point = mbc[0] if mbc else None
@@ -117,8 +117,8 @@ class UmaEngine:
         self.policy = POLICIES[config.policy]
         self.switch_policy = SWITCHING[config.switching.policy]
         self.switch_settings = SwitchSettings(
-            to_mbc_below_kbps=config.switching.to_mbc_below_kbps,
-            to_h264_above_kbps=config.switching.to_h264_above_kbps,
+            to_model_below_kbps=config.switching.to_mbc_below_kbps,
+            to_ladder_above_kbps=config.switching.to_h264_above_kbps,
             min_dwell_s=config.switching.min_dwell_ms / 1000.0,
             lookahead_s=config.switching.lookahead_ms / 1000.0,
             low_technologies=tuple(config.switching.low_technologies),

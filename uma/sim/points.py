@@ -1,0 +1,139 @@
+"""The engine's ladder of one run: each codec's operating-point builder, and the model codec's
+content description.
+
+Units: rates in kbit/s, frame rates in frames/s, sizes in pixels.
+
+The ladder is, lowest first, the model codec's point (when the run has a content description
+for it), the region codec's rungs (when its config section enables them) and the full-frame
+codec's rungs (`engine.codec`, from its ladder file). A full-frame codec's points come from its
+ladder alone; the others' builders are in `BUILDERS`, keyed by codec name, and read their own
+config section (`uma.codecs.CodecSpec.config_section`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from uma.codecs import Role, names, spec
+from uma.config.scenario import Scenario
+from uma.engine.points import OperatingPoint, full_frame_points
+
+__all__ = [
+    "BUILDERS",
+    "operating_points",
+    "ladder_path",
+    "model_description",
+    "region_points",
+    "model_point",
+]
+
+
+def ladder_path(scenario: Scenario) -> str:
+    """The full-frame codec's ladder file: `engine.ladder`, or the codec's own."""
+    from uma.paths import codecs_dir
+
+    if scenario.engine.ladder is not None:
+        return scenario.engine.ladder
+    return str(codecs_dir() / spec(scenario.engine.codec).ladder)
+
+
+def model_description(scenario: Scenario, source) -> tuple[object | None, str]:
+    """The content description the model codec needs, or None and why there is none.
+
+    Only a scenario that switches needs one: the model codec's config section's
+    `description` (a `uma describe` file, or a points file the description is fitted from),
+    else the source's own (the talking head's astronaut). Without one the engine stays on the
+    rate ladder and records why when a switch is due.
+    """
+    if scenario.engine.switching.policy == "none":
+        return None, "switching off"
+    section = spec(names(Role.MODEL)[0]).config_section
+    path = getattr(scenario.engine, section).description
+    if path is not None:
+        if path.endswith((".yaml", ".yml")):
+            from uma.face.clip import describe_clip
+
+            return describe_clip(path), ""
+        from uma.face import load_description
+
+        return load_description(path), ""
+    own = getattr(source, "description", None)
+    if own is not None:
+        return own, ""
+    return None, f"no content description (engine.{section}.description) for this source"
+
+
+def region_points(codec: str, scenario: Scenario, ladder, source) -> tuple[OperatingPoint, ...]:
+    """The face-region rungs (`engine.face_region`, when enabled), below the full-frame ones."""
+    from uma.errors import ConfigError
+    from uma.sim.face_region import detect_pixels
+
+    section = spec(codec).config_section
+    config = getattr(scenario.engine, section)
+    if not config.enabled:
+        return ()
+    lowest_kbps = min(rung.rate_kbps for rung in ladder.rungs)
+    points = []
+    for i, rung in enumerate(config.rungs):
+        where = f"engine.{section}.rungs[{i}]"
+        if rung.rate_kbps >= lowest_kbps:
+            raise ConfigError(
+                f"{where}.rate_kbps: expected below the lowest full-frame rung's "
+                f"{lowest_kbps:g} kbit/s, got {rung.rate_kbps:g}"
+            )
+        if rung.width > source.width or rung.height > source.height:
+            raise ConfigError(
+                f"{where}: expected a coded size within the source's {source.width}x"
+                f"{source.height}, got {rung.width}x{rung.height}"
+            )
+        points.append(
+            OperatingPoint(
+                codec=codec,
+                rate_kbps=rung.rate_kbps,
+                fps=min(rung.fps, float(source.fps)),
+                width=rung.width,
+                height=rung.height,
+                compute_ms=scenario.engine.transcode_ms,
+                # One evaluation is one run of the detector.
+                compute_us_per_evaluation=config.detect_us_per_pixel
+                * detect_pixels((source.width, source.height)),
+                label=f"{codec} {rung.rate_kbps:g}k {rung.width}x{rung.height}@{rung.fps:g}",
+            )
+        )
+    return tuple(points)
+
+
+def model_point(codec: str, scenario: Scenario, ladder, source) -> tuple[OperatingPoint, ...]:
+    """The model codec's one point, at the source's size (its config section's rate and fps)."""
+    config = getattr(scenario.engine, spec(codec).config_section)
+    return (
+        OperatingPoint(
+            codec=codec,
+            rate_kbps=config.rate_kbps,
+            fps=min(config.fps, float(source.fps)),
+            width=source.width,
+            height=source.height,
+            compute_ms=config.encode_ms,
+            compute_us_per_evaluation=config.track_us_per_evaluation,
+            label=f"{codec} {config.rate_kbps:g}k {source.width}x{source.height}",
+        ),
+    )
+
+
+BUILDERS: dict[str, Callable[..., tuple[OperatingPoint, ...]]] = {
+    "h264-face": region_points,
+    "mbc": model_point,
+}
+
+
+def operating_points(scenario: Scenario, ladder, source, *, with_model: bool) -> tuple:
+    """The engine's ladder: the model codec's point (`with_model`: the run has its
+    description) below the region rungs (when enabled) below the full-frame rungs."""
+    codec = scenario.engine.codec
+    points = full_frame_points(ladder, codec=codec, transcode_ms=scenario.engine.transcode_ms)
+    for name in names(Role.REGION):
+        points = BUILDERS[name](name, scenario, ladder, source) + points
+    if with_model:
+        for name in names(Role.MODEL):
+            points = BUILDERS[name](name, scenario, ladder, source) + points
+    return points
