@@ -103,10 +103,10 @@ def _replay(scenario: Scenario, result, source: _ListSource) -> tuple[float, flo
         frame = next(frames)
         encoded = chain.sender_encode(frame)
         # Selection: the sender's tracking and the engine's decoding of its parameters.
-        chain.engine_receive_mbc(chain.sender_encode_mbc(frame, index), index)
+        chain.engine_receive_side(chain.sender_side_data(frame, index), index)
         picture = chain.engine_decode(encoded)
         if index in inits and picture is not None and mbc:
-            chain.mbc_initialise(picture, mbc[0], frame=index)
+            chain.initialise_model(picture, mbc[0], frame=index)
         if log["sent"][index] and picture is not None:
             rung = int(log["rung"][index])
             coded = []

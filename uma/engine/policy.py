@@ -30,6 +30,7 @@ __all__ = [
     "highest_fitting",
     "SwitchView",
     "SwitchSettings",
+    "switch_settings",
     "SWITCHING",
     "threshold_switch",
     "predictive_switch",
@@ -147,6 +148,21 @@ class SwitchSettings:
                 "switching: expected 0 < to_model_below_kbps < to_ladder_above_kbps, got "
                 f"{self.to_model_below_kbps} and {self.to_ladder_above_kbps}"
             )
+
+
+def switch_settings(config, *, ladder: str, model: str) -> SwitchSettings:
+    """The `SwitchSettings` of `config` (`EngineConfig`) between the families `ladder` and
+    `model`."""
+    switching = config.switching
+    return SwitchSettings(
+        to_model_below_kbps=switching.to_mbc_below_kbps,
+        to_ladder_above_kbps=switching.to_h264_above_kbps,
+        min_dwell_s=switching.min_dwell_ms / 1000.0,
+        lookahead_s=switching.lookahead_ms / 1000.0,
+        low_technologies=tuple(switching.low_technologies),
+        ladder=ladder,
+        model=model,
+    )
 
 
 @dataclass(frozen=True)

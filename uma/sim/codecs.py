@@ -226,13 +226,13 @@ class CodecChain:
     def sender_encode(self, frame: np.ndarray):
         return self._timed("h264", self.sender_encoder.encode, frame)
 
-    def sender_encode_mbc(self, frame: np.ndarray, index: int) -> bytes | None:
+    def sender_side_data(self, frame: np.ndarray, index: int) -> bytes | None:
         """Selection: the sender's parameter packet for source frame `index` (None otherwise)."""
         if self.sender_mbc is None:
             return None
         return self._timed("mbc", self.sender_mbc.encode, frame, frame=index)
 
-    def engine_receive_mbc(self, data: bytes | None, index: int) -> None:
+    def engine_receive_side(self, data: bytes | None, index: int) -> None:
         """Selection: decode the parameters the sender sent up with frame `index`."""
         if self.uplink_mbc is None:
             return
@@ -268,7 +268,7 @@ class CodecChain:
             context=self.context,
         )
 
-    def mbc_initialise(self, picture: np.ndarray, index: int, *, frame: int):
+    def initialise_model(self, picture: np.ndarray, index: int, *, frame: int):
         """Initialise a new MBC encoder for point `index` on `picture`; it is used from the
         first frame coded at that point."""
         encoder = self._make_encoder(index)

@@ -13,6 +13,7 @@ config section (`uma.codecs.CodecSpec.config_section`).
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass
 
 from uma.codecs import Role, names, spec
 from uma.config.scenario import Scenario
@@ -23,6 +24,8 @@ __all__ = [
     "operating_points",
     "ladder_path",
     "model_description",
+    "ModelPlan",
+    "model_plan",
     "region_points",
     "model_point",
 ]
@@ -61,6 +64,28 @@ def model_description(scenario: Scenario, source) -> tuple[object | None, str]:
     if own is not None:
         return own, ""
     return None, f"no content description (engine.{section}.description) for this source"
+
+
+@dataclass(frozen=True)
+class ModelPlan:
+    """The model codec's part of a run: its content description (None: the run has none, and
+    `unavailable` says why), the bytes of it to deliver to the receiver (0: none, or the
+    receiver is assumed to hold it) and the modelled cost of an initialisation."""
+
+    description: object | None
+    unavailable: str
+    description_bytes: int
+    init_us_per_evaluation: float
+
+
+def model_plan(scenario: Scenario, source) -> ModelPlan:
+    """The `ModelPlan` of `scenario` for `source`."""
+    description, unavailable = model_description(scenario, source)
+    config = getattr(scenario.engine, spec(names(Role.MODEL)[0]).config_section)
+    size = 0
+    if description is not None and config.deliver_description:
+        size = len(description.to_bytes())
+    return ModelPlan(description, unavailable, size, config.init_us_per_evaluation)
 
 
 def region_points(codec: str, scenario: Scenario, ladder, source) -> tuple[OperatingPoint, ...]:

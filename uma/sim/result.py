@@ -8,7 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from uma.config.scenario import Scenario
-from uma.engine.engine import EngineEvent
+from uma.engine.decisions import EngineEvent, EngineOutcome
 from uma.metrics.framelog import FrameLog
 from uma.sim.capacity import CapacitySchedule
 from uma.sim.links import LinkStats
@@ -53,6 +53,7 @@ class RunResult:
 
 def collect_result(
     world,
+    outcome: EngineOutcome,
     *,
     events: tuple[EngineEvent, ...],
     source,
@@ -60,10 +61,10 @@ def collect_result(
     description_bytes: int,
     duration_s: float,
 ) -> RunResult:
-    """The `RunResult` of the finished run in `world` (`uma.sim.processes.World`)."""
-    engine, codec = world.engine, world.codec
+    """The `RunResult` of the finished run in `world` (`uma.sim.state.World`), whose engine
+    left `outcome`."""
+    codec = world.codec
     sender = codec.sender_mbc
-    wait_from_s = engine.description_wait_from_s
     return RunResult(
         scenario=world.scenario,
         log=world.log,
@@ -80,19 +81,18 @@ def collect_result(
         metrics_s=world.quality.seconds,
         padding_bits=world.padding_bits,
         points=world.points,
-        engine_counts=dict(engine.counts),
+        engine_counts=dict(outcome.counts),
         codec_seconds=dict(codec.codec_seconds),
-        mbc_init_frames=tuple(world.mbc_init_frames),
-        mbc_inits=tuple(world.mbc_inits),
-        engine_mbc_compute_s=world.engine_mbc_compute_s,
+        mbc_init_frames=tuple(world.init_frames),
+        mbc_inits=tuple(world.inits),
+        engine_mbc_compute_s=world.model_compute_s,
         sender_mbc_bits=sender.bits if sender is not None else 0,
         sender_mbc_compute_ms=sender.compute_ms if sender is not None else 0.0,
         description_bytes=description_bytes,
         description_sent_bits=world.description_sent_bits,
         description_delivered_s=world.receiver.description_done_s,
-        description_acked_s=engine.description_acked_s if description_bytes else None,
-        description_wait_s=engine.description_wait_s
-        + (duration_s - wait_from_s if wait_from_s is not None else 0.0),
+        description_acked_s=outcome.description_acked_s,
+        description_wait_s=outcome.description_wait_s,
         description=description,
         face_boxes=tuple(world.face_boxes),
     )

@@ -20,19 +20,15 @@ from uma.sim.capacity import CapacitySchedule
 from uma.sim.codecs import CodecChain
 from uma.sim.faults import Faults, fault_rng, with_outages
 from uma.sim.links import Downlink, FixedLink, LinkProps, downlink_process
+from uma.sim.packets import HEADER_BYTES
 from uma.sim.playout import make_playout
-from uma.sim.points import ladder_path, model_description, operating_points
-from uma.sim.processes import (
-    World,
-    display_process,
-    engine_process,
-    report_process,
-    sender_process,
-)
+from uma.sim.points import ladder_path, model_plan, operating_points
+from uma.sim.processes import display_process, engine_process, report_process, sender_process
 from uma.sim.quality import QualityMeter
 from uma.sim.receiver import ReceiverState
 from uma.sim.result import RunResult, collect_result
 from uma.sim.sources import open_source
+from uma.sim.state import World
 
 __all__ = ["RunResult", "run_scenario", "build_capacity"]
 
@@ -123,12 +119,10 @@ def run_scenario(
     capacity = with_outages(capacity, scenario.faults.outages)
     ladder = load_ladder(ladder_path(scenario))
     source = source if source is not None else open_source(scenario.source, seed=scenario.seed)
-    description, unavailable = model_description(scenario, source)
+    plan = model_plan(scenario, source)
+    description = plan.description
     points = operating_points(scenario, ladder, source, with_model=description is not None)
-    description_bytes = 0
-    if description is not None and scenario.engine.mbc.deliver_description:
-        description_bytes = len(description.to_bytes())
-    description_bits = 8 * description_bytes
+    payload_bytes = scenario.downlink.packet_bytes
     fps = float(source.fps)
     frames = int(round(scenario.run_duration_s * fps))
     log = FrameLog(frames)
@@ -150,9 +144,11 @@ def run_scenario(
         points=points,
         source_fps=fps,
         feedback=scenario.feedback,
-        mbc_unavailable=unavailable,
+        model_unavailable=plan.unavailable,
         coverage=coverage_map(scenario),
-        description_bits=description_bits,
+        description_bits=8 * plan.description_bytes,
+        description_chunks=-(-plan.description_bytes // payload_bytes),
+        description_chunk_bits=8 * (payload_bytes + HEADER_BYTES),
     )
     props = _link_props(scenario)
     world_ref: list[World] = []
@@ -207,9 +203,8 @@ def run_scenario(
         on_display=on_display,
         faults=faults if faults.active else None,
         playout=playout,
-        init_us_per_evaluation=scenario.engine.mbc.init_us_per_evaluation,
+        init_us_per_evaluation=plan.init_us_per_evaluation,
         points=points,
-        description_chunks=-(-description_bytes // scenario.downlink.packet_bytes),
         face_boxes=face_boxes.boxes,
     )
     world_ref.append(world)
@@ -227,12 +222,18 @@ def run_scenario(
 
     downlink.stats.packets_queued_at_end = len(downlink.queue)
     end_s = frames / fps
-    events = sorted(_handover_events(capacity, end_s) + engine.events, key=lambda e: e.time_s)
+    outcome = engine.finish(end_s)
+    events = sorted(_handover_events(capacity, end_s) + list(outcome.events), key=_time_s)
     return collect_result(
         world,
+        outcome,
         events=tuple(events),
         source=source,
         description=description,
-        description_bytes=description_bytes,
+        description_bytes=plan.description_bytes,
         duration_s=end_s,
     )
+
+
+def _time_s(event: EngineEvent) -> float:
+    return event.time_s
