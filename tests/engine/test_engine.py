@@ -177,7 +177,9 @@ def make_switching_engine(*, model_unavailable="", **switching):
 def test_switch_to_mbc_waits_for_the_initialisation_then_sends_intra():
     engine = make_switching_engine()
     first = engine.on_frame(0, 0.0, capacity_kbps=10.0)
-    assert first.initialise is not None and first.codec == "h264" and first.rung == 1  # lowest H.264
+    assert (
+        first.initialise is not None and first.codec == "h264" and first.rung == 1
+    )  # lowest H.264
     # Until the world reports the initialisation done, frames stay H.264, no second init.
     second = engine.on_frame(1, 0.04, capacity_kbps=10.0)
     assert second.codec == "h264" and second.initialise is None

@@ -7,8 +7,9 @@ what it returns (`uma.engine.decisions`). Outcomes come back as calls: `on_keyfr
 keyframe request is settled only when an IDR really left), `on_init_done` (the model codec's
 initialisation, after its modelled compute time), `on_coded` (the encoder re-initialised or
 failed) and `on_unit_sent`. Its parts: the ladder (`uma.engine.ladder`), the bits in flight
-(`uma.engine.inflight`), the model codec's sub-machine (`uma.engine.model`), the
-description's delivery (`uma.engine.description`) and the padding rule (`uma.engine.probe`).
+(`uma.engine.inflight`), the switching decision (`uma.engine.switching`) over the model
+codec's sub-machine (`uma.engine.model`) and the description's delivery
+(`uma.engine.description`), and the backlog and padding rules (`uma.engine.pacing`).
 
 A failure of a region codec (no face found) moves to the lowest full-frame rung and leaves the
 region rungs off the ladder for its section's `retry_ms`; a failure of the model codec moves to
@@ -17,28 +18,21 @@ the lowest rate rung (`uma.engine.model`). Tuning lives in `EngineConfig` so swe
 
 from __future__ import annotations
 
-from uma.codecs import Role, model_names, names, spec
+from dataclasses import replace
+
+from uma.codecs import Role, spec
 from uma.config.scenario import EngineConfig, FeedbackConfig
 from uma.engine.decisions import EngineEvent, EngineOutcome, FrameDecision, UnitSent
-from uma.engine.description import Delivery
 from uma.engine.estimator import EstimatorState, initial_estimate, stale_decrease
 from uma.engine.estimators import ESTIMATORS
-from uma.engine.inflight import InFlight
-from uma.engine.ladder import Ladder
-from uma.engine.model import ModelMachine, Want
+from uma.engine.inflight import InFlight, Keyframes
+from uma.engine.pacing import backlogged, padding_bits
+from uma.engine.parts import DescriptionPlan, build_parts
 from uma.engine.points import OperatingPoint
-from uma.engine.policy import (
-    POLICIES,
-    SWITCHING,
-    PolicyView,
-    SwitchView,
-    highest_fitting,
-    switch_settings,
-)
-from uma.engine.probe import padding_bits
+from uma.engine.policy import POLICIES, PolicyView
 from uma.engine.reports import KeyframeRequest, ReceiverReport
 
-__all__ = ["UmaEngine", "FrameDecision", "EngineEvent"]
+__all__ = ["UmaEngine", "FrameDecision", "EngineEvent", "DescriptionPlan"]
 
 
 class UmaEngine:
@@ -53,53 +47,26 @@ class UmaEngine:
         feedback: FeedbackConfig,
         model_unavailable: str = "",
         coverage: tuple[tuple[float, str], ...] = (),
-        description_bits: int = 0,
-        description_chunks: int = 0,
-        description_chunk_bits: int = 0,
+        description: DescriptionPlan | None = None,
     ) -> None:
         self.config, self.feedback, self.points = config, feedback, points
-        self.ladder = Ladder(points, codec=config.codec, source_fps=source_fps)
         self.policy = POLICIES[config.policy]
-        self.switch_policy = SWITCHING[config.switching.policy]
-        model = self.ladder.model_codec or model_names()[0]
-        self.model_config = getattr(config, spec(model).config_section)
-        self.switch_settings = switch_settings(config, ladder=config.codec, model=model)
-        self.coverage = coverage
         self.events: list[EngineEvent] = []
-        self.counts: dict[str, int] = {}
-        if self.ladder.model_point is None and not model_unavailable:
-            model_unavailable = f"no {model} operating point on the ladder"
-        self.model = ModelMachine(
-            model,
-            unavailable=model_unavailable,
-            retry_s=config.switching.retry_ms / 1000.0,
-            ladder_label=spec(config.codec).label,
-            emit=self._emit,
-            counts=self.counts,
-        )
-        for name in names(Role.REGION):
-            self.counts[f"{spec(name).config_section}_failures"] = 0
-        self.description = Delivery(
-            bits=description_bits,
-            chunks=description_chunks,
-            chunk_bits=description_chunk_bits,
-            share=self.model_config.description_share,
-            codec=model,
-            emit=self._emit,
-        )
+        parts = build_parts(
+            config, points, source_fps=source_fps, model_unavailable=model_unavailable,
+            coverage=coverage, description=description or DescriptionPlan(), emit=self._emit,
+        )  # fmt: skip
+        self.ladder, self.model, self.counts = parts.ladder, parts.model, parts.counts
+        self.model_config, self.description = parts.model_config, parts.description
+        self.switcher = parts.switcher
         self.inflight = InFlight()
         self.estimator: EstimatorState = initial_estimate(config.estimator)
         self.update_estimate = ESTIMATORS[config.estimator.kind]
-        rate = self.ladder.rate
-        if config.policy == "fixed" and config.fixed_rung is not None:
-            self.rung = rate[min(config.fixed_rung, len(rate) - 1)]
-        else:
-            rates = tuple(points[i].rate_kbps for i in rate)
-            self.rung = rate[highest_fitting(rates, config.safety * self.estimate_kbps)]
+        self.rung = self.ladder.initial(config, self.estimate_kbps)
         self.switched_between = False  # the next frame sent starts a new stream
-        self.codec_since_s = self.last_switch_s = self.last_stale_decrease_s = 0.0
-        self.last_idr_s = self.last_sent_s = float("-inf")
-        self.idr_pending = False
+        self.codec_since_s = self.last_switch_s = 0.0
+        self.last_sent_s = float("-inf")
+        self.keyframes = Keyframes(feedback.keyframe_min_interval_ms / 1000.0)
 
     def _emit(self, now_s: float, kind: str, detail: str) -> None:
         self.events.append(EngineEvent(now_s, kind, detail))
@@ -117,13 +84,12 @@ class UmaEngine:
         )
 
     def on_keyframe_request(self, request: KeyframeRequest, now_s: float) -> None:
-        self.idr_pending = True
+        self.keyframes.request()
         self._emit(now_s, "keyframe_request", f"frame {request.frame}")
 
     def on_keyframe_sent(self, now_s: float) -> None:
         """An IDR (or intra parameter set) the engine asked for really left."""
-        self.idr_pending = False
-        self.last_idr_s = now_s
+        self.keyframes.sent(now_s)
 
     def on_init_done(self, ok: bool, now_s: float, *, reason: str = "", evaluations: int = 0):
         """The model codec's initialisation finished (after its modelled compute time)."""
@@ -149,8 +115,7 @@ class UmaEngine:
             retry_s = getattr(self.config, section).retry_ms / 1000.0
             self.ladder.block_regions(now_s + retry_s)
             self._emit(now_s, f"{section}_failed", f"{reason}; lowest full-frame rung")
-            self._switch_to(self.ladder.full_frame[0], now_s, "fallback")
-            self.switched_between = True
+            self._fall_back(self.ladder.full_frame[0], now_s)
         elif self.model.track_failed(reason, now_s):
             self._fall_back(self.ladder.allowed(now_s)[0], now_s)
 
@@ -162,14 +127,8 @@ class UmaEngine:
         """A coded unit of point `rung` (carrying `frames` frames) left as packets of
         `sizes_bits`: their first sequence number, and the padding to send behind it."""
         first_seq = self.inflight.on_sent(sizes_bits)
-        pad = padding_bits(
-            self.config,
-            self.estimator,
-            point=self.points[rung],
-            model_config=self.model_config,
-            interval_s=frames / min(self.points[rung].fps, self.ladder.source_fps),
-            sent_bits=sum(sizes_bits),
-        )
+        interval_s = frames / min(self.points[rung].fps, self.ladder.source_fps)
+        pad = padding_bits(self, self.points[rung], interval_s, sent_bits=sum(sizes_bits))
         return UnitSent(first_seq, pad)
 
     @property
@@ -195,12 +154,9 @@ class UmaEngine:
         capacity_kbps: float | None = None,
         capacity_ahead_kbps: float | None = None,
     ) -> FrameDecision:
-        """Decide for source frame `frame`, arriving from the sender at `now_s`.
-
-        `capacity_kbps` (the true capacity now) is for the oracle rate policy;
-        `capacity_ahead_kbps` (the lowest true capacity over `switching.oracle_lookahead_ms`)
-        for the oracle switching policy.
-        """
+        """Decide for source frame `frame`, arriving from the sender at `now_s`. The oracle
+        policies are given the true capacity now (`capacity_kbps`) and its lowest over
+        `switching.oracle_lookahead_ms` ahead (`capacity_ahead_kbps`)."""
         self._check_stale(now_s)
         self.inflight.presume_lost(now_s, self.config.presume_lost_ms / 1000.0)
         budget_kbps = self.config.safety * (
@@ -223,29 +179,15 @@ class UmaEngine:
             initialise=initialise, description=chunks, estimate_kbps=self.estimate_kbps,
         )  # fmt: skip
         if not self.ladder.scheduled(frame, self.rung):
-            return _replace(decision, scheduled=False, reason="fps")
+            return replace(decision, scheduled=False, reason="fps")
         probe_due = now_s - self.last_sent_s >= self.config.probe_interval_ms / 1000.0
-        if self._backlogged(point, now_s, capacity_kbps) and not switched and not probe_due:
-            return _replace(decision, reason="backlog")
-        force_idr = switched
-        self.switched_between = False
-        min_gap_s = self.feedback.keyframe_min_interval_ms / 1000.0
-        if self.idr_pending and now_s - self.last_idr_s >= min_gap_s:
-            force_idr = True
-        self.last_sent_s = now_s
-        return _replace(decision, send=True, force_idr=force_idr)
-
-    def _backlogged(self, point: OperatingPoint, now_s: float, capacity_kbps) -> bool:
-        """Whether the downlink has more in flight than is worth adding to."""
-        if not spec(point.codec).skip_for_backlog:
-            # A model codec's few kbit/s are below any link the switch chooses it for: held
-            # only while no report came for `outage_hold_ms` (in an outage they would arrive
-            # tens of seconds late; a handover gap's are still in time).
-            hold_s = getattr(self.config, spec(point.codec).config_section).outage_hold_ms
-            return now_s - self.inflight.last_report_s > hold_s / 1000.0
-        # The oracle judges by the true capacity: the estimate, unused, would call it too long.
         seen_kbps = self.estimate_kbps if capacity_kbps is None else capacity_kbps
-        return self.outstanding_bits > seen_kbps * self.config.max_backlog_ms
+        held = backlogged(self.config, point, now_s, self.inflight, seen_kbps)
+        if held and not switched and not probe_due:
+            return replace(decision, reason="backlog")
+        self.switched_between = False
+        self.last_sent_s = now_s
+        return replace(decision, send=True, force_idr=switched or self.keyframes.due(now_s))
 
     def _switch_to(self, wanted: int, now_s: float, kind: str) -> None:
         old, new = self.points[self.rung], self.points[wanted]
@@ -267,60 +209,42 @@ class UmaEngine:
 
     def _choose(self, now_s, capacity_kbps, budget_kbps, capacity_ahead_kbps):
         """The point to be on, and the model point to start initialising now (or None)."""
-        view = PolicyView(
-            now_s=now_s,
-            points=self.points,
-            current=self.rung,
-            last_switch_s=self.last_switch_s,
-            estimate_kbps=self.estimate_kbps,
-            safety=self.config.safety,
-            up_hold_s=self.config.up_hold_ms / 1000.0,
-            capacity_kbps=capacity_kbps,
-            fixed_rung=self.config.fixed_rung,
-            ladder=self.ladder.allowed(now_s),
-        )
+        view = _policy_view(self, now_s, capacity_kbps)
         if self.config.switching.policy == "none":
             return self.policy(view), None
         ahead = None if capacity_ahead_kbps is None else self.config.safety * capacity_ahead_kbps
-        family = self.switch_policy(
-            SwitchView(
-                now_s, self.ladder.family(self.rung), self.codec_since_s, budget_kbps,
-                coverage=self.coverage, budget_ahead_kbps=ahead,
-            ),
-            self.switch_settings,
-        )  # fmt: skip
-        if family != self.model.name:
-            self.description.stop_wait(now_s)
-            self.model.leave(now_s)
-            return self.policy(view), None
-        want = self.model.want(now_s, description_ready=not self.description.pending)
-        if want is Want.MODEL:
-            return self.ladder.model_point, None
-        if want is Want.LOWEST:
-            return self.ladder.allowed(now_s)[0], None
-        if want is Want.START:
-            self.model.start(now_s, budget_kbps)
-            return self.policy(view), self.ladder.model_point
-        if want is Want.WAIT:  # wanted, but the receiver cannot render it yet: time counted
-            self.description.wait(now_s)
-        return self.policy(view), None
+        return self.switcher.choose(
+            view,
+            self.policy,
+            since_s=self.codec_since_s,
+            budget_kbps=budget_kbps,
+            budget_ahead_kbps=ahead,
+        )
 
     def _check_stale(self, now_s: float) -> None:
         """Reports missing for `stale_reports` intervals: lower the estimate, once an interval."""
         interval_s = self.feedback.interval_ms / 1000.0
-        if now_s - self.inflight.last_report_s <= self.config.stale_reports * interval_s:
-            return
-        if now_s - self.last_stale_decrease_s < interval_s:
-            return
-        self.estimator = stale_decrease(self.estimator, now_s=now_s, config=self.config.estimator)
-        self.last_stale_decrease_s = now_s
+        if self.inflight.stale_due(now_s, interval_s, self.config.stale_reports):
+            self.estimator = stale_decrease(
+                self.estimator, now_s=now_s, config=self.config.estimator
+            )
 
 
 def _region(codec: str) -> bool:
     return spec(codec).role is Role.REGION
 
 
-def _replace(decision: FrameDecision, **changes) -> FrameDecision:
-    from dataclasses import replace
-
-    return replace(decision, **changes)
+def _policy_view(engine: UmaEngine, now_s: float, capacity_kbps: float | None) -> PolicyView:
+    """What the rate policy may look at now."""
+    return PolicyView(
+        now_s=now_s,
+        points=engine.points,
+        current=engine.rung,
+        last_switch_s=engine.last_switch_s,
+        estimate_kbps=engine.estimate_kbps,
+        safety=engine.config.safety,
+        up_hold_s=engine.config.up_hold_ms / 1000.0,
+        capacity_kbps=capacity_kbps,
+        fixed_rung=engine.config.fixed_rung,
+        ladder=engine.ladder.allowed(now_s),
+    )

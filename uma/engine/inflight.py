@@ -12,7 +12,27 @@ otherwise look outstanding forever and stall the engine.
 
 from __future__ import annotations
 
-__all__ = ["InFlight"]
+__all__ = ["InFlight", "Keyframes"]
+
+
+class Keyframes:
+    """Keyframe requests: one is pending until an IDR really left, and IDRs keep `min_gap_s`
+    apart (a frame the engine could not code never settles a request)."""
+
+    def __init__(self, min_gap_s: float) -> None:
+        self.min_gap_s = min_gap_s
+        self.pending = False
+        self.last_idr_s = float("-inf")
+
+    def request(self) -> None:
+        self.pending = True
+
+    def sent(self, now_s: float) -> None:
+        self.pending = False
+        self.last_idr_s = now_s
+
+    def due(self, now_s: float) -> bool:
+        return self.pending and now_s - self.last_idr_s >= self.min_gap_s
 
 
 class InFlight:
@@ -23,6 +43,7 @@ class InFlight:
         self.highest_seq = -1
         self.last_progress_s = 0.0
         self.last_report_s = 0.0
+        self.last_stale_s = 0.0  # when stale reports last lowered the estimate
 
     def on_report(self, highest_seq: int, now_s: float) -> None:
         """A report arrived at `now_s` naming `highest_seq` as the highest packet received."""
@@ -45,6 +66,16 @@ class InFlight:
     def outstanding_bits(self) -> int:
         """Bits sent after the highest sequence number the receiver has reported."""
         return self.cum_sent_bits[-1] - self.cum_sent_bits[self.highest_seq + 1]
+
+    def stale_due(self, now_s: float, interval_s: float, stale_reports: int) -> bool:
+        """Whether reports have been missing for `stale_reports` intervals and the estimate
+        was not lowered for that within the last interval (then it counts as lowered now)."""
+        if now_s - self.last_report_s <= stale_reports * interval_s:
+            return False
+        if now_s - self.last_stale_s < interval_s:
+            return False
+        self.last_stale_s = now_s
+        return True
 
     def presume_lost(self, now_s: float, after_s: float) -> None:
         """Take everything as arrived when nothing progressed for `after_s`."""

@@ -34,6 +34,16 @@ class Ladder:
         self.model_codec = points[model[0]].codec if model else None
         self.regions_blocked_until_s = float("-inf")
 
+    def initial(self, config, estimate_kbps: float) -> int:
+        """The rung to start on (`config` an `EngineConfig`): the fixed policy's, or the highest
+        whose rate fits safety x the initial estimate."""
+        from uma.engine.policy import highest_fitting
+
+        if config.policy == "fixed" and config.fixed_rung is not None:
+            return self.rate[min(config.fixed_rung, len(self.rate) - 1)]
+        rates = tuple(self.points[i].rate_kbps for i in self.rate)
+        return self.rate[highest_fitting(rates, config.safety * estimate_kbps)]
+
     def allowed(self, now_s: float) -> tuple[int, ...]:
         """The rate ladder now: without the region rungs while they are blocked."""
         return self.full_frame if now_s < self.regions_blocked_until_s else self.rate

@@ -3,8 +3,8 @@
 Units: rates in kbit/s, times in seconds.
 
 A rate policy takes a `PolicyView` and returns the index of an operating point of the engine's
-ladder (`uma.engine.points`); rate policies choose among its rate-ladder points only (`h264`
-and, when enabled, the face-region `h264-face` rungs below them; the lowest rate first), so on
+ladder (`uma.engine.points`); rate policies choose among its rate-ladder points only (the
+full-frame rungs and, when enabled, the region rungs below them; the lowest rate first), so on
 a ladder of one full-frame codec the index is its rung. Rate policies are looked up by
 name from the scenario (`engine.policy`), so a new one is a function plus a line in `POLICIES`.
 A switching policy (`engine.switching.policy`, `SWITCHING`) says which codec family the engine
@@ -62,13 +62,13 @@ class PolicyView:
     ladder: tuple[int, ...] | None = None
 
     @property
-    def h264(self) -> tuple[int, ...]:
-        """Indices of the rate ladder's points (H.264, face-region H.264), lowest rate first."""
+    def rate_ladder(self) -> tuple[int, ...]:
+        """Indices of the rate ladder's points (full-frame and region rungs), lowest rate first."""
         return self.ladder if self.ladder is not None else rate_indices(self.points)
 
     @property
-    def h264_rates_kbps(self) -> tuple[float, ...]:
-        return tuple(self.points[i].rate_kbps for i in self.h264)
+    def rates_kbps(self) -> tuple[float, ...]:
+        return tuple(self.points[i].rate_kbps for i in self.rate_ladder)
 
 
 def highest_fitting(rates_kbps: tuple[float, ...], budget_kbps: float) -> int:
@@ -83,17 +83,17 @@ def highest_fitting(rates_kbps: tuple[float, ...], budget_kbps: float) -> int:
 def throughput_policy(view: PolicyView) -> int:
     """Down at once to what the estimate carries; up one rung at a time after `up_hold_s`.
 
-    From a point that is not H.264 (the MBC one), straight to the highest rung that fits.
+    From a point off the rate ladder (the model codec's), straight to the highest rung that fits.
     """
-    h264 = view.h264
-    target = highest_fitting(view.h264_rates_kbps, view.safety * view.estimate_kbps)
-    if view.current not in h264:
-        return h264[target]
-    current = h264.index(view.current)
+    rungs = view.rate_ladder
+    target = highest_fitting(view.rates_kbps, view.safety * view.estimate_kbps)
+    if view.current not in rungs:
+        return rungs[target]
+    current = rungs.index(view.current)
     if target < current:
-        return h264[target]
+        return rungs[target]
     if target > current and view.now_s - view.last_switch_s >= view.up_hold_s:
-        return h264[current + 1]
+        return rungs[current + 1]
     return view.current
 
 
@@ -109,11 +109,11 @@ def oracle_policy(view: PolicyView) -> int:
 
 
 def fixed_policy(view: PolicyView) -> int:
-    """Always the configured H.264 rung: the non-adaptive baseline."""
+    """Always the configured rung of the rate ladder: the non-adaptive baseline."""
     if view.fixed_rung is None:
         raise ValueError("fixed policy needs fixed_rung")
-    h264 = view.h264
-    return h264[min(view.fixed_rung, len(h264) - 1)]
+    rungs = view.rate_ladder
+    return rungs[min(view.fixed_rung, len(rungs) - 1)]
 
 
 POLICIES: dict[str, Callable[[PolicyView], int]] = {

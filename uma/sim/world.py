@@ -13,7 +13,8 @@ import numpy as np
 import simpy
 
 from uma.config.scenario import Scenario
-from uma.engine.engine import EngineEvent, UmaEngine
+from uma.engine.decisions import EngineEvent
+from uma.engine.engine import DescriptionPlan, UmaEngine
 from uma.face.region import FaceBoxes
 from uma.metrics.framelog import FrameLog
 from uma.sim.capacity import CapacitySchedule
@@ -146,9 +147,11 @@ def run_scenario(
         feedback=scenario.feedback,
         model_unavailable=plan.unavailable,
         coverage=coverage_map(scenario),
-        description_bits=8 * plan.description_bytes,
-        description_chunks=-(-plan.description_bytes // payload_bytes),
-        description_chunk_bits=8 * (payload_bytes + HEADER_BYTES),
+        description=DescriptionPlan(
+            bits=8 * plan.description_bytes,
+            chunks=-(-plan.description_bytes // payload_bytes),
+            chunk_bits=8 * (payload_bytes + HEADER_BYTES),
+        ),
     )
     props = _link_props(scenario)
     world_ref: list[World] = []
