@@ -19,6 +19,8 @@ metrics and the report ask the registry for a trait instead of naming codecs:
 - `ladder`: for a full-frame codec, its ladder file under the project's `codecs/` folder.
 - `video_encoder`, `video_decoder`: for a full-frame codec, the class names in `uma.video`
   that code it (the interface of `uma.video.H264Encoder` and `uma.video.H264Decoder`).
+- `codes_with`: the full-frame codec whose encoder (and ladder file's encoder settings) a
+  region codec codes its region with, whatever full-frame codec the run uses.
 - `colour`: its colour in plots; `always_reported`: `metrics.json` gives its bits even when a
   run does not use it (the keys every earlier result file has; other codecs' keys appear when
   they are on the run's ladder).
@@ -66,6 +68,7 @@ class CodecSpec:
     ladder: str | None = None
     video_encoder: str | None = None
     video_decoder: str | None = None
+    codes_with: str | None = None
     always_reported: bool = False
 
     @property
@@ -94,6 +97,7 @@ REGISTRY: dict[str, CodecSpec] = {
             colour="#16a085",
             fallback=Role.FULL_FRAME,
             config_section="face_region",
+            codes_with="h264",
             always_reported=True,
         ),
         CodecSpec(

@@ -202,6 +202,7 @@ class CodecChain:
             stream = replace(self.context.stream, frames_per_packet=1)
             self.uplink_mbc = ParameterDecoder(units, stream)
             self.context.selected = {}
+        self._settings: dict[str, Any] = {}  # encoder settings of other codecs' ladders
         self.engine_encoder = None
         self.engine_point = -1
         self.pending_mbc = None  # the MBC encoder an initialisation is preparing
@@ -264,9 +265,25 @@ class CodecChain:
             point,
             source_size=(self.width, self.height),
             source_fps=self.fps,
-            settings=self.ladder.encoder,
+            settings=self.settings(point.codec),
             context=self.context,
         )
+
+    def settings(self, codec: str):
+        """The encoder settings `codec` is coded with: the run's ladder's for the run's
+        full-frame codec, for a codec coded with it (`CodecSpec.codes_with`) and for a codec
+        with no ladder (the model codec, which takes none); else the settings of the ladder
+        file of the codec it is coded with."""
+        with_codec = spec(codec).codes_with or codec
+        if with_codec == self.scenario.engine.codec or spec(with_codec).ladder is None:
+            return self.ladder.encoder
+        if with_codec not in self._settings:
+            from uma.paths import codecs_dir
+            from uma.video import load_ladder
+
+            ladder = load_ladder(codecs_dir() / spec(with_codec).ladder)
+            self._settings[with_codec] = ladder.encoder
+        return self._settings[with_codec]
 
     def initialise_model(self, picture: np.ndarray, index: int, *, frame: int):
         """Initialise a new MBC encoder for point `index` on `picture`; it is used from the

@@ -23,6 +23,7 @@ __all__ = [
     "BUILDERS",
     "operating_points",
     "ladder_path",
+    "load_run_ladder",
     "model_description",
     "ModelPlan",
     "model_plan",
@@ -38,6 +39,22 @@ def ladder_path(scenario: Scenario) -> str:
     if scenario.engine.ladder is not None:
         return scenario.engine.ladder
     return str(codecs_dir() / spec(scenario.engine.codec).ladder)
+
+
+def load_run_ladder(scenario: Scenario):
+    """The full-frame codec's ladder (`uma.video.Ladder`), checked to be that codec's."""
+    from uma.errors import ConfigError
+    from uma.video import load_ladder
+
+    path = ladder_path(scenario)
+    ladder = load_ladder(path)
+    found = getattr(ladder, "codec", scenario.engine.codec)  # a ladder file's `codec:`
+    if found != scenario.engine.codec:
+        raise ConfigError(
+            f"engine.ladder: expected a ladder of engine.codec {scenario.engine.codec!r}, "
+            f"got {path} of codec {found!r}"
+        )
+    return ladder
 
 
 def model_description(scenario: Scenario, source) -> tuple[object | None, str]:

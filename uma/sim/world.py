@@ -23,7 +23,7 @@ from uma.sim.faults import Faults, fault_rng, with_outages
 from uma.sim.links import Downlink, FixedLink, LinkProps, downlink_process
 from uma.sim.packets import HEADER_BYTES
 from uma.sim.playout import make_playout
-from uma.sim.points import ladder_path, model_plan, operating_points
+from uma.sim.points import load_run_ladder, model_plan, operating_points
 from uma.sim.processes import display_process, engine_process, report_process, sender_process
 from uma.sim.quality import QualityMeter
 from uma.sim.receiver import ReceiverState
@@ -110,15 +110,13 @@ def run_scenario(
     `on_display(index, source, shown, picture)` sees each display instant's source frame and
     the picture shown (None before the first), for `uma report --video`.
     """
-    from uma.video import load_ladder
-
     route_rng, loss_rng, feedback_rng = (
         np.random.default_rng(s) for s in np.random.SeedSequence(scenario.seed).spawn(3)
     )
     capacity = build_capacity(scenario, route_rng)
     faults = Faults(scenario.faults, rng=fault_rng(scenario.seed))
     capacity = with_outages(capacity, scenario.faults.outages)
-    ladder = load_ladder(ladder_path(scenario))
+    ladder = load_run_ladder(scenario)
     source = source if source is not None else open_source(scenario.source, seed=scenario.seed)
     plan = model_plan(scenario, source)
     description = plan.description
