@@ -91,6 +91,15 @@ REGISTRY: dict[str, CodecSpec] = {
             always_reported=True,
         ),
         CodecSpec(
+            "vp8",
+            Role.FULL_FRAME,
+            label="VP8",
+            colour="#f39c12",
+            ladder="vp8.yaml",
+            video_encoder="VP8Encoder",
+            video_decoder="VP8Decoder",
+        ),
+        CodecSpec(
             "h264-face",
             Role.REGION,
             label="H.264 face region",
