@@ -100,6 +100,15 @@ REGISTRY: dict[str, CodecSpec] = {
             video_decoder="VP8Decoder",
         ),
         CodecSpec(
+            "av1",
+            Role.FULL_FRAME,
+            label="AV1",
+            colour="#6c3483",
+            ladder="av1.yaml",
+            video_encoder="AV1Encoder",
+            video_decoder="AV1Decoder",
+        ),
+        CodecSpec(
             "h264-face",
             Role.REGION,
             label="H.264 face region",
