@@ -76,13 +76,17 @@ def test_a_short_run_codes_every_sent_frame_with_it(codec):
 
 
 def test_region_rungs_code_with_their_own_codec_in_another_codecs_run():
+    from dataclasses import replace
+
     from uma.sim.codecs import CodecChain
-    from uma.video import load_ladder
+    from uma.video import EncoderSettings, load_ladder
 
     other = OTHERS[0]
     run = scenario(other)
     h264 = load_ladder()  # the project's H.264 ladder
-    fake = h264.__class__(rungs=h264.rungs, encoder=object(), source="fake")
+    # The run's ladder, with settings unlike the H.264 ladder's (its own codec's would be).
+    fake = replace(h264, encoder=EncoderSettings(keyint_frames=99))
+    assert fake.encoder != h264.encoder
     chain = CodecChain(run, fake, (), width=176, height=144, fps=25.0)
     assert chain.settings(other) is fake.encoder
     assert chain.settings("h264-face") == h264.encoder
