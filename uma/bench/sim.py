@@ -3,7 +3,7 @@
 Units: wall-clock seconds (`_s`), measured with `time.perf_counter` in this process only.
 
 The source's frames are prepared first (a camera gives them for free; synthesising the talking
-head is not simulation work), then the simulation of the scenario is timed. Then, in the same process, exactly the codec work
+head is not simulation work), then the simulation of the scenario is timed (with `codec`, on that full-frame codec's ladder). Then, in the same process, exactly the codec work
 it did is redone without SimPy: the sender's encode of every frame, the engine's decode and its
 re-encode of the frames it sent (same rungs, same IDRs), the receiver's decode of the frames it
 decoded; and, apart, the same quality metrics on the same (source, displayed) pairs.
@@ -30,6 +30,7 @@ class SimBenchConfig:
     width: int
     height: int
     video: str | None = None
+    codec: str | None = None  # the full-frame codec (`engine.codec`); None: the scenario's
 
 
 def _prepare(config: SimBenchConfig) -> Scenario:
@@ -40,7 +41,12 @@ def _prepare(config: SimBenchConfig) -> Scenario:
     else:
         source = source.model_copy(update={"width": config.width, "height": config.height})
     duration_s = config.frames / source.fps
-    return scenario.model_copy(update={"source": source, "duration_s": duration_s})
+    update = {"source": source, "duration_s": duration_s}
+    if config.codec is not None and config.codec != scenario.engine.codec:
+        # Another codec's run: its own ladder file, not the scenario's.
+        engine = scenario.engine.model_dump() | {"codec": config.codec, "ladder": None}
+        update["engine"] = type(scenario.engine).model_validate(engine)
+    return scenario.model_copy(update=update)
 
 
 class _ListSource:
@@ -173,6 +179,7 @@ def run_sim_bench(config: SimBenchConfig) -> dict[str, Any]:
         "frames": int(result.log.frames),
         "video": f"{result.width}x{result.height}@{result.fps:g}",
         "scenario": scenario.name,
+        "codec": scenario.engine.codec,
         "sim_s": round(sim_s, 3),
         "codec_s": round(codec_s, 3),
         "metrics_s": round(metrics_s, 3),
@@ -195,6 +202,7 @@ def format_table(result: dict[str, Any]) -> str:
     split = result["split_in_sim_s"]
     rows = [
         f"uma bench sim: {result['scenario']}, {result['frames']} frames of {result['video']}"
+        f", {result['codec']}"
         f" ({result['simulated_s']} s simulated)",
         "",
         f"  {'whole simulation':<34}{result['sim_s']:>9.3f} s",
