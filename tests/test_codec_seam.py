@@ -4,6 +4,8 @@ They learn what they need about a codec from the registry (`uma.codecs`), so add
 codec module, a registry entry, a ladder file and tests. This test reads their source with `ast`
 and fails on a codec's name in a string (docstrings aside: prose may name codecs) or in an
 identifier (`h264_rungs`, `mbc_point`, a `_family` helper that maps names to families).
+And the world talks to the engine only through its calls (`on_*`, `finish`): it never reads or
+writes the engine's internals.
 """
 
 from __future__ import annotations
@@ -105,3 +107,32 @@ def test_engine_world_metrics_and_report_name_no_codec():
         where = str(path.relative_to(ROOT))
         found += codec_names_in(path.read_text(encoding="utf-8"), where)
     assert not found, "codec names outside the registry:\n" + "\n".join(found)
+
+
+def _engine_uses(source: str) -> set[str]:
+    """The attributes `source` reads or writes on an engine (`engine.X`, `world.engine.X`;
+    `scenario.engine` is its configuration)."""
+    used = set()
+    for node in ast.walk(ast.parse(source)):
+        if not isinstance(node, ast.Attribute):
+            continue
+        owner = node.value
+        if (isinstance(owner, ast.Name) and owner.id == "engine") or (
+            isinstance(owner, ast.Attribute)
+            and owner.attr == "engine"
+            and isinstance(owner.value, ast.Name)
+            and owner.value.id == "world"
+        ):
+            used.add(node.attr)
+    return used
+
+
+def test_the_world_talks_to_the_engine_only_through_its_calls():
+    assert _engine_uses("engine.events.append(x); world.engine.on_frame(1)") == {
+        "events",
+        "on_frame",
+    }
+    for path in sorted((ROOT / "sim").glob("*.py")):
+        inside = _engine_uses(path.read_text(encoding="utf-8"))
+        internals = {name for name in inside if not name.startswith("on_") and name != "finish"}
+        assert not internals, f"{path.name} reaches into the engine: {sorted(internals)}"
