@@ -16,6 +16,8 @@ metrics and the report ask the registry for a trait instead of naming codecs:
   picture (a region codec that finds no face: the lowest full-frame rung; a model codec that
   loses the face: the lowest rung of the rate ladder).
 - `config_section`: the `engine.<section>` that configures it (None: its ladder file alone).
+  Its operating points are built by its role's builder (`uma.sim.points.BUILDERS`) from that
+  section, or for a full-frame codec from its ladder.
 - `ladder`: for a full-frame codec, its ladder file under the project's `codecs/` folder.
 - `video_encoder`, `video_decoder`: for a full-frame codec, the class names in `uma.video`
   that code it (the interface of `uma.video.H264Encoder` and `uma.video.H264Decoder`).

@@ -112,11 +112,11 @@ def video_class(codec: str, role: str):
 H264PointEncoder = FullFramePointEncoder
 H264UnitDecoder = FullFrameUnitDecoder
 
-# The coders of the codecs that are not full-frame ladders; a full-frame codec needs no entry
-# here (its registry entry names its `uma.video` classes).
-_OWN_CODERS: dict[str, tuple[Callable[..., Any], Callable[..., Any]]] = {
-    "h264-face": (FaceRegionEncoder, FaceRegionDecoder),
-    "mbc": (MbcPointEncoder, MbcUnitDecoder),
+# The coders of the roles that are not full-frame ladders (one codec each); a full-frame codec
+# needs none here: its registry entry names its `uma.video` classes.
+_OWN_CODERS: dict[Role, tuple[Callable[..., Any], Callable[..., Any]]] = {
+    Role.REGION: (FaceRegionEncoder, FaceRegionDecoder),
+    Role.MODEL: (MbcPointEncoder, MbcUnitDecoder),
 }
 
 
@@ -126,14 +126,14 @@ def encoder_factory(codec: str, *, selection: bool = False) -> Callable[..., Any
         return FullFramePointEncoder
     if selection and spec(codec).role is Role.MODEL:
         return SelectedMbcEncoder
-    return _OWN_CODERS[codec][0]
+    return _OWN_CODERS[spec(codec).role][0]
 
 
 def decoder_factory(codec: str) -> Callable[..., Any]:
     """What makes `codec`'s receiver-side decoder (called with `context=`)."""
     if spec(codec).role is Role.FULL_FRAME:
         return partial(FullFrameUnitDecoder, codec=codec)
-    return _OWN_CODERS[codec][1]
+    return _OWN_CODERS[spec(codec).role][1]
 
 
 ENCODERS: dict[str, Callable[..., Any]] = {name: encoder_factory(name) for name in REGISTRY}

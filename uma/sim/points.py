@@ -5,8 +5,8 @@ Units: rates in kbit/s, frame rates in frames/s, sizes in pixels.
 
 The ladder is, lowest first, the model codec's point (when the run has a content description
 for it), the region codec's rungs (when its config section enables them) and the full-frame
-codec's rungs (`engine.codec`, from its ladder file). A full-frame codec's points come from its
-ladder alone; the others' builders are in `BUILDERS`, keyed by codec name, and read their own
+codec's rungs (`engine.codec`, from its ladder file). Each role has its builder (`BUILDERS`): a
+full-frame codec's points come from its ladder alone, a region or model codec's from its own
 config section (`uma.codecs.CodecSpec.config_section`).
 """
 
@@ -27,6 +27,7 @@ __all__ = [
     "model_description",
     "ModelPlan",
     "model_plan",
+    "ladder_points",
     "region_points",
     "model_point",
 ]
@@ -162,20 +163,23 @@ def model_point(codec: str, scenario: Scenario, ladder, source) -> tuple[Operati
     )
 
 
-BUILDERS: dict[str, Callable[..., tuple[OperatingPoint, ...]]] = {
-    "h264-face": region_points,
-    "mbc": model_point,
+def ladder_points(codec: str, scenario: Scenario, ladder, source) -> tuple[OperatingPoint, ...]:
+    """The full-frame codec's rungs, from its ladder."""
+    return full_frame_points(ladder, codec=codec, transcode_ms=scenario.engine.transcode_ms)
+
+
+BUILDERS: dict[Role, Callable[..., tuple[OperatingPoint, ...]]] = {
+    Role.FULL_FRAME: ladder_points,
+    Role.REGION: region_points,
+    Role.MODEL: model_point,
 }
 
 
 def operating_points(scenario: Scenario, ladder, source, *, with_model: bool) -> tuple:
     """The engine's ladder: the model codec's point (`with_model`: the run has its
     description) below the region rungs (when enabled) below the full-frame rungs."""
-    codec = scenario.engine.codec
-    points = full_frame_points(ladder, codec=codec, transcode_ms=scenario.engine.transcode_ms)
-    for name in names(Role.REGION):
-        points = BUILDERS[name](name, scenario, ladder, source) + points
-    if with_model:
-        for name in names(Role.MODEL):
-            points = BUILDERS[name](name, scenario, ladder, source) + points
+    points = BUILDERS[Role.FULL_FRAME](scenario.engine.codec, scenario, ladder, source)
+    for role in (Role.REGION, Role.MODEL) if with_model else (Role.REGION,):
+        for name in names(role):
+            points = BUILDERS[role](name, scenario, ladder, source) + points
     return points
