@@ -1,4 +1,4 @@
-"""The rooms' arrows point down (ARCHITECTURE.md) and no module imports itself round a circle.
+"""The rooms' arrows point down (docs/architecture.md) and no module imports itself round a circle.
 
 Every `import uma.X...` in `uma/`, at the top or inside a function, is read with `ast`: a lazy
 import is still an arrow. A room may import only rooms of a lower level; rooms on one level
@@ -17,7 +17,7 @@ ROOT = Path(uma.__file__).parent
 # Lowest first. `uma/__init__.py` and the single-module rooms form the floor.
 LEVELS: list[set[str]] = [
     {"errors", "failure", "paths"},
-    {"atomic"},
+    {"atomic", "codecs"},  # `codecs`: the codec registry, pure data
     {"__init__"},
     {"config"},
     {"traces", "engine", "metrics", "video"},

@@ -190,3 +190,26 @@ def test_engine_and_receiver_tuning_is_configurable(tmp_path):
     assert scenario.receiver.keyframe_retry_ms == 400
     with pytest.raises(ConfigError, match=r"engine\.stale_reports"):
         load_scenario(write(tmp_path, MINIMAL + "engine: {stale_reports: 0}\n"))
+
+
+def test_model_validate_checks_names_as_loading_does():
+    from pydantic import ValidationError
+
+    from uma.config import Scenario
+
+    base = {"name": "x", "route": [{"technology": "3G", "duration_s": 1}]}
+    with pytest.raises(ValidationError, match="expected one of fixed, oracle, throughput"):
+        Scenario.model_validate(base | {"engine": {"policy": "magic"}})
+    with pytest.raises(ValidationError, match="policy 'fixed' needs 'fixed_rung'"):
+        Scenario.model_validate(base | {"engine": {"policy": "fixed"}})
+    with pytest.raises(ValidationError, match="full-frame codec"):
+        Scenario.model_validate(base | {"engine": {"codec": "mbc"}})
+
+
+def test_switching_and_estimator_names_are_the_engines():
+    from uma.config.scenario import ESTIMATOR_KINDS, SWITCHING_NAMES
+    from uma.engine.estimators import ESTIMATORS
+    from uma.engine.policy import SWITCHING
+
+    assert set(SWITCHING_NAMES) == set(SWITCHING) and "oracle" in SWITCHING_NAMES
+    assert set(ESTIMATOR_KINDS) == set(ESTIMATORS)

@@ -146,12 +146,12 @@ def test_report_naming_a_sequence_never_sent_is_clamped():
     engine = make_engine()
     engine.on_packets_sent([8000, 8000])
     engine.on_report(_report(0.1, highest_seq=99), 0.1)
-    assert engine.highest_seq == 1 and engine.outstanding_bits == 0
+    assert engine.inflight.highest_seq == 1 and engine.outstanding_bits == 0
     engine.on_frame(3, 0.12)
 
 
 # --- switching to the model-based codec -------------------------------------------------------
-def make_switching_engine(*, mbc_unavailable="", **switching):
+def make_switching_engine(*, model_unavailable="", **switching):
     from uma.config.scenario import SwitchingConfig
 
     settings = {"policy": "threshold", "min_dwell_ms": 0.0} | switching
@@ -170,17 +170,19 @@ def make_switching_engine(*, mbc_unavailable="", **switching):
         points=points,
         source_fps=25.0,
         feedback=FeedbackConfig(interval_ms=100.0, keyframe_min_interval_ms=300.0),
-        mbc_unavailable=mbc_unavailable,
+        model_unavailable=model_unavailable,
     )
 
 
 def test_switch_to_mbc_waits_for_the_initialisation_then_sends_intra():
     engine = make_switching_engine()
     first = engine.on_frame(0, 0.0, capacity_kbps=10.0)
-    assert first.init_mbc and first.codec == "h264" and first.rung == 1  # lowest H.264
+    assert (
+        first.initialise is not None and first.codec == "h264" and first.rung == 1
+    )  # lowest H.264
     # Until the world reports the initialisation done, frames stay H.264, no second init.
     second = engine.on_frame(1, 0.04, capacity_kbps=10.0)
-    assert second.codec == "h264" and not second.init_mbc
+    assert second.codec == "h264" and second.initialise is None
     engine.on_init_done(True, 0.06, reason="first picture", evaluations=600)
     third = engine.on_frame(2, 0.08, capacity_kbps=10.0)
     assert third.codec == "mbc" and third.force_idr and third.send
@@ -194,21 +196,21 @@ def test_switch_to_mbc_waits_for_the_initialisation_then_sends_intra():
 
 def test_failed_initialisation_stays_on_the_lowest_rung_and_retries_later():
     engine = make_switching_engine(retry_ms=1000.0)
-    assert engine.on_frame(0, 0.0, capacity_kbps=10.0).init_mbc
+    assert engine.on_frame(0, 0.0, capacity_kbps=10.0).initialise is not None
     engine.on_init_done(False, 0.2, reason="no face found")
     decision = engine.on_frame(5, 0.2, capacity_kbps=10.0)
-    assert decision.codec == "h264" and decision.rung == 1 and not decision.init_mbc
-    assert not engine.on_frame(6, 0.9, capacity_kbps=10.0).init_mbc  # before retry_ms
-    assert engine.on_frame(30, 1.3, capacity_kbps=10.0).init_mbc
+    assert decision.codec == "h264" and decision.rung == 1 and decision.initialise is None
+    assert engine.on_frame(6, 0.9, capacity_kbps=10.0).initialise is None  # before retry_ms
+    assert engine.on_frame(30, 1.3, capacity_kbps=10.0).initialise is not None
     failed = [e for e in engine.events if e.kind == "mbc_init_failed"]
     assert failed and "no face found" in failed[0].detail
     assert engine.counts["init_failures"] == 1 and engine.counts["inits"] == 2
 
 
 def test_no_description_keeps_the_lowest_rung_and_says_why_once():
-    engine = make_switching_engine(mbc_unavailable="no content description")
+    engine = make_switching_engine(model_unavailable="no content description")
     decisions = [engine.on_frame(i, i / 25.0, capacity_kbps=10.0) for i in range(50)]
-    assert all(d.codec == "h264" and d.rung == 1 and not d.init_mbc for d in decisions)
+    assert all(d.codec == "h264" and d.rung == 1 and d.initialise is None for d in decisions)
     refused = [e for e in engine.events if e.kind == "mbc_refused"]
     assert len(refused) == 1 and "no content description" in refused[0].detail
 

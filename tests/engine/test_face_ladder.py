@@ -28,7 +28,7 @@ def engine(initial_kbps: float, **face):
         points=POINTS,
         source_fps=25.0,
         feedback=FeedbackConfig(interval_ms=100.0),
-        mbc_unavailable="test: no MBC",
+        model_unavailable="test: no MBC",
     )
 
 
@@ -98,7 +98,7 @@ def test_switching_sees_the_face_rungs_as_h264():
         config, points=POINTS, source_fps=25.0, feedback=FeedbackConfig(interval_ms=100.0)
     )
     decisions = [e.on_frame(i, i / 25.0) for i in range(20)]
-    assert all(d.point.codec == "h264-face" and not d.init_mbc for d in decisions)
+    assert all(d.point.codec == "h264-face" and d.initialise is None for d in decisions)
     assert "mbc_init_start" not in [ev.kind for ev in e.events]
 
 
@@ -113,7 +113,7 @@ def test_mbc_refused_falls_back_to_the_lowest_rung_of_the_ladder_the_face_rung()
         points=POINTS,
         source_fps=25.0,
         feedback=FeedbackConfig(interval_ms=100.0),
-        mbc_unavailable="no content description",
+        model_unavailable="no content description",
     )
     decision = e.on_frame(4, 3.2)
     assert decision.point.codec == "h264-face" and decision.rung == 1

@@ -78,20 +78,20 @@ def run_switching(budgets_kbps, *, settings, step_s=0.5):
 
 
 def test_threshold_switches_down_below_and_up_above_only():
-    settings = SwitchSettings(to_mbc_below_kbps=30, to_h264_above_kbps=60, min_dwell_s=0.0)
+    settings = SwitchSettings(to_model_below_kbps=30, to_ladder_above_kbps=60, min_dwell_s=0.0)
     codecs = run_switching([100, 40, 29, 45, 59, 61, 40], settings=settings)
     # 40 and 45, 59 lie in the hysteresis band: no change there in either direction.
     assert codecs == ["h264", "h264", "mbc", "mbc", "mbc", "h264", "h264"]
 
 
 def test_threshold_never_flaps_on_an_estimate_oscillating_inside_the_band():
-    settings = SwitchSettings(to_mbc_below_kbps=30, to_h264_above_kbps=60, min_dwell_s=0.0)
+    settings = SwitchSettings(to_model_below_kbps=30, to_ladder_above_kbps=60, min_dwell_s=0.0)
     codecs = run_switching([25] + [31, 59] * 20, settings=settings)
     assert codecs == ["mbc"] * 41
 
 
 def test_minimum_dwell_holds_each_codec():
-    settings = SwitchSettings(to_mbc_below_kbps=30, to_h264_above_kbps=60, min_dwell_s=2.0)
+    settings = SwitchSettings(to_model_below_kbps=30, to_ladder_above_kbps=60, min_dwell_s=2.0)
     # Budget collapses at 3.0 s (step 6), recovers at 3.5 s; dwell keeps MBC until 5.0 s.
     budgets = [100] * 6 + [10] + [100] * 10
     codecs = run_switching(budgets, settings=settings)
@@ -103,8 +103,8 @@ def test_minimum_dwell_holds_each_codec():
 
 
 def test_switch_settings_refuse_an_inverted_band():
-    with pytest.raises(ValueError, match="to_mbc_below_kbps"):
-        SwitchSettings(to_mbc_below_kbps=60, to_h264_above_kbps=30)
+    with pytest.raises(ValueError, match="to_model_below_kbps"):
+        SwitchSettings(to_model_below_kbps=60, to_ladder_above_kbps=30)
 
 
 def test_predictive_switches_before_a_scripted_boundary_and_holds_through_it():
@@ -132,7 +132,7 @@ def test_predictive_switches_before_a_scripted_boundary_and_holds_through_it():
 def test_oracle_switches_before_the_capacity_falls_and_returns_when_the_window_clears():
     from uma.engine.policy import oracle_switch
 
-    settings = SwitchSettings(to_mbc_below_kbps=30, to_h264_above_kbps=60, min_dwell_s=5.0)
+    settings = SwitchSettings(to_model_below_kbps=30, to_ladder_above_kbps=60, min_dwell_s=5.0)
 
     def codec_at(ahead_kbps, codec="h264"):
         view = SwitchView(1.0, codec, 0.0, 1000.0, budget_ahead_kbps=ahead_kbps)

@@ -3,7 +3,7 @@
 Units: wall-clock seconds (`_s`), measured with `time.perf_counter` in this process only.
 
 The source's frames are prepared first (a camera gives them for free; synthesising the talking
-head is not simulation work), then the simulation of the scenario is timed. Then, in the same process, exactly the codec work
+head is not simulation work), then the simulation of the scenario is timed (with `codec`, on that full-frame codec's ladder). Then, in the same process, exactly the codec work
 it did is redone without SimPy: the sender's encode of every frame, the engine's decode and its
 re-encode of the frames it sent (same rungs, same IDRs), the receiver's decode of the frames it
 decoded; and, apart, the same quality metrics on the same (source, displayed) pairs.
@@ -30,6 +30,7 @@ class SimBenchConfig:
     width: int
     height: int
     video: str | None = None
+    codec: str | None = None  # the full-frame codec (`engine.codec`); None: the scenario's
 
 
 def _prepare(config: SimBenchConfig) -> Scenario:
@@ -40,7 +41,12 @@ def _prepare(config: SimBenchConfig) -> Scenario:
     else:
         source = source.model_copy(update={"width": config.width, "height": config.height})
     duration_s = config.frames / source.fps
-    return scenario.model_copy(update={"source": source, "duration_s": duration_s})
+    update = {"source": source, "duration_s": duration_s}
+    if config.codec is not None and config.codec != scenario.engine.codec:
+        # Another codec's run: its own ladder file, not the scenario's.
+        engine = scenario.engine.model_dump() | {"codec": config.codec, "ladder": None}
+        update["engine"] = type(scenario.engine).model_validate(engine)
+    return scenario.model_copy(update=update)
 
 
 class _ListSource:
@@ -70,15 +76,17 @@ def _prepared_source(scenario: Scenario, frames: int) -> _ListSource:
 
 def _replay(scenario: Scenario, result, source: _ListSource) -> tuple[float, float, dict]:
     """Redo the run's codec work and metrics alone, through the same codec registry and chain
-    as the run (every codec it used: H.264, and MBC's initialisations, tracking, coding and
+    as the run (every codec it used: the full-frame codec, and MBC's initialisations, tracking, coding and
     rendering); returns (codec_s, metrics_s, codec seconds per codec)."""
-    from uma.engine.points import codec_indices
+    from uma.codecs import Role
+    from uma.engine.points import role_indices
     from uma.sim.codecs import CodecChain
     from uma.sim.packets import EncodedUnit
+    from uma.sim.points import ladder_path
     from uma.sim.quality import QualityMeter
     from uma.video import load_ladder
 
-    ladder = load_ladder(scenario.engine.ladder)
+    ladder = load_ladder(ladder_path(scenario))
     log = result.log
     chain = CodecChain(
         scenario,
@@ -90,7 +98,7 @@ def _replay(scenario: Scenario, result, source: _ListSource) -> tuple[float, flo
         account=True,
         description=result.description,
     )
-    mbc = codec_indices(result.points, "mbc")
+    mbc = role_indices(result.points, Role.MODEL)
     inits = set(result.mbc_init_frames)
     # The bare metric work, one plane pair after another on one core.
     serial = scenario.metrics.model_copy(update={"workers": 0})
@@ -101,10 +109,10 @@ def _replay(scenario: Scenario, result, source: _ListSource) -> tuple[float, flo
         frame = next(frames)
         encoded = chain.sender_encode(frame)
         # Selection: the sender's tracking and the engine's decoding of its parameters.
-        chain.engine_receive_mbc(chain.sender_encode_mbc(frame, index), index)
+        chain.engine_receive_side(chain.sender_side_data(frame, index), index)
         picture = chain.engine_decode(encoded)
         if index in inits and picture is not None and mbc:
-            chain.mbc_initialise(picture, mbc[0], frame=index)
+            chain.initialise_model(picture, mbc[0], frame=index)
         if log["sent"][index] and picture is not None:
             rung = int(log["rung"][index])
             coded = []
@@ -144,9 +152,9 @@ def _replay(scenario: Scenario, result, source: _ListSource) -> tuple[float, flo
 def _warm_up(scenario: Scenario, source: _ListSource) -> None:
     """One untimed MBC initialisation when the run may switch: numba loads its compiled
     kernels on first use, which neither the run nor the replay should be charged for."""
-    from uma.sim.world import mbc_description
+    from uma.sim.points import model_description
 
-    description, _ = mbc_description(scenario, source)
+    description, _ = model_description(scenario, source)
     if description is None or not source._frames:
         return
     from uma.mbc import FaceTracker
@@ -171,6 +179,7 @@ def run_sim_bench(config: SimBenchConfig) -> dict[str, Any]:
         "frames": int(result.log.frames),
         "video": f"{result.width}x{result.height}@{result.fps:g}",
         "scenario": scenario.name,
+        "codec": scenario.engine.codec,
         "sim_s": round(sim_s, 3),
         "codec_s": round(codec_s, 3),
         "metrics_s": round(metrics_s, 3),
@@ -193,6 +202,7 @@ def format_table(result: dict[str, Any]) -> str:
     split = result["split_in_sim_s"]
     rows = [
         f"uma bench sim: {result['scenario']}, {result['frames']} frames of {result['video']}"
+        f", {result['codec']}"
         f" ({result['simulated_s']} s simulated)",
         "",
         f"  {'whole simulation':<34}{result['sim_s']:>9.3f} s",

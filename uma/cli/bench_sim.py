@@ -24,6 +24,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--frames", type=int, default=750, help="frames to simulate (default 750)")
     parser.add_argument("--size", type=frame_size, default=(352, 288), help="cif, qcif or WxH")
     parser.add_argument("--video", metavar="FILE", help="use this video file as the source")
+    parser.add_argument(
+        "--codec",
+        metavar="NAME",
+        help="the full-frame codec of the ladder (engine.codec: h264, vp8, av1; default the "
+        "scenario's), on its own ladder file",
+    )
     add_common_arguments(parser)
     parser.set_defaults(func=handle)
 
@@ -31,15 +37,25 @@ def register(sub: argparse._SubParsersAction) -> None:
 def handle(args: argparse.Namespace) -> int:
     from uma.bench.sim import SimBenchConfig, format_table, run_sim_bench
     from uma.cli.cmd_bench import emit
+    from uma.codecs import full_frame_names
     from uma.config import load_scenario
     from uma.errors import ConfigError
 
     if args.frames <= 0:
         raise ConfigError(f"--frames: expected a positive integer, got {args.frames}")
+    if args.codec is not None and args.codec not in full_frame_names():
+        raise ConfigError(
+            f"--codec: expected one of {', '.join(full_frame_names())}, got {args.codec!r}"
+        )
     scenario = load_scenario(args.scenario).with_seed(args.seed)
     width, height = args.size
     config = SimBenchConfig(
-        scenario=scenario, frames=args.frames, width=width, height=height, video=args.video
+        scenario=scenario,
+        frames=args.frames,
+        width=width,
+        height=height,
+        video=args.video,
+        codec=args.codec,
     )
     result = run_sim_bench(config)
     emit(result, format_table(result), as_json=args.json)

@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from uma.config.scenario import POLICY_NAMES, Scenario
+from uma.config.scenario import Scenario
 from uma.config.technologies import LABELS, technology_label
 from uma.config.yamlfile import KeyLines, load_yaml
 from uma.errors import ConfigError
@@ -74,20 +74,12 @@ def _check_files(scenario: Scenario, lines: KeyLines) -> None:
 
 
 def _check_names(scenario: Scenario, lines: KeyLines) -> None:
-    if scenario.engine.policy not in POLICY_NAMES:
-        choices = ", ".join(sorted(POLICY_NAMES))
-        raise ConfigError(
-            f"{lines.where(('engine', 'policy'))}: expected one of {choices}, "
-            f"got {scenario.engine.policy!r}"
-        )
     for index, segment in enumerate(scenario.route):
         if segment.trace is None and not technology_label(segment.technology):
             raise ConfigError(
                 f"{lines.where(('route', index, 'technology'))}: expected one of "
                 f"{', '.join(LABELS)} (or a trace file), got {segment.technology!r}"
             )
-    if scenario.engine.policy == "fixed" and scenario.engine.fixed_rung is None:
-        raise ConfigError(f"{lines.where(('engine',))}: policy 'fixed' needs 'fixed_rung'")
 
 
 def load_scenario(path: str | Path | None = None) -> Scenario:

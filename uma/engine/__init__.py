@@ -1,7 +1,16 @@
-"""The UMA engine's decisions as pure code: estimator, rate policies, state machine (no SimPy)."""
+"""The UMA engine's decisions as pure code: estimators, policies and the engine's parts (no SimPy)."""
 
-from uma.engine.engine import EngineEvent, FrameDecision, UmaEngine
+from uma.engine.decisions import (
+    DescriptionChunk,
+    EngineEvent,
+    EngineOutcome,
+    FrameDecision,
+    UnitSent,
+)
+from uma.engine.engine import UmaEngine
 from uma.engine.estimator import EstimatorState, initial_estimate, update_estimate
+from uma.engine.model import TRANSITIONS, ModelEvent, ModelState
+from uma.engine.parts import DescriptionPlan
 from uma.engine.policy import POLICIES, PolicyView, fixed_policy, oracle_policy, throughput_policy
 from uma.engine.reports import KeyframeRequest, ReceiverReport
 
@@ -9,6 +18,13 @@ __all__ = [
     "UmaEngine",
     "FrameDecision",
     "EngineEvent",
+    "EngineOutcome",
+    "UnitSent",
+    "DescriptionChunk",
+    "DescriptionPlan",
+    "ModelState",
+    "ModelEvent",
+    "TRANSITIONS",
     "EstimatorState",
     "initial_estimate",
     "update_estimate",

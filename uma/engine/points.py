@@ -3,32 +3,36 @@
 Units: rates in kbit/s, frame rates in frames/s, picture sizes in pixels, compute in ms and
 microseconds per cost evaluation.
 
-An operating point names its codec (`h264`, `h264-face`, `mbc`), the rate it sends, its frame rate and picture
-size, and the compute a real engine would spend on one frame there: `compute_ms` fixed, plus
-`compute_us_per_evaluation` for each evaluation the codec reports (MBC's fitting-cost
-evaluations when tracking; `h264-face` counts one per run of its face detector; H.264 none).
-The rate ladder the rate policies climb is the family `RATE_CODECS` (the face-region rungs and
-the full-frame H.264 rungs), ordered by rate (`rate_indices`). Policies choose an index into the ladder; the world looks the
-codec up by name in its registry. Adding a codec is a codec module, a registry entry and points.
+An operating point names its codec (a name of the registry, `uma.codecs`), the rate it sends,
+its frame rate and picture size, and the compute a real engine would spend on one frame there:
+`compute_ms` fixed, plus `compute_us_per_evaluation` for each evaluation the codec reports (a
+model codec's fitting-cost evaluations when tracking; a region codec counts one per run of its
+face detector; a full-frame codec none). The rate ladder the rate policies climb is the
+full-frame and region codecs' points (`RATE_CODECS`), ordered by rate (`rate_indices`).
+Policies choose an index into the ladder; the world looks the codec up in the registry.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
+from uma.codecs import REGISTRY, Role, names
+
 __all__ = [
     "OperatingPoint",
+    "full_frame_points",
     "h264_points",
+    "role_indices",
     "codec_indices",
     "rate_indices",
     "CODECS",
     "RATE_CODECS",
 ]
 
-# The codecs a point may name; `uma.sim.codecs` registers an encoder and a decoder for each.
-CODECS: tuple[str, ...] = ("h264", "h264-face", "mbc")
-# The codecs of the rate ladder: H.264 of the face region only, and of the whole frame.
-RATE_CODECS: tuple[str, ...] = ("h264-face", "h264")
+# The codecs a point may name; `uma.sim.codecs` makes an encoder and a decoder for each.
+CODECS: tuple[str, ...] = tuple(REGISTRY)
+# The codecs of the rate ladder: the region codecs and the full-frame ones.
+RATE_CODECS: tuple[str, ...] = names(Role.REGION) + names(Role.FULL_FRAME)
 
 
 @dataclass(frozen=True)
@@ -57,25 +61,36 @@ class OperatingPoint:
         return (self.compute_ms + self.compute_us_per_evaluation * evaluations / 1000.0) / 1000.0
 
 
-def h264_points(ladder, *, transcode_ms: float) -> tuple[OperatingPoint, ...]:
-    """The H.264 rungs of `ladder` (`uma.video.Ladder`) as operating points, in its order."""
+def full_frame_points(ladder, *, codec: str, transcode_ms: float) -> tuple[OperatingPoint, ...]:
+    """The rungs of `ladder` (`uma.video.Ladder`) as operating points of the full-frame
+    `codec`, in its order."""
     return tuple(
         OperatingPoint(
-            codec="h264",
+            codec=codec,
             rate_kbps=rung.rate_kbps,
             fps=rung.fps,
             width=rung.width,
             height=rung.height,
             compute_ms=transcode_ms,
-            label=f"h264 {rung.label}",
+            label=f"{codec} {rung.label}",
         )
         for rung in ladder.rungs
     )
 
 
+def h264_points(ladder, *, transcode_ms: float) -> tuple[OperatingPoint, ...]:
+    """`full_frame_points` of the first full-frame codec of the registry (H.264)."""
+    return full_frame_points(ladder, codec=names(Role.FULL_FRAME)[0], transcode_ms=transcode_ms)
+
+
 def codec_indices(points: tuple[OperatingPoint, ...], codec: str) -> tuple[int, ...]:
     """Indices of the points of `codec`, in ladder order."""
     return tuple(i for i, point in enumerate(points) if point.codec == codec)
+
+
+def role_indices(points: tuple[OperatingPoint, ...], role: Role) -> tuple[int, ...]:
+    """Indices of the points whose codec has `role`, in ladder order."""
+    return tuple(i for i, point in enumerate(points) if REGISTRY[point.codec].role is role)
 
 
 def rate_indices(points: tuple[OperatingPoint, ...]) -> tuple[int, ...]:

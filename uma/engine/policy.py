@@ -3,12 +3,14 @@
 Units: rates in kbit/s, times in seconds.
 
 A rate policy takes a `PolicyView` and returns the index of an operating point of the engine's
-ladder (`uma.engine.points`); rate policies choose among its rate-ladder points only (`h264`
-and, when enabled, the face-region `h264-face` rungs below them; the lowest rate first), so on
-an H.264-only ladder the index is the H.264 rung. Rate policies are looked up by
+ladder (`uma.engine.points`); rate policies choose among its rate-ladder points only (the
+full-frame rungs and, when enabled, the region rungs below them; the lowest rate first), so on
+a ladder of one full-frame codec the index is its rung. Rate policies are looked up by
 name from the scenario (`engine.policy`), so a new one is a function plus a line in `POLICIES`.
-A switching policy (`engine.switching.policy`, `SWITCHING`) says which codec the engine should
-be on; the engine then asks the rate policy for an H.264 point or takes the MBC point.
+A switching policy (`engine.switching.policy`, `SWITCHING`) says which codec family the engine
+should be on: the rate ladder's (named by its full-frame codec, `engine.codec`) or the model
+codec's (`SwitchSettings.ladder`, `SwitchSettings.model`); the engine then asks the rate policy
+for a point of the ladder or takes the model codec's point.
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 
+from uma.codecs import full_frame_names, model_names
 from uma.engine.points import OperatingPoint, rate_indices
 
 __all__ = [
@@ -27,6 +30,7 @@ __all__ = [
     "highest_fitting",
     "SwitchView",
     "SwitchSettings",
+    "switch_settings",
     "SWITCHING",
     "threshold_switch",
     "predictive_switch",
@@ -58,13 +62,13 @@ class PolicyView:
     ladder: tuple[int, ...] | None = None
 
     @property
-    def h264(self) -> tuple[int, ...]:
-        """Indices of the rate ladder's points (H.264, face-region H.264), lowest rate first."""
+    def rate_ladder(self) -> tuple[int, ...]:
+        """Indices of the rate ladder's points (full-frame and region rungs), lowest rate first."""
         return self.ladder if self.ladder is not None else rate_indices(self.points)
 
     @property
-    def h264_rates_kbps(self) -> tuple[float, ...]:
-        return tuple(self.points[i].rate_kbps for i in self.h264)
+    def rates_kbps(self) -> tuple[float, ...]:
+        return tuple(self.points[i].rate_kbps for i in self.rate_ladder)
 
 
 def highest_fitting(rates_kbps: tuple[float, ...], budget_kbps: float) -> int:
@@ -79,17 +83,17 @@ def highest_fitting(rates_kbps: tuple[float, ...], budget_kbps: float) -> int:
 def throughput_policy(view: PolicyView) -> int:
     """Down at once to what the estimate carries; up one rung at a time after `up_hold_s`.
 
-    From a point that is not H.264 (the MBC one), straight to the highest rung that fits.
+    From a point off the rate ladder (the model codec's), straight to the highest rung that fits.
     """
-    h264 = view.h264
-    target = highest_fitting(view.h264_rates_kbps, view.safety * view.estimate_kbps)
-    if view.current not in h264:
-        return h264[target]
-    current = h264.index(view.current)
+    rungs = view.rate_ladder
+    target = highest_fitting(view.rates_kbps, view.safety * view.estimate_kbps)
+    if view.current not in rungs:
+        return rungs[target]
+    current = rungs.index(view.current)
     if target < current:
-        return h264[target]
+        return rungs[target]
     if target > current and view.now_s - view.last_switch_s >= view.up_hold_s:
-        return h264[current + 1]
+        return rungs[current + 1]
     return view.current
 
 
@@ -105,11 +109,11 @@ def oracle_policy(view: PolicyView) -> int:
 
 
 def fixed_policy(view: PolicyView) -> int:
-    """Always the configured H.264 rung: the non-adaptive baseline."""
+    """Always the configured rung of the rate ladder: the non-adaptive baseline."""
     if view.fixed_rung is None:
         raise ValueError("fixed policy needs fixed_rung")
-    h264 = view.h264
-    return h264[min(view.fixed_rung, len(h264) - 1)]
+    rungs = view.rate_ladder
+    return rungs[min(view.fixed_rung, len(rungs) - 1)]
 
 
 POLICIES: dict[str, Callable[[PolicyView], int]] = {
@@ -123,32 +127,50 @@ POLICIES: dict[str, Callable[[PolicyView], int]] = {
 class SwitchSettings:
     """Thresholds on the safety-scaled estimate, with hysteresis and a minimum dwell.
 
-    Go to MBC when the budget falls below `to_mbc_below_kbps`; back to H.264 when it rises
-    above `to_h264_above_kbps` (higher: the gap is the hysteresis); never leave a codec less
-    than `min_dwell_s` after arriving on it.
+    The families are named: `ladder` (the rate ladder, by its full-frame codec) and `model`
+    (the model codec). Go to `model` when the budget falls below `to_model_below_kbps`; back to
+    `ladder` when it rises above `to_ladder_above_kbps` (higher: the gap is the hysteresis);
+    never leave a family less than `min_dwell_s` after arriving on it.
     """
 
-    to_mbc_below_kbps: float = 30.0
-    to_h264_above_kbps: float = 60.0
+    to_model_below_kbps: float = 30.0
+    to_ladder_above_kbps: float = 60.0
     min_dwell_s: float = 3.0
     # Predictive only: switch this long before a technology in `low_technologies` begins.
     lookahead_s: float = 3.0
     low_technologies: tuple[str, ...] = ("GPRS", "GSM")
+    ladder: str = full_frame_names()[0]
+    model: str = model_names()[0]
 
     def __post_init__(self) -> None:
-        if not 0 < self.to_mbc_below_kbps < self.to_h264_above_kbps:
+        if not 0 < self.to_model_below_kbps < self.to_ladder_above_kbps:
             raise ValueError(
-                "switching: expected 0 < to_mbc_below_kbps < to_h264_above_kbps, got "
-                f"{self.to_mbc_below_kbps} and {self.to_h264_above_kbps}"
+                "switching: expected 0 < to_model_below_kbps < to_ladder_above_kbps, got "
+                f"{self.to_model_below_kbps} and {self.to_ladder_above_kbps}"
             )
+
+
+def switch_settings(config, *, ladder: str, model: str) -> SwitchSettings:
+    """The `SwitchSettings` of `config` (`EngineConfig`) between the families `ladder` and
+    `model`."""
+    switching = config.switching
+    return SwitchSettings(
+        to_model_below_kbps=switching.to_mbc_below_kbps,
+        to_ladder_above_kbps=switching.to_h264_above_kbps,
+        min_dwell_s=switching.min_dwell_ms / 1000.0,
+        lookahead_s=switching.lookahead_ms / 1000.0,
+        low_technologies=tuple(switching.low_technologies),
+        ladder=ladder,
+        model=model,
+    )
 
 
 @dataclass(frozen=True)
 class SwitchView:
-    """All a switching policy may look at: the codec in use and since when, the budget."""
+    """All a switching policy may look at: the family in use and since when, the budget."""
 
     now_s: float
-    codec: str
+    codec: str  # the family in use: `SwitchSettings.ladder` or `SwitchSettings.model`
     since_s: float  # when the engine arrived on `codec`
     budget_kbps: float  # safety x estimate (or x true capacity for an oracle)
     # The route's coverage as a coverage map would give it: (start_s, technology), in order.
@@ -158,13 +180,13 @@ class SwitchView:
 
 
 def threshold_switch(view: SwitchView, settings: SwitchSettings) -> str:
-    """The codec to be on: thresholds with hysteresis and a minimum dwell on each codec."""
+    """The family to be on: thresholds with hysteresis and a minimum dwell on each family."""
     if view.now_s - view.since_s < settings.min_dwell_s:
         return view.codec
-    if view.codec == "h264" and view.budget_kbps < settings.to_mbc_below_kbps:
-        return "mbc"
-    if view.codec == "mbc" and view.budget_kbps > settings.to_h264_above_kbps:
-        return "h264"
+    if view.codec == settings.ladder and view.budget_kbps < settings.to_model_below_kbps:
+        return settings.model
+    if view.codec == settings.model and view.budget_kbps > settings.to_ladder_above_kbps:
+        return settings.ladder
     return view.codec
 
 
@@ -181,37 +203,36 @@ def low_coverage_in_s(
 
 
 def predictive_switch(view: SwitchView, settings: SwitchSettings) -> str:
-    """Thresholds, plus the coverage map: to MBC `lookahead_s` before a low-bandwidth area
-    begins (so the initialisation is done at the boundary), and not back to H.264 while one
-    is that near or under way."""
+    """Thresholds, plus the coverage map: to the model codec `lookahead_s` before a
+    low-bandwidth area begins (so the initialisation is done at the boundary), and not back to
+    the ladder while one is that near or under way."""
     if view.now_s - view.since_s < settings.min_dwell_s:
         return view.codec
     ahead_s = low_coverage_in_s(view.coverage, view.now_s, settings.low_technologies)
     near = ahead_s is not None and ahead_s <= settings.lookahead_s
-    if view.codec == "h264" and near:
-        return "mbc"
-    if view.codec == "mbc" and near:
-        return "mbc"
+    if near and view.codec in (settings.ladder, settings.model):
+        return settings.model
     return threshold_switch(view, settings)
 
 
 def oracle_switch(view: SwitchView, settings: SwitchSettings) -> str:
-    """Knows the trace: on MBC while the true capacity anywhere in the window ahead (the world
-    looks `switching.oracle_lookahead_ms` into the trace) is below `to_mbc_below_kbps` (so the initialisation starts before the drop), back to H.264
-    once all of that window carries `to_h264_above_kbps`. No dwell: looking ahead is what
+    """Knows the trace: on the model codec while the true capacity anywhere in the window
+    ahead (the world looks `switching.oracle_lookahead_ms` into the trace) is below
+    `to_model_below_kbps` (so the initialisation starts before the drop), back to the ladder
+    once all of that window carries `to_ladder_above_kbps`. No dwell: looking ahead is what
     keeps it from flapping. An upper bound for real switching policies."""
     if view.budget_ahead_kbps is None:
         raise ValueError("oracle switching needs the true capacity ahead")
-    if view.budget_ahead_kbps < settings.to_mbc_below_kbps:
-        return "mbc"
-    if view.codec == "mbc" and view.budget_ahead_kbps <= settings.to_h264_above_kbps:
-        return "mbc"
-    return "h264"
+    if view.budget_ahead_kbps < settings.to_model_below_kbps:
+        return settings.model
+    if view.codec == settings.model and view.budget_ahead_kbps <= settings.to_ladder_above_kbps:
+        return settings.model
+    return settings.ladder
 
 
 def no_switch(view: SwitchView, settings: SwitchSettings) -> str:
-    """H.264 only."""
-    return "h264"
+    """The rate ladder only."""
+    return settings.ladder
 
 
 SWITCHING: dict[str, Callable[[SwitchView, SwitchSettings], str]] = {

@@ -18,10 +18,32 @@ from typing import Any
 
 import numpy as np
 
+from uma.codecs import REGISTRY, Role, metric_key, spec
 from uma.metrics.delay import display_delays_ms
 from uma.metrics.framelog import FrameLog
 
-__all__ = ["aggregate", "by_technology", "ssim_to_db"]
+__all__ = ["aggregate", "by_technology", "ssim_to_db", "codec_bits"]
+
+
+def _report_order(name: str) -> int:
+    """`kbps_*` keys: full-frame codecs, then model codecs, then region codecs (the order of
+    every earlier `metrics.json`), each in registry order."""
+    roles = (Role.FULL_FRAME, Role.MODEL, Role.REGION)
+    return roles.index(spec(name).role) * len(REGISTRY) + list(REGISTRY).index(name)
+
+
+def codec_bits(log: FrameLog) -> dict[str, int]:
+    """Bits sent per codec, in registry order: every codec the log names, and those the
+    registry always reports (`CodecSpec.always_reported`) even when unused."""
+    used = set(np.unique(log["codec"]).tolist()) - {""}
+    unknown = used - set(REGISTRY)
+    if unknown:
+        raise ValueError(f"frame log: codecs {sorted(unknown)} are not in the registry")
+    return {
+        name: int(log["size_bits"][log["codec"] == name].sum())
+        for name, codec in REGISTRY.items()
+        if codec.always_reported or name in used
+    }
 
 
 def ssim_to_db(ssim: float) -> float:
@@ -67,9 +89,7 @@ def aggregate(
     log["delay_ms"][:] = delays
     arrival = log["arrival_ms"] - log["capture_ms"]
     kinds = Counter(event_kinds)
-    h264_bits = int(log["size_bits"][log["codec"] == "h264"].sum())
-    mbc_bits = int(log["size_bits"][log["codec"] == "mbc"].sum())
-    face_bits = int(log["size_bits"][log["codec"] == "h264-face"].sum())
+    bits = codec_bits(log)
     ssim_values = log["ssim"][np.isfinite(log["ssim"])]
     # ssim_db from the unrounded mean: near 1, rounding SSIM to 4 decimals moves it by decibels.
     ssim_db = round(ssim_to_db(float(ssim_values.mean())), 4) if ssim_values.size else None
@@ -80,10 +100,11 @@ def aggregate(
         "frames_sent": int(log["sent"].sum()),
         "frames_decoded": int(log["decoded"].sum()),
         "idr_frames": int(log["keyframe"].sum()),
-        "bits_sent": {"h264": h264_bits, "h264-face": face_bits, "mbc": mbc_bits},
-        "kbps_h264": round(h264_bits / duration_s / 1000.0, 3),
-        "kbps_mbc": round(mbc_bits / duration_s / 1000.0, 3),
-        "kbps_h264_face": round(face_bits / duration_s / 1000.0, 3),
+        "bits_sent": bits,
+        **{
+            f"kbps_{metric_key(name)}": round(bits[name] / duration_s / 1000.0, 3)
+            for name in sorted(bits, key=_report_order)
+        },
         "bits_delivered": int(link["bits_delivered"]),
         "capacity_mean_kbps": round(capacity_bits / duration_s / 1000.0, 3),
         "link_utilisation": round(link["bits_delivered"] / capacity_bits, 4)

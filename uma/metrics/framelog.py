@@ -10,7 +10,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from uma.codecs import REGISTRY
+
 __all__ = ["FrameLog", "COLUMNS"]
+
+# Codec columns hold any registered name whole (a fixed width shorter than one would cut it).
+CODEC_DTYPE = f"U{max(len(name) for name in REGISTRY)}"
 
 # name -> (dtype, missing value); the order is the CSV's.
 COLUMNS: dict[str, tuple[str, float]] = {
@@ -20,7 +25,7 @@ COLUMNS: dict[str, tuple[str, float]] = {
     "technology": ("U8", ""),
     "capacity_kbps": ("f8", np.nan),
     "estimate_kbps": ("f8", np.nan),
-    "codec": ("U12", ""),
+    "codec": (CODEC_DTYPE, ""),
     "rung": ("i8", -1),
     "width": ("i8", -1),
     "height": ("i8", -1),
@@ -31,7 +36,7 @@ COLUMNS: dict[str, tuple[str, float]] = {
     "arrival_ms": ("f8", np.nan),
     "decoded": ("i8", 0),
     "shown_frame": ("i8", -1),
-    "shown_codec": ("U12", ""),
+    "shown_codec": (CODEC_DTYPE, ""),
     "frozen": ("i8", 0),
     "delay_ms": ("f8", np.nan),
     "psnr_db": ("f8", np.nan),

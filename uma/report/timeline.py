@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from uma.codecs import REGISTRY, metric_key, model_names
 from uma.report.results import RunFiles, read_run
 
 __all__ = ["draw_timeline", "TECH_COLOURS"]
@@ -27,7 +28,9 @@ TECH_COLOURS = {
     "GSM": "#f6d0c8",
     "": "#eeeeee",
 }
-CODEC_COLOURS = {"h264": "#1f5fbf", "h264-face": "#16a085", "mbc": "#c0392b"}
+CODEC_COLOURS = {name: codec.colour for name, codec in REGISTRY.items()}
+# A model codec's initialisations, as its events name them (`<codec>_init_start`, `_reinit`).
+_INIT_KINDS = {f"{name}_{kind}" for name in model_names() for kind in ("init_start", "reinit")}
 
 
 def _bands(ax, time_s: np.ndarray, technology: np.ndarray) -> None:
@@ -55,6 +58,16 @@ def _rate_kbps(time_s: np.ndarray, bits: np.ndarray, window_s: float = 1.0) -> n
     return (cumulative[np.arange(1, time_s.size + 1)] - cumulative[first]) / window_s / 1000.0
 
 
+def _sent(metrics: dict) -> str:
+    """The kbit/s each codec the run used sent, as the title says them ("41.2 kbit/s H.264")."""
+    parts = []
+    for name, codec in REGISTRY.items():
+        kbps = metrics.get(f"kbps_{metric_key(name)}")
+        if kbps:
+            parts.append(f"{kbps} kbit/s {codec.label}")
+    return ", ".join(parts) or "0 kbit/s sent"
+
+
 def _figure(run: RunFiles):
     from matplotlib.figure import Figure
 
@@ -66,7 +79,7 @@ def _figure(run: RunFiles):
     name = run.metrics.get("scenario", run.folder.name)
     fig.suptitle(
         f"{name}: freeze {run.metrics.get('freeze_ratio')}, PSNR {run.metrics.get('psnr_db')} dB, "
-        f"{run.metrics.get('kbps_h264')} kbit/s H.264, delay p95 {run.metrics.get('delay_p95_ms')} ms",
+        f"{_sent(run.metrics)}, delay p95 {run.metrics.get('delay_p95_ms')} ms",
         fontsize=10,
     )
     technology = f.get("technology", np.array([""] * t_s.size))
@@ -116,7 +129,7 @@ def _figure(run: RunFiles):
                 ax.axvline(time_ms / 1000.0, color=colour, ls=style, lw=width)
         elif kind == "keyframe_request":
             rungs.plot(time_ms / 1000.0, -0.5, marker="v", color="#c0392b", ms=3)
-        elif kind in ("mbc_init_start", "mbc_reinit"):
+        elif kind in _INIT_KINDS:
             rungs.plot(time_ms / 1000.0, -0.5, marker="*", color="#27ae60", ms=7)
     from matplotlib.ticker import MaxNLocator
 
@@ -124,7 +137,7 @@ def _figure(run: RunFiles):
     rungs.set_ylabel("rung")
     rungs.set_xlabel("time s (capture; PSNR at display)")
     rungs.set_title(
-        "rung; dotted: rung switches, green: codec switches, stars: MBC initialisations, "
+        "rung; dotted: rung switches, green: codec switches, stars: model-codec initialisations, "
         "dashed: handovers, triangles: keyframe requests",
         fontsize=8, loc="left",
     )  # fmt: skip

@@ -1,11 +1,12 @@
-"""The codec registry: one encoder and one decoder per codec name, and the codec work of a run.
+"""The simulation's side of the codec registry (`uma.codecs`): each codec's coders, and the chain.
 
 Units: pictures are planar YUV 4:2:0 arrays (H * 3 // 2, W) uint8; sizes in pixels; bytes out.
 
 Every engine-side encoder has `encode(picture, *, intra, frame) -> Coded` (bytes and what it
 cost, in fitting-cost evaluations, so the engine can model compute time); every receiver-side
-decoder has `decode(unit) -> picture | None`. `ENCODERS` and `DECODERS` map a codec name
-(`uma.engine.points.CODECS`) to a factory. `CodecChain` holds the codecs along the path:
+decoder has `decode(unit) -> {frame: picture}`. `ENCODERS` and `DECODERS` map every registered
+codec name to a factory: a full-frame codec's are made from the `uma.video` classes its registry
+entry names, the region and model codecs' are their own modules'. `CodecChain` holds the codecs along the path:
 the sender's H.264 encoder, the engine's decoder of it, one engine encoder for the operating
 point in use (a new one on a change of point), and the receiver's decoders, which dispatch on
 the unit's codec and start a new reference chain (a fresh decoder) when the codec changes.
@@ -17,13 +18,16 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from functools import partial
 from typing import Any
 
 import numpy as np
 
+from uma.codecs import REGISTRY, Role, spec
 from uma.config.scenario import Scenario
 from uma.engine.points import OperatingPoint
 from uma.sim.coded import Coded
+from uma.sim.context import CodecContext
 from uma.sim.face_region import FaceRegionDecoder, FaceRegionEncoder
 from uma.sim.mbc_codecs import (
     MbcPointEncoder,
@@ -36,8 +40,13 @@ from uma.sim.packets import EncodedUnit
 __all__ = [
     "CodecChain",
     "Coded",
+    "FullFramePointEncoder",
+    "FullFrameUnitDecoder",
     "H264PointEncoder",
     "H264UnitDecoder",
+    "encoder_factory",
+    "decoder_factory",
+    "video_class",
     "MbcPointEncoder",
     "MbcUnitDecoder",
     "SenderMbc",
@@ -47,15 +56,14 @@ __all__ = [
 ]
 
 
-class H264PointEncoder:
-    """libx264 at one operating point: its rate, size (never above the source's) and rate."""
+class FullFramePointEncoder:
+    """A full-frame codec at one operating point: its rate, size (never above the source's)
+    and frame rate, coded by the `uma.video` class its registry entry names."""
 
     def __init__(self, point: OperatingPoint, *, source_size, source_fps, settings, context=None):
-        from uma.video import H264Encoder
-
         self.width = min(point.width, source_size[0])
         self.height = min(point.height, source_size[1])
-        self.encoder = H264Encoder(
+        self.encoder = video_class(point.codec, "video_encoder")(
             self.width,
             self.height,
             min(point.fps, source_fps),
@@ -72,13 +80,11 @@ class H264PointEncoder:
         return Coded(out.data, bool(out.is_keyframe), self.width, self.height)
 
 
-class H264UnitDecoder:
-    """FFmpeg's H.264 decoder: {frame: picture}, or {} for a unit it cannot decode."""
+class FullFrameUnitDecoder:
+    """A full-frame codec's decoder: {frame: picture}, or {} for a unit it cannot decode."""
 
-    def __init__(self, *, context=None) -> None:
-        from uma.video import H264Decoder
-
-        self.decoder = H264Decoder()
+    def __init__(self, *, context=None, codec: str = "h264") -> None:
+        self.decoder = video_class(codec, "video_decoder")()
 
     def decode(self, unit: EncodedUnit) -> dict[int, np.ndarray]:
         from uma.errors import VideoError
@@ -90,16 +96,48 @@ class H264UnitDecoder:
         return {} if picture is None else {unit.frame: picture}
 
 
-ENCODERS: dict[str, Callable[..., Any]] = {
-    "h264": H264PointEncoder,
-    "h264-face": FaceRegionEncoder,
-    "mbc": MbcPointEncoder,
+def video_class(codec: str, role: str):
+    """The `uma.video` class that `codec`'s registry entry names as its `role`
+    (`video_encoder` or `video_decoder`)."""
+    import uma.video
+
+    name = getattr(spec(codec), role)
+    found = getattr(uma.video, name, None) if name else None
+    if found is None:
+        raise LookupError(f"codec {codec!r}: uma.video has no {role} {name!r}")
+    return found
+
+
+# Names kept for the code that makes H.264 coders directly (benchmarks).
+H264PointEncoder = FullFramePointEncoder
+H264UnitDecoder = FullFrameUnitDecoder
+
+# The coders of the roles that are not full-frame ladders (one codec each); a full-frame codec
+# needs none here: its registry entry names its `uma.video` classes.
+_OWN_CODERS: dict[Role, tuple[Callable[..., Any], Callable[..., Any]]] = {
+    Role.REGION: (FaceRegionEncoder, FaceRegionDecoder),
+    Role.MODEL: (MbcPointEncoder, MbcUnitDecoder),
 }
-DECODERS: dict[str, Callable[..., Any]] = {
-    "h264": H264UnitDecoder,
-    "h264-face": FaceRegionDecoder,
-    "mbc": MbcUnitDecoder,
-}
+
+
+def encoder_factory(codec: str, *, selection: bool = False) -> Callable[..., Any]:
+    """What makes `codec`'s engine-side encoder (the selection scheme's for a model codec)."""
+    if spec(codec).role is Role.FULL_FRAME:
+        return FullFramePointEncoder
+    if selection and spec(codec).role is Role.MODEL:
+        return SelectedMbcEncoder
+    return _OWN_CODERS[spec(codec).role][0]
+
+
+def decoder_factory(codec: str) -> Callable[..., Any]:
+    """What makes `codec`'s receiver-side decoder (called with `context=`)."""
+    if spec(codec).role is Role.FULL_FRAME:
+        return partial(FullFrameUnitDecoder, codec=codec)
+    return _OWN_CODERS[spec(codec).role][1]
+
+
+ENCODERS: dict[str, Callable[..., Any]] = {name: encoder_factory(name) for name in REGISTRY}
+DECODERS: dict[str, Callable[..., Any]] = {name: decoder_factory(name) for name in REGISTRY}
 
 
 class CodecChain:
@@ -133,17 +171,16 @@ class CodecChain:
             keyint_frames=scenario.sender.keyint_frames,
         )
         self.engine_decoder = H264Decoder()
-        self.context: dict[str, Any] = {
-            "description": description,
-            "seed": scenario.seed,
-            "source_size": (width, height),
-            "stream": None,
-            "face_region": scenario.engine.face_region,
-        }
+        self.context = CodecContext(
+            description=description,
+            seed=scenario.seed,
+            source_size=(width, height),
+            face_region=scenario.engine.face_region,
+        )
         if description is not None:
             from uma.mbc import StreamConfig
 
-            self.context["stream"] = StreamConfig(
+            self.context.stream = StreamConfig(
                 frames_per_packet=scenario.engine.mbc.frames_per_packet
             )
         # The customisation scheme: `adaptation` (the engine tracks the face in the H.264 it
@@ -162,9 +199,10 @@ class CodecChain:
                 track_us_per_evaluation=mbc.track_us_per_evaluation,
             )
             units = FaceUnits.of(description.model, description.params)
-            stream = replace(self.context["stream"], frames_per_packet=1)
+            stream = replace(self.context.stream, frames_per_packet=1)
             self.uplink_mbc = ParameterDecoder(units, stream)
-            self.context["selected"] = {}
+            self.context.selected = {}
+        self._settings: dict[str, Any] = {}  # encoder settings of other codecs' ladders
         self.engine_encoder = None
         self.engine_point = -1
         self.pending_mbc = None  # the MBC encoder an initialisation is preparing
@@ -189,19 +227,19 @@ class CodecChain:
     def sender_encode(self, frame: np.ndarray):
         return self._timed("h264", self.sender_encoder.encode, frame)
 
-    def sender_encode_mbc(self, frame: np.ndarray, index: int) -> bytes | None:
+    def sender_side_data(self, frame: np.ndarray, index: int) -> bytes | None:
         """Selection: the sender's parameter packet for source frame `index` (None otherwise)."""
         if self.sender_mbc is None:
             return None
         return self._timed("mbc", self.sender_mbc.encode, frame, frame=index)
 
-    def engine_receive_mbc(self, data: bytes | None, index: int) -> None:
+    def engine_receive_side(self, data: bytes | None, index: int) -> None:
         """Selection: decode the parameters the sender sent up with frame `index`."""
         if self.uplink_mbc is None:
             return
         from uma.mbc import PacketError
 
-        selected = self.context["selected"]
+        selected = self.context.selected
         selected.pop(index - 2 * int(self.fps), None)  # frames never selected need not stay
         if not data:
             return
@@ -222,22 +260,36 @@ class CodecChain:
 
     def _make_encoder(self, index: int):
         point = self.points[index]
-        factory = ENCODERS[point.codec]
-        if point.codec == "mbc" and self.sender_mbc is not None:
-            factory = SelectedMbcEncoder
+        factory = encoder_factory(point.codec, selection=self.sender_mbc is not None)
         return factory(
             point,
             source_size=(self.width, self.height),
             source_fps=self.fps,
-            settings=self.ladder.encoder,
+            settings=self.settings(point.codec),
             context=self.context,
         )
 
-    def mbc_initialise(self, picture: np.ndarray, index: int, *, frame: int):
+    def settings(self, codec: str):
+        """The encoder settings `codec` is coded with: the run's ladder's for the run's
+        full-frame codec, for a codec coded with it (`CodecSpec.codes_with`) and for a codec
+        with no ladder (the model codec, which takes none); else the settings of the ladder
+        file of the codec it is coded with."""
+        with_codec = spec(codec).codes_with or codec
+        if with_codec == self.scenario.engine.codec or spec(with_codec).ladder is None:
+            return self.ladder.encoder
+        if with_codec not in self._settings:
+            from uma.paths import codecs_dir
+            from uma.video import load_ladder
+
+            ladder = load_ladder(codecs_dir() / spec(with_codec).ladder)
+            self._settings[with_codec] = ladder.encoder
+        return self._settings[with_codec]
+
+    def initialise_model(self, picture: np.ndarray, index: int, *, frame: int):
         """Initialise a new MBC encoder for point `index` on `picture`; it is used from the
         first frame coded at that point."""
         encoder = self._make_encoder(index)
-        result = self._timed("mbc", encoder.initialise, picture, frame=frame)
+        result = self._timed(self.points[index].codec, encoder.initialise, picture, frame=frame)
         self.pending_mbc = encoder if result else None
         return result
 
@@ -247,7 +299,7 @@ class CodecChain:
         point = self.points[index]
         if index != self.engine_point:
             # A new point is a new stream: new codec, size or rate, starting intra.
-            if point.codec == "mbc" and self.pending_mbc is not None:
+            if self.pending_mbc is not None and spec(point.codec).role is Role.MODEL:
                 self.engine_encoder, self.pending_mbc = self.pending_mbc, None
             else:
                 self.engine_encoder = self._timed(point.codec, self._make_encoder, index)
@@ -260,7 +312,7 @@ class CodecChain:
     def receiver_decode(self, unit: EncodedUnit) -> dict[int, np.ndarray]:
         if unit.codec != self.receiver_codec:
             # A new codec is a new reference chain, rendered over the last picture shown.
-            self.context["background"] = self.receiver_last
+            self.context.background = self.receiver_last
             self.receiver_decoder = DECODERS[unit.codec](context=self.context)
             self.receiver_codec = unit.codec
         pictures = self._timed(unit.codec, self.receiver_decoder.decode, unit)

@@ -25,6 +25,7 @@ import numpy as np
 from uma.engine.points import OperatingPoint
 from uma.face.detect import Box
 from uma.sim.coded import Coded
+from uma.sim.context import as_context
 from uma.sim.packets import EncodedUnit
 
 __all__ = [
@@ -126,13 +127,13 @@ def detect_pixels(source_size: tuple[int, int]) -> int:
 class FaceRegionEncoder:
     """libx264 on the face crop at one `h264-face` point; `evaluations` counts detector runs.
 
-    Context (`CodecChain.context`): `face_region`, the scenario's `FaceRegionConfig`.
+    Context (`uma.sim.context.CodecContext`): `face_region`, the scenario's `FaceRegionConfig`.
     """
 
     def __init__(self, point: OperatingPoint, *, source_size, source_fps, settings, context):
         from uma.video import H264Encoder
 
-        config = context["face_region"]
+        config = as_context(context).face_region
         self.margin = config.margin
         self.every = config.detect_every_frames
         self.smoothing = config.smoothing
@@ -206,9 +207,10 @@ class FaceRegionDecoder:
     def __init__(self, *, context) -> None:
         from uma.video import H264Decoder, resize_yuv420
 
-        width, height = context["source_size"]
+        context = as_context(context)
+        width, height = context.source_size
         self.decoder = H264Decoder()
-        background = context.get("background")
+        background = context.background
         if background is None:
             # Nothing shown yet: mid-grey around the face.
             background = np.full((height * 3 // 2, width), 128, dtype=np.uint8)

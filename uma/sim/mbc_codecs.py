@@ -11,6 +11,7 @@ import numpy as np
 
 from uma.engine.points import OperatingPoint
 from uma.sim.coded import Coded
+from uma.sim.context import as_context
 from uma.sim.packets import EncodedUnit
 
 __all__ = ["MbcPointEncoder", "MbcUnitDecoder", "SenderMbc", "SelectedMbcEncoder"]
@@ -48,12 +49,13 @@ class MbcPointEncoder:
     def __init__(self, point: OperatingPoint, *, source_size, source_fps, settings, context):
         from uma.mbc import FaceTracker, FaceUnits, ParameterEncoder
 
-        description = context["description"]
+        context = as_context(context)
+        description = context.description
         self.width, self.height = source_size
         if self.tracks:
-            self.tracker = context.get("tracker") or FaceTracker(description, rng=context["seed"])
+            self.tracker = context.tracker or FaceTracker(description, rng=context.seed)
         units = FaceUnits.of(description.model, description.params)
-        self.stream = ParameterEncoder(units, context["stream"])
+        self.stream = ParameterEncoder(units, context.stream)
 
     def initialise(self, picture: np.ndarray, *, frame: int):
         """A fresh track from `picture`: a `TrackResult`, or a `TrackFailure` with its reason."""
@@ -107,10 +109,11 @@ class SenderMbc:
 
         from uma.mbc import FaceTracker, FaceUnits, ParameterEncoder
 
-        description = context["description"]
-        self.tracker = FaceTracker(description, rng=context["seed"])
+        context = as_context(context)
+        description = context.description
+        self.tracker = FaceTracker(description, rng=context.seed)
         units = FaceUnits.of(description.model, description.params)
-        self.stream = ParameterEncoder(units, replace(context["stream"], frames_per_packet=1))
+        self.stream = ParameterEncoder(units, replace(context.stream, frames_per_packet=1))
         self.init_us = init_us_per_evaluation
         self.track_us = track_us_per_evaluation
         self.compute_ms = 0.0
@@ -130,7 +133,7 @@ class SenderMbc:
 class SelectedMbcEncoder(MbcPointEncoder):
     """The selection scheme's engine side of MBC: no tracking, only a choice of stream. It
     takes the parameters the sender sent up with each frame (`CodecChain.engine_receive_mbc`
-    decodes them into `context["selected"]`) and codes them again for the downlink (its own
+    decodes them into `CodecContext.selected`) and codes them again for the downlink (its own
     packets and intra sets, so a keyframe request is answered at once)."""
 
     tracks = False
@@ -140,7 +143,7 @@ class SelectedMbcEncoder(MbcPointEncoder):
             point, source_size=source_size, source_fps=source_fps, settings=settings,
             context=context,
         )  # fmt: skip
-        self.selected = context["selected"]
+        self.selected = as_context(context).selected
 
     def initialise(self, picture: np.ndarray, *, frame: int):
         """Nothing to fit: ready when the sender's parameters for `frame` arrived."""
@@ -163,11 +166,12 @@ class MbcUnitDecoder:
         from uma.mbc import FaceRenderer, FaceUnits, ParameterDecoder
         from uma.video import resize_yuv420
 
-        description = context["description"]
-        width, height = context["source_size"]
+        context = as_context(context)
+        description = context.description
+        width, height = context.source_size
         units = FaceUnits.of(description.model, description.params)
-        self.decoder = ParameterDecoder(units, context["stream"])
-        background = context.get("background")
+        self.decoder = ParameterDecoder(units, context.stream)
+        background = context.background
         if background is not None:
             background = resize_yuv420(background, width, height)
             self.chroma = background[height:]

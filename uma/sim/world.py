@@ -8,67 +8,30 @@ so the same seed and inputs give the same run, bit for bit.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
 
 import numpy as np
 import simpy
 
 from uma.config.scenario import Scenario
-from uma.engine.engine import EngineEvent, UmaEngine
+from uma.engine.decisions import EngineEvent
+from uma.engine.engine import DescriptionPlan, UmaEngine
 from uma.face.region import FaceBoxes
 from uma.metrics.framelog import FrameLog
 from uma.sim.capacity import CapacitySchedule
 from uma.sim.codecs import CodecChain
 from uma.sim.faults import Faults, fault_rng, with_outages
-from uma.sim.links import Downlink, FixedLink, LinkProps, LinkStats, downlink_process
+from uma.sim.links import Downlink, FixedLink, LinkProps, downlink_process
+from uma.sim.packets import HEADER_BYTES
 from uma.sim.playout import make_playout
-from uma.sim.processes import (
-    World,
-    display_process,
-    engine_process,
-    report_process,
-    sender_process,
-)
+from uma.sim.points import load_run_ladder, model_plan, operating_points
+from uma.sim.processes import display_process, engine_process, report_process, sender_process
 from uma.sim.quality import QualityMeter
 from uma.sim.receiver import ReceiverState
+from uma.sim.result import RunResult, collect_result
 from uma.sim.sources import open_source
+from uma.sim.state import World
 
 __all__ = ["RunResult", "run_scenario", "build_capacity"]
-
-
-@dataclass(frozen=True)
-class RunResult:
-    """What a run leaves behind for metrics and reports."""
-
-    scenario: Scenario
-    log: FrameLog
-    events: tuple[EngineEvent, ...]
-    link: LinkStats
-    capacity: CapacitySchedule
-    duration_s: float
-    fps: float
-    source_name: str
-    width: int
-    height: int
-    feedback_lost: int
-    codec_s: float = 0.0
-    metrics_s: float = 0.0
-    padding_bits: int = 0
-    points: tuple = ()  # the engine's operating points (`uma.engine.points.OperatingPoint`)
-    engine_counts: dict | None = None  # MBC inits, failures, refusals (`UmaEngine.counts`)
-    codec_seconds: dict | None = None  # with `account`: wall-clock codec seconds per codec
-    mbc_init_frames: tuple[int, ...] = ()  # frames on which MBC initialisations started
-    mbc_inits: tuple = ()  # (frame, fitted parameters or None) of each initialisation
-    engine_mbc_compute_s: float = 0.0  # modelled engine compute for MBC (inits included)
-    sender_mbc_bits: int = 0  # selection: parameter bits the sender sent up
-    sender_mbc_compute_ms: float = 0.0  # selection: the sender's modelled tracking compute
-    description_bytes: int = 0  # the content description delivered to the receiver
-    description_sent_bits: int = 0  # on the wire, headers and repeats included
-    description_delivered_s: float | None = None  # when its last chunk reached the receiver
-    description_acked_s: float | None = None  # when a report told the engine
-    description_wait_s: float = 0.0  # time MBC was wanted but the description not there
-    description: object = None  # the content description MBC used, if any
-    face_boxes: tuple = ()  # the face box (`uma.face.Box` or None) of each source frame read
 
 
 def build_capacity(scenario: Scenario, rng: np.random.Generator) -> CapacitySchedule:
@@ -131,95 +94,6 @@ def coverage_map(scenario: Scenario) -> tuple[tuple[float, str], ...]:
     return tuple(out)
 
 
-def mbc_description(scenario: Scenario, source) -> tuple[object | None, str]:
-    """The content description MBC needs, or None and why there is none.
-
-    Only a scenario that switches needs one: `engine.mbc.description` (a `uma describe` file,
-    or a points file the description is fitted from), else the source's own (the talking
-    head's astronaut). Without one the engine stays on H.264 and records why when a switch is
-    due.
-    """
-    if scenario.engine.switching.policy == "none":
-        return None, "switching off"
-    path = scenario.engine.mbc.description
-    if path is not None:
-        if path.endswith((".yaml", ".yml")):
-            from uma.face.clip import describe_clip
-
-            return describe_clip(path), ""
-        from uma.face import load_description
-
-        return load_description(path), ""
-    own = getattr(source, "description", None)
-    if own is not None:
-        return own, ""
-    return None, "no content description (engine.mbc.description) for this source"
-
-
-def face_region_points(scenario: Scenario, ladder, source) -> tuple:
-    """The face-region rungs (`engine.face_region`, when enabled), below the full-frame ones."""
-    from uma.engine.points import OperatingPoint
-    from uma.errors import ConfigError
-    from uma.sim.face_region import detect_pixels
-
-    config = scenario.engine.face_region
-    if not config.enabled:
-        return ()
-    lowest_kbps = min(rung.rate_kbps for rung in ladder.rungs)
-    points = []
-    for i, rung in enumerate(config.rungs):
-        where = f"engine.face_region.rungs[{i}]"
-        if rung.rate_kbps >= lowest_kbps:
-            raise ConfigError(
-                f"{where}.rate_kbps: expected below the lowest full-frame rung's "
-                f"{lowest_kbps:g} kbit/s, got {rung.rate_kbps:g}"
-            )
-        if rung.width > source.width or rung.height > source.height:
-            raise ConfigError(
-                f"{where}: expected a coded size within the source's {source.width}x"
-                f"{source.height}, got {rung.width}x{rung.height}"
-            )
-        points.append(
-            OperatingPoint(
-                codec="h264-face",
-                rate_kbps=rung.rate_kbps,
-                fps=min(rung.fps, float(source.fps)),
-                width=rung.width,
-                height=rung.height,
-                compute_ms=scenario.engine.transcode_ms,
-                # One evaluation is one run of the detector.
-                compute_us_per_evaluation=config.detect_us_per_pixel
-                * detect_pixels((source.width, source.height)),
-                label=f"h264-face {rung.rate_kbps:g}k {rung.width}x{rung.height}@{rung.fps:g}",
-            )
-        )
-    return tuple(points)
-
-
-def operating_points(scenario: Scenario, ladder, source, *, with_mbc: bool) -> tuple:
-    """The engine's ladder: the MBC point (when it has a description) below the face-region
-    rungs (when enabled) below the H.264 rungs."""
-    from uma.engine.points import OperatingPoint, h264_points
-
-    points = face_region_points(scenario, ladder, source) + h264_points(
-        ladder, transcode_ms=scenario.engine.transcode_ms
-    )
-    if not with_mbc:
-        return points
-    mbc = scenario.engine.mbc
-    point = OperatingPoint(
-        codec="mbc",
-        rate_kbps=mbc.rate_kbps,
-        fps=min(mbc.fps, float(source.fps)),
-        width=source.width,
-        height=source.height,
-        compute_ms=mbc.encode_ms,
-        compute_us_per_evaluation=mbc.track_us_per_evaluation,
-        label=f"mbc {mbc.rate_kbps:g}k {source.width}x{source.height}",
-    )
-    return (point, *points)
-
-
 def run_scenario(
     scenario: Scenario,
     *,
@@ -236,22 +110,18 @@ def run_scenario(
     `on_display(index, source, shown, picture)` sees each display instant's source frame and
     the picture shown (None before the first), for `uma report --video`.
     """
-    from uma.video import load_ladder
-
     route_rng, loss_rng, feedback_rng = (
         np.random.default_rng(s) for s in np.random.SeedSequence(scenario.seed).spawn(3)
     )
     capacity = build_capacity(scenario, route_rng)
     faults = Faults(scenario.faults, rng=fault_rng(scenario.seed))
     capacity = with_outages(capacity, scenario.faults.outages)
-    ladder = load_ladder(scenario.engine.ladder)
+    ladder = load_run_ladder(scenario)
     source = source if source is not None else open_source(scenario.source, seed=scenario.seed)
-    description, mbc_unavailable = mbc_description(scenario, source)
-    points = operating_points(scenario, ladder, source, with_mbc=description is not None)
-    description_bytes = 0
-    if description is not None and scenario.engine.mbc.deliver_description:
-        description_bytes = len(description.to_bytes())
-    description_bits = 8 * description_bytes
+    plan = model_plan(scenario, source)
+    description = plan.description
+    points = operating_points(scenario, ladder, source, with_model=description is not None)
+    payload_bytes = scenario.downlink.packet_bytes
     fps = float(source.fps)
     frames = int(round(scenario.run_duration_s * fps))
     log = FrameLog(frames)
@@ -273,9 +143,13 @@ def run_scenario(
         points=points,
         source_fps=fps,
         feedback=scenario.feedback,
-        mbc_unavailable=mbc_unavailable,
+        model_unavailable=plan.unavailable,
         coverage=coverage_map(scenario),
-        description_bits=description_bits,
+        description=DescriptionPlan(
+            bits=8 * plan.description_bytes,
+            chunks=-(-plan.description_bytes // payload_bytes),
+            chunk_bits=8 * (payload_bytes + HEADER_BYTES),
+        ),
     )
     props = _link_props(scenario)
     world_ref: list[World] = []
@@ -330,9 +204,8 @@ def run_scenario(
         on_display=on_display,
         faults=faults if faults.active else None,
         playout=playout,
-        init_us_per_evaluation=scenario.engine.mbc.init_us_per_evaluation,
+        init_us_per_evaluation=plan.init_us_per_evaluation,
         points=points,
-        description_chunks=-(-description_bytes // scenario.downlink.packet_bytes),
         face_boxes=face_boxes.boxes,
     )
     world_ref.append(world)
@@ -350,40 +223,18 @@ def run_scenario(
 
     downlink.stats.packets_queued_at_end = len(downlink.queue)
     end_s = frames / fps
-    events = sorted(_handover_events(capacity, end_s) + engine.events, key=lambda e: e.time_s)
-    return RunResult(
-        scenario=scenario,
-        log=log,
+    outcome = engine.finish(end_s)
+    events = sorted(_handover_events(capacity, end_s) + list(outcome.events), key=_time_s)
+    return collect_result(
+        world,
+        outcome,
         events=tuple(events),
-        link=downlink.stats,
-        capacity=capacity,
-        duration_s=end_s,
-        fps=fps,
-        source_name=source.name,
-        width=source.width,
-        height=source.height,
-        feedback_lost=world.feedback_lost,
-        codec_s=codec.seconds,
-        metrics_s=quality.seconds,
-        padding_bits=world.padding_bits,
-        points=points,
-        engine_counts=dict(engine.counts),
-        codec_seconds=dict(codec.codec_seconds),
-        mbc_init_frames=tuple(world.mbc_init_frames),
-        mbc_inits=tuple(world.mbc_inits),
-        engine_mbc_compute_s=world.engine_mbc_compute_s,
-        sender_mbc_bits=codec.sender_mbc.bits if codec.sender_mbc is not None else 0,
-        sender_mbc_compute_ms=codec.sender_mbc.compute_ms if codec.sender_mbc is not None else 0.0,
-        description_bytes=description_bytes,
-        description_sent_bits=world.description_sent_bits,
-        description_delivered_s=receiver.description_done_s,
-        description_acked_s=engine.description_acked_s if description_bytes else None,
-        description_wait_s=engine.description_wait_s
-        + (
-            end_s - engine.description_wait_from_s
-            if engine.description_wait_from_s is not None
-            else 0.0
-        ),
+        source=source,
         description=description,
-        face_boxes=tuple(face_boxes.boxes),
+        description_bytes=plan.description_bytes,
+        duration_s=end_s,
     )
+
+
+def _time_s(event: EngineEvent) -> float:
+    return event.time_s

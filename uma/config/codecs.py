@@ -1,0 +1,122 @@
+"""The codec sections of `engine`: the model-based codec (`engine.mbc`) and the face-region
+rungs (`engine.face_region`), each named by its codec's `config_section` in `uma.codecs`.
+
+Units live in key names (`rate_kbps`, `_ms`, `_us_per_evaluation`, pixels for sizes).
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import AllowInfNan, Field, Strict, model_validator
+
+from uma.config.types import Bool, Fraction, NonNeg, PosInt, PosNum, Section, Str
+
+__all__ = [
+    "MbcConfig",
+    "FaceRungConfig",
+    "FaceRegionConfig",
+]
+
+
+class MbcConfig(Section):
+    """The model-based codec in the engine: the content description and modelled compute.
+
+    `description`: a file written by `uma describe` (relative to the scenario), or a points
+    file such as `codecs/face/akiyo.yaml`, from which the description is fitted when the run
+    starts; the talking head needs none (its description is the astronaut's). Compute is
+    modelled from the tracker's count of fitting-cost evaluations: `init_us_per_evaluation`
+    for an initialisation (detector, SAABs, polish), `track_us_per_evaluation` for a tracking
+    step, plus `encode_ms` per frame (quantise, range-code). Defaults measured on this machine in
+    CPU time by `python -m uma.bench.mbc_cost` (talking head at CIF, seed 2, 120 frames,
+    re-initialised every 30; CPU time because the machine was shared, load about 9 on 2
+    cores, and wall time read 2.5x more): medians 143 us per evaluation over 4
+    initialisations (651 evaluations, 93 ms) and 1,021 us over 116 tracking steps (7
+    evaluations, 7.2 ms).
+    `rate_kbps` is the point's nominal rate on the ladder (on the wire), `fps` its frame rate;
+    `frames_per_packet` frames go in one packet (one packet a frame at 25 frames/s would spend
+    8 kbit/s on the 40 header bytes alone, nearly GSM's whole 9.6).
+    `deliver_description`: send the description to the receiver ahead of need, in packets
+    sharing the downlink with the video when the estimate leaves room (false: the receiver is
+    assumed to hold it), using the room the estimate leaves above the point's rate but at least
+    `description_share` of the estimate; MBC is used only once a receiver report confirms it.
+    `probe`: while on MBC, follow each parameter packet with padding up to the estimate's
+    share of the frame interval, so the estimate can grow back (without it, it stays within
+    3 x the parameters' few kbit/s and the engine never returns to H.264).
+    """
+
+    description: Str | None = None
+    rate_kbps: PosNum = 4.8
+    fps: PosNum = 25.0
+    frames_per_packet: Annotated[int, Strict(), Field(ge=1, le=255)] = 4
+    init_us_per_evaluation: PosNum = 143.0
+    track_us_per_evaluation: PosNum = 1021.0
+    encode_ms: NonNeg = 0.2
+    probe: Bool = True
+    deliver_description: Bool = True
+    description_share: Fraction = 0.1
+    # Hold MBC frames (but a probe every `engine.probe_interval_ms`) while no receiver report
+    # has come for this long: the link is out, and what is sent would queue until it returns.
+    outage_hold_ms: PosNum = 1000.0
+    # The customisation scheme: `adaptation` (the sender sends H.264 only; the engine tracks
+    # the face in what it decodes, and initialises on a switch) or `selection` (the sender
+    # tracks the face in every frame and sends its parameters up with the H.264; the engine
+    # only selects, and re-codes them for the downlink).
+    scheme: Literal["adaptation", "selection"] = "adaptation"
+
+
+class FaceRungConfig(Section):
+    """One face-region rung: the H.264 rate (on the wire, header included), the coded size
+    of the face crop in pixels (even) and the frame rate."""
+
+    rate_kbps: PosNum
+    width: PosInt
+    height: PosInt
+    fps: PosNum
+
+    @model_validator(mode="after")
+    def _even(self) -> FaceRungConfig:
+        if self.width % 2 or self.height % 2 or self.width < 16 or self.height < 16:
+            raise ValueError(
+                f"width and height must be even and at least 16, got {self.width}x{self.height}"
+            )
+        return self
+
+
+class FaceRegionConfig(Section):
+    """Object-level adaptation: rungs that code only the face region (`uma.sim.face_region`).
+
+    `enabled`: put `rungs` on the rate ladder, below the lowest full-frame H.264 rung (their
+    rates must be lower; checked against the ladder file when the run starts). The crop is
+    the detected face box widened by `margin` of its size on each side, shaped like the rung's
+    coded size; the detector (OpenCV's Haar cascade on the engine's decoded picture, scaled to
+    at most 176 pixels wide) runs on a rung's first frame and then every
+    `detect_every_frames` source frames, its box centre smoothed with weight `smoothing` on
+    the new detection. `detect_us_per_pixel` models the detector's compute per pixel it
+    scans; default measured on this machine by `python -m uma.bench.face_rung --cost`
+    (CPU time on the shared machine, 60 frames each: akiyo 0.84, carphone 0.69, the QCIF
+    talking head 0.82 us per pixel, 21.3, 17.4 and 20.7 ms a detection; the median, 0.82).
+    The rungs' defaults were chosen on carphone (README, "Object-level adaptation").
+    With no face found, the engine leaves the face rungs for the lowest full-frame rung for
+    `retry_ms` and says why in its events.
+    """
+
+    enabled: Bool = False
+    rungs: tuple[FaceRungConfig, ...] = (
+        FaceRungConfig(rate_kbps=8.0, width=48, height=48, fps=5.0),
+        FaceRungConfig(rate_kbps=12.0, width=48, height=48, fps=5.0),
+    )
+    margin: Annotated[float, Strict(), AllowInfNan(False), Field(ge=0, le=1)] = 0.2
+    detect_every_frames: PosInt = 25
+    smoothing: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, le=1)] = 0.5
+    detect_us_per_pixel: PosNum = 0.82
+    retry_ms: PosNum = 5000.0
+
+    @model_validator(mode="after")
+    def _rungs(self) -> FaceRegionConfig:
+        if self.enabled and not self.rungs:
+            raise ValueError("rungs: expected at least one face-region rung when enabled")
+        rates = [rung.rate_kbps for rung in self.rungs]
+        if rates != sorted(set(rates)):
+            raise ValueError(f"rungs: expected rates strictly increasing, got {rates}")
+        return self

@@ -1,0 +1,153 @@
+"""The engine's sections: rate policy, full-frame codec and ladder, estimator, switching.
+
+Units live in key names (`_kbps`, `_ms`). The names `engine.policy`, `engine.estimator.kind`
+and `engine.switching.policy` may take are the `Literal`s here; the tuples of names derive
+from them, and `Scenario.model_validate` checks them as loading a file does.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal, get_args
+
+from pydantic import AllowInfNan, Field, Strict, field_validator, model_validator
+
+from uma.codecs import full_frame_names
+from uma.config.codecs import FaceRegionConfig, MbcConfig
+from uma.config.types import Fraction, NonNeg, NonNegInt, PosInt, PosNum, Section, Str
+
+__all__ = [
+    "EngineConfig",
+    "EstimatorConfig",
+    "SwitchingConfig",
+    "POLICY_NAMES",
+    "ESTIMATOR_KINDS",
+    "SWITCHING_NAMES",
+    "PolicyName",
+    "EstimatorKind",
+    "SwitchingName",
+]
+
+
+# The rate policies `engine.policy` may name; `uma.engine.policy.POLICIES` implements each.
+PolicyName = Literal["throughput", "oracle", "fixed"]
+POLICY_NAMES: tuple[str, ...] = get_args(PolicyName)
+# Bandwidth estimators the engine can use: its own delay-based one, or WebRTC's receiver-side
+# estimator (aiortc's port of webrtc.org's RemoteBitrateEstimator) carried back as a REMB.
+EstimatorKind = Literal["uma", "webrtc"]
+ESTIMATOR_KINDS: tuple[str, ...] = get_args(EstimatorKind)
+# Switching policies `engine.switching.policy` may name (`uma.engine.policy.SWITCHING`).
+SwitchingName = Literal["none", "threshold", "predictive", "oracle"]
+SWITCHING_NAMES: tuple[str, ...] = get_args(SwitchingName)
+
+
+class EstimatorConfig(Section):
+    """The engine's delay-based bandwidth estimator (see `uma.engine.estimator`)."""
+
+    initial_kbps: PosNum = 300.0
+    min_kbps: PosNum = 5.0
+    max_kbps: PosNum = 20000.0
+    queue_high_ms: PosNum = 150.0
+    queue_low_ms: PosNum = 40.0
+    decrease_factor: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, lt=1)] = 0.85
+    increase_per_s: NonNeg = 0.5
+    loss_high: Fraction = 0.1
+    window_s: PosNum = 1.0
+    # Decrease once per window (not per queue-drain time) while the received rate is below
+    # this fraction of the estimate; 0 turns it off.
+    collapse_below: Fraction = 0.25
+    # Which estimator: `engine.estimator: webrtc` is short for `engine.estimator: {kind: webrtc}`.
+    kind: EstimatorKind = "uma"
+
+    @model_validator(mode="before")
+    @classmethod
+    def _kind_shorthand(cls, data):
+        if isinstance(data, str):
+            if data not in ESTIMATOR_KINDS:
+                raise ValueError(f"expected one of {', '.join(ESTIMATOR_KINDS)}")
+            return {"kind": data}
+        return data
+
+
+class SwitchingConfig(Section):
+    """When to switch between H.264 and the model-based codec (`uma.engine.policy`).
+
+    `none`: H.264 only. `threshold`: to MBC when safety x estimate falls below
+    `to_mbc_below_kbps`, back when it rises above `to_h264_above_kbps` (the gap is the
+    hysteresis), never sooner than `min_dwell_ms` after the last codec change; after a failed
+    initialisation the engine stays on the lowest H.264 rung and tries again `retry_ms` later.
+    `predictive`: the thresholds, plus the route's technology segments as a coverage map: to
+    MBC `lookahead_ms` before a segment of `low_technologies` begins, and not back while one
+    is that near or under way. `oracle`: knows the trace (an upper bound): on MBC while the
+    true capacity anywhere in the next `oracle_lookahead_ms` is below `to_mbc_below_kbps`,
+    back once all of that window is above `to_h264_above_kbps`; it scales the capacity by
+    `safety`. Its window need only cover an initialisation (about 0.1 s modelled, `engine.mbc`)
+    and the first parameter packet (4 frames, 0.16 s): 1 s by default.
+    """
+
+    policy: SwitchingName = "none"
+    to_mbc_below_kbps: PosNum = 30.0
+    to_h264_above_kbps: PosNum = 60.0
+    min_dwell_ms: NonNeg = 3000.0
+    retry_ms: PosNum = 5000.0
+    lookahead_ms: NonNeg = 3000.0
+    oracle_lookahead_ms: NonNeg = 1000.0
+    low_technologies: tuple[Str, ...] = ("GPRS", "GSM")
+
+    @model_validator(mode="after")
+    def _hysteresis(self):
+        if self.to_mbc_below_kbps >= self.to_h264_above_kbps:
+            raise ValueError(
+                f"to_mbc_below_kbps ({self.to_mbc_below_kbps:g}) must be below "
+                f"to_h264_above_kbps ({self.to_h264_above_kbps:g})"
+            )
+        return self
+
+
+class EngineConfig(Section):
+    """The UMA engine: rate policy by name, full-frame codec and its ladder file, modelled
+    compute cost.
+
+    `codec`: the full-frame codec of the rate ladder (a full-frame name of `uma.codecs`);
+    `ladder`: its ladder file (None: the codec's own under `codecs/`).
+    """
+
+    policy: Str = "throughput"
+    codec: Str = "h264"
+    ladder: Str | None = None
+    safety: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, le=1)] = 0.85
+    up_hold_ms: NonNeg = 1000.0
+    fixed_rung: NonNegInt | None = None
+    transcode_ms: NonNeg = 4.0
+    estimator: EstimatorConfig = Field(default_factory=EstimatorConfig)
+    switching: SwitchingConfig = Field(default_factory=SwitchingConfig)
+    mbc: MbcConfig = Field(default_factory=MbcConfig)
+    face_region: FaceRegionConfig = Field(default_factory=FaceRegionConfig)
+    # Tuning (see `uma.engine.engine`): reports missing for this many intervals mean an outage;
+    # no more than this much sending time in flight; unacknowledged packets presumed lost after
+    # this long; while backlogged, a probe frame this often.
+    stale_reports: PosInt = 3
+    max_backlog_ms: PosNum = 300.0
+    presume_lost_ms: PosNum = 2000.0
+    probe_interval_ms: PosNum = 1000.0
+
+    @field_validator("policy")
+    @classmethod
+    def _policy_name(cls, value: str) -> str:
+        # A plain string checked here (not the Literal) so the message lists the choices.
+        if value not in POLICY_NAMES:
+            raise ValueError(f"expected one of {', '.join(sorted(POLICY_NAMES))}")
+        return value
+
+    @model_validator(mode="after")
+    def _fixed_needs_rung(self) -> EngineConfig:
+        if self.policy == "fixed" and self.fixed_rung is None:
+            raise ValueError("policy 'fixed' needs 'fixed_rung'")
+        return self
+
+    @field_validator("codec")
+    @classmethod
+    def _full_frame_codec(cls, value: str) -> str:
+        choices = full_frame_names()
+        if value not in choices:
+            raise ValueError(f"expected a full-frame codec, one of {', '.join(choices)}")
+        return value

@@ -1,0 +1,67 @@
+"""Pacing: when a frame is held for a backlogged downlink, and the padding the engine sends
+behind a coded unit so its bandwidth estimate can grow.
+
+Units: rates in kbit/s, times in seconds, sizes in bits.
+
+Frames are held while more is in flight than `max_backlog_ms` of sending time at the rate the
+engine sees (the estimate; the oracle's true capacity, since the estimate it does not use would
+call its queue too long). A codec that may not be skipped for backlog (a model codec: its few
+kbit/s are below any link the switch chooses it for) is held only while no report came for its
+section's `outage_hold_ms`: in an outage its frames would arrive tens of seconds late, while a
+handover gap's are still in time.
+
+Two reasons to pad. With WebRTC's estimator (`engine.estimator: webrtc`): a WebRTC sender
+encodes at its target rate, uma's ladder sends at most a rung's rate, and WebRTC's estimator
+never rises above 1.5 x what it receives, so without padding it could never climb to the next
+rung; the padding stands in for the rate a WebRTC encoder would send. On a model codec with
+its section's `probe` on: its parameters alone (a few kbit/s) would cap the estimate at 3 x
+that, and padding lets it find the bandwidth to return (the oracle needs no probe); only up
+to safety x the estimate, no further than the rate that would bring the engine back to the
+rate ladder, and only while the last report saw no queue: padding shares the bottleneck's
+queue with the parameters, and padding into a queue delays them behind it and overflows it.
+"""
+
+from __future__ import annotations
+
+from uma.codecs import Role, spec
+from uma.engine.inflight import InFlight
+from uma.engine.points import OperatingPoint
+
+__all__ = ["backlogged", "padding_bits"]
+
+
+def backlogged(
+    config, point: OperatingPoint, now_s: float, inflight: InFlight, seen_kbps: float
+) -> bool:
+    """Whether a frame at `point` should be held at `now_s` (`config` an `EngineConfig`;
+    `seen_kbps` the rate the engine judges the downlink by)."""
+    codec = spec(point.codec)
+    if not codec.skip_for_backlog:
+        hold_ms = getattr(config, codec.config_section).outage_hold_ms
+        return now_s - inflight.last_report_s > hold_ms / 1000.0
+    return inflight.outstanding_bits > seen_kbps * config.max_backlog_ms
+
+
+def padding_bits(
+    engine, point: OperatingPoint, interval_s: float, *, sent_bits: int
+) -> float | None:
+    """Bits of padding `engine` (`UmaEngine`) sends behind a unit of `sent_bits` covering
+    `interval_s` at `point`; None when no padding is due, and at most 0 when the unit already
+    fills the interval's share of the estimate."""
+    config, estimator, model_config = engine.config, engine.estimator, engine.model_config
+    limit_kbps = float("inf")
+    if config.estimator.kind == "webrtc":
+        pass
+    elif (
+        spec(point.codec).role is Role.MODEL
+        and model_config.probe
+        and config.policy != "oracle"
+        and estimator.queue_delay_ms <= config.estimator.queue_low_ms
+    ):
+        limit_kbps = min(
+            config.switching.to_h264_above_kbps / config.safety,
+            config.safety * estimator.estimate_kbps,
+        )
+    else:
+        return None
+    return min(estimator.estimate_kbps, limit_kbps) * 1000.0 * interval_s - sent_bits

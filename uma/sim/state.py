@@ -1,0 +1,97 @@
+"""What the processes of one run share: the `World`, wired by `uma.sim.world.run_scenario`.
+
+Units: simulation time in seconds; sizes in bits.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import simpy
+
+from uma.codecs import Role, spec
+from uma.config.scenario import Scenario
+from uma.engine.engine import UmaEngine
+from uma.engine.points import OperatingPoint
+from uma.metrics.framelog import FrameLog
+from uma.sim.capacity import CapacitySchedule
+from uma.sim.links import Downlink, FixedLink, LinkProps, deliver_later
+from uma.sim.receiver import ReceiverState
+
+__all__ = ["World"]
+
+
+@dataclass
+class World:
+    """Everything the processes share.
+
+    The model codec's work is tallied here for the result: where its initialisations started
+    (`init_frames`), each one's frame and fitted parameters (`inits`, None when it failed)
+    and the engine compute modelled for it (`model_compute_s`, initialisations included).
+    """
+
+    env: simpy.Environment
+    scenario: Scenario
+    frames: int
+    fps: float
+    source_iter: Any
+    ladder: Any
+    engine: UmaEngine
+    capacity: CapacitySchedule
+    uplink: FixedLink
+    downlink: Downlink
+    receiver: ReceiverState
+    link_props: Callable[[str], LinkProps]
+    feedback_rng: np.random.Generator
+    log: FrameLog
+    codec: Any  # uma.sim.codecs.CodecChain: the real encoders and decoders
+    quality: Any  # uma.sim.quality.QualityMeter
+    progress: Callable[[int, int], None] | None = None
+    source_frames: dict[int, np.ndarray] = field(default_factory=dict)
+    inbox: simpy.Store | None = None
+    next_unit_seq: int = 0
+    feedback_lost: int = 0
+    on_display: Callable | None = None  # (index, source, shown, picture): `uma report --video`
+    faults: Any = None  # uma.sim.faults.Faults: feedback silence
+    playout: Any = None  # uma.sim.playout: FixedPlayout or AdaptivePlayout (None: fixed)
+    padding_bits: int = 0
+    points: tuple[OperatingPoint, ...] = ()  # the engine's operating points
+    init_us_per_evaluation: float = 0.0  # the model codec's initialisation cost
+    init_frames: list[int] = field(default_factory=list)
+    inits: list[tuple[int, Any]] = field(default_factory=list)
+    face_boxes: list = field(default_factory=list)  # per source frame read: `uma.face.Box` | None
+    model_compute_s: float = 0.0
+    description_sent_bits: int = 0
+
+    def init_compute_s(self, evaluations: int) -> float:
+        """Modelled seconds of one model-codec initialisation that cost `evaluations`."""
+        return self.init_us_per_evaluation * evaluations / 1e6
+
+    def compute_s(self, point: OperatingPoint, out) -> float:
+        """Modelled engine seconds for coding one picture at `point` (`out`: its `Coded`).
+
+        A model codec whose tracker lost the face and initialised again pays for that as an
+        initialisation; its compute is also tallied in `model_compute_s`."""
+        compute_s = point.compute_s(out.evaluations)
+        model = spec(point.codec).role is Role.MODEL
+        if model and (out.reinitialised or out.failure):
+            compute_s = point.compute_s(0) + self.init_compute_s(out.evaluations)
+        if model:
+            self.model_compute_s += compute_s
+        return compute_s
+
+    def send_feedback(self, item, handler: Callable) -> None:
+        """Carry a report or request over the mobile uplink; lost in an outage or at random."""
+        now_s = self.env.now
+        silent = self.faults is not None and self.faults.feedback_silent(now_s)
+        if silent or self.capacity.rate_kbps_at(now_s) <= 0.0:
+            self.feedback_lost += 1
+            return
+        props = self.link_props(self.capacity.technology_at(now_s))
+        if self.feedback_rng.random() < props.loss_rate:
+            self.feedback_lost += 1
+            return
+        deliver_later(self.env, props.delay_s, lambda value: handler(value, self.env.now), item)
