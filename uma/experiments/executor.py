@@ -13,8 +13,11 @@ when a scheduler is given.
 
 from __future__ import annotations
 
+import contextlib
 import os
+import signal
 import sys
+import threading
 from collections.abc import Callable, Iterable, Iterator
 from typing import Any, Protocol
 
@@ -62,6 +65,24 @@ def end_with_parent(parent_pid: int) -> None:
     threading.Thread(target=watch, name="uma-parent-watch", daemon=True).start()
 
 
+@contextlib.contextmanager
+def _signals_held() -> Iterator[None]:
+    """Hold SIGINT and SIGTERM until the block ends, then deliver them to their own handlers."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught: list[int] = []
+    held = (signal.SIGINT, signal.SIGTERM)
+    previous = {number: signal.signal(number, lambda n, _f: caught.append(n)) for number in held}
+    try:
+        yield
+    finally:
+        for number, handler in previous.items():
+            signal.signal(number, handler)
+        for number in dict.fromkeys(caught):
+            signal.raise_signal(number)
+
+
 class LocalExecutor:
     """`workers` processes on this machine (1: one worker process, still apart from the caller)."""
 
@@ -85,7 +106,10 @@ class LocalExecutor:
                 initializer=end_with_parent,
                 initargs=(os.getpid(),),
             )
-        futures = [self._pool.submit(fn, task) for task in tasks]
+        # Submitting spawns the workers; a signal handler that raised half-way through writing a
+        # worker's start-up data would leave it printing an EOFError traceback.
+        with _signals_held():
+            futures = [self._pool.submit(fn, task) for task in tasks]
         try:
             for future in as_completed(futures):
                 yield future.result()
