@@ -47,13 +47,16 @@ class ContentDescription:
 
     @property
     def gray(self) -> np.ndarray:
-        import cv2
+        """The texture's luma as the codecs see it (BT.601 limited range, `uma.face.colour`);
+        a gray texture is its own luma."""
+        if self.texture.ndim == 2:
+            return self.texture
+        cache = self.__dict__.setdefault("_luma", {})
+        if "luma" not in cache:
+            from uma.face.colour import bgr_to_luma
 
-        return (
-            self.texture
-            if self.texture.ndim == 2
-            else cv2.cvtColor(self.texture, cv2.COLOR_BGR2GRAY)
-        )
+            cache["luma"] = bgr_to_luma(self.texture)
+        return cache["luma"]
 
     def projected(self) -> np.ndarray:
         """The model's vertices on the texture, (N, 2) pixels."""
