@@ -3,14 +3,16 @@
 Pure library (no SimPy, no clock). `FaceTracker` (encoder.py) initialises and tracks;
 `ParameterEncoder` (stream.py) quantises in face animation units (units.py, quant.py),
 range-codes (coding.py, constriction, imported when coding) and packs (packets.py);
-`ParameterDecoder` and `FaceRenderer` (decoder.py) turn packets back into pictures.
+`ParameterDecoder` and `FaceRenderer` (decoder.py) turn packets back into pictures;
+`SceneRenderer` (scene_render.py) warps a whole reference picture in colour with the model.
 """
 
 from uma.mbc.coding import AdaptiveModels, CoderConfig, decode_sets, encode_sets
 from uma.mbc.decoder import Decoded, DecodeEvent, FaceRenderer, ParameterDecoder
 from uma.mbc.encoder import FaceTracker, TrackerConfig, TrackFailure, TrackResult
-from uma.mbc.errors import PacketError
+from uma.mbc.errors import PacketError, SceneError
 from uma.mbc.packets import IP_UDP_RTP_BYTES, Packet, parse_packet
+from uma.mbc.scene_render import SceneRenderer, description_reference
 from uma.mbc.quant import Quantiser, QuantiserConfig
 from uma.mbc.stream import ParameterEncoder, StreamConfig
 from uma.mbc.units import FaceUnits
@@ -37,4 +39,7 @@ __all__ = [
     "Decoded",
     "DecodeEvent",
     "FaceRenderer",
+    "SceneRenderer",
+    "SceneError",
+    "description_reference",
 ]

@@ -1,0 +1,61 @@
+"""The receiver's whole-scene renderer: identity, ground truth, bad references and light."""
+
+import numpy as np
+import pytest
+
+from uma.face.talking_head import Motion, TalkingHeadSource
+from uma.mbc.errors import SceneError
+from uma.mbc.scene_render import SceneRenderer
+
+
+@pytest.fixture(scope="module")
+def still_head() -> TalkingHeadSource:
+    """The talking head without light changes or noise: its frames are pure geometry."""
+    motion = Motion(light_gain=0.0, light_angle_rad=0.0, noise_std=0.0)
+    return TalkingHeadSource(352, 288, seed=1, motion=motion)
+
+
+def _psnr(a: np.ndarray, b: np.ndarray) -> float:
+    mse = np.mean((a.astype(np.float64) - b.astype(np.float64)) ** 2)
+    return float(10 * np.log10(255.0**2 / mse))
+
+
+def test_identity_pose_returns_the_reference(still_head) -> None:
+    renderer = SceneRenderer(still_head.description, (352, 288))
+    picture, mask = renderer.render(renderer.reference_params)
+    assert np.array_equal(picture, renderer.reference)
+    assert mask.any()
+
+
+def test_ground_truth_reproduces_the_whole_frame(still_head) -> None:
+    import cv2
+
+    renderer = SceneRenderer(still_head.description, (352, 288))
+    for index in (20, 60):
+        frame = cv2.cvtColor(still_head.render_bgr(index), cv2.COLOR_BGR2YUV_I420)
+        picture, _ = renderer.render(still_head.params_at(index))
+        assert _psnr(picture[:288], frame[:288]) >= 36.0  # luma, whole picture
+        assert _psnr(picture[288:], frame[288:]) >= 44.0  # chroma
+
+
+def test_replaced_reference_is_drawn_from(still_head) -> None:
+    renderer = SceneRenderer(still_head.description, (352, 288))
+    other = np.full_like(renderer.reference, 77)
+    renderer.set_reference(other, still_head.params_at(5))
+    picture, _ = renderer.render(still_head.params_at(6))
+    assert np.all(picture == 77)
+
+
+def test_bad_reference_and_light_are_typed_errors(still_head) -> None:
+    renderer = SceneRenderer(still_head.description, (352, 288))
+    params = renderer.reference_params
+    with pytest.raises(SceneError, match="176x144|352x288"):
+        renderer.set_reference(np.zeros((216, 176), np.uint8), params)
+    with pytest.raises(SceneError, match="positive"):
+        renderer.set_reference(renderer.reference, np.full_like(params, np.nan))
+    with pytest.raises(SceneError, match="gain"):
+        renderer.render(params, light=(np.nan, 0.0))
+    with pytest.raises(SceneError, match="offset"):
+        renderer.render(params, light=(1.0, 1e6))
+    picture, mask = renderer.render(params, light=(1.2, -10.0))
+    assert picture.dtype == np.uint8 and mask.any()

@@ -1,0 +1,180 @@
+"""The receiver's picture: the whole reference scene warped by the face model, in colour.
+
+Units: pixels; pictures are planar YUV 4:2:0 (H * 3 // 2, W) uint8; parameters as in
+`uma.face.geometry`; light as (gain, offset_levels) on the face's luma.
+
+The reference is a full picture the receiver holds together with the pose the model had on it:
+by default the description's own picture (its texture where it was cut from, mid-grey around
+it), or whatever `set_reference` names later (the last full picture decoded, with the pose the
+engine tracked on it). Every frame the scene mesh of `uma.face.scene` (the face's triangles, a
+head ring that moves rigidly with the head for hair, ears and neck, and a far ring fixed well
+outside the picture) is placed at the reference pose and at the new pose; each pixel takes the
+affine map of the triangle drawn there back into the reference, for luma and chroma alike. The
+displacement fades from the head to the picture's border, so nothing pasted shows a seam, and
+the face keeps the reference's colours.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from uma.face.describe import ContentDescription
+from uma.face.scene import SceneMesh
+from uma.mbc.errors import SceneError
+
+__all__ = ["SceneRenderer", "description_reference", "LIGHT_GAIN_RANGE", "LIGHT_OFFSET_RANGE"]
+
+LIGHT_GAIN_RANGE = (0.25, 4.0)  # a face's luma gain against its reference's
+LIGHT_OFFSET_RANGE = (-128.0, 128.0)  # levels
+
+
+def description_reference(description: ContentDescription, size: tuple[int, int]):
+    """The description's picture at the source size `size` (W, H) as YUV 4:2:0, and the pose
+    of its model there: the texture pasted where it was cut from, mid-grey around it."""
+    from uma.face.colour import bgr_to_ycbcr
+
+    width, height = size
+    planes = np.full((height, width, 3), 128.0, dtype=np.float32)
+    texture = bgr_to_ycbcr(description.texture)
+    if description.texture.ndim == 2:
+        texture[..., 0] = description.gray  # a gray texture is its own luma
+    x0, y0 = (int(round(v)) for v in description.origin_px)
+    h = min(texture.shape[0], height - y0)
+    w = min(texture.shape[1], width - x0)
+    if h > 0 and w > 0 and x0 >= 0 and y0 >= 0:
+        planes[y0 : y0 + h, x0 : x0 + w] = texture[:h, :w]
+    params = np.asarray(description.params, dtype=np.float64).copy()
+    params[:2] += (x0, y0)
+    return _i420(planes), params
+
+
+def _i420(planes: np.ndarray) -> np.ndarray:
+    """Full-resolution (H, W, 3) float Y, Cb, Cr to YUV 4:2:0 uint8 (chroma 2x2 averaged)."""
+    height, width = planes.shape[:2]
+    out = np.empty((height * 3 // 2, width), dtype=np.uint8)
+    out[:height] = np.clip(np.rint(planes[..., 0]), 0, 255)
+    chroma = planes[..., 1:].reshape(height // 2, 2, width // 2, 2, 2).mean(axis=(1, 3))
+    out[height:] = np.clip(np.rint(np.moveaxis(chroma, 2, 0)), 0, 255).reshape(height // 2, width)
+    return out
+
+
+def _front_facing(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    a, b, c = (points[triangles[:, k]] for k in range(3))
+    cross = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    return cross < 0  # counter-clockwise from the front turns clockwise with y down
+
+
+class SceneRenderer:
+    """Draws the whole scene at given parameters by warping a reference picture (see the module)."""
+
+    def __init__(self, description: ContentDescription, size: tuple[int, int]):
+        width, height = (int(v) for v in size)
+        if width < 2 or height < 2 or width % 2 or height % 2:
+            raise SceneError(f"renderer: expected an even picture size, got {width}x{height}")
+        self.size = (width, height)
+        self.description = description
+        self.scene = SceneMesh.build(description.model, description.params, (height, width))
+        self._strips = len(self.scene.triangles) - len(description.model.triangles)
+        ys, xs = np.mgrid[0:height, 0:width].astype(np.float32)
+        self._x, self._y = xs, ys
+        self.set_reference(*description_reference(description, self.size))
+
+    def set_reference(self, picture: np.ndarray, params: np.ndarray) -> None:
+        """Render from `picture` (YUV 4:2:0 at the source size) on which the model sits at
+        `params` from now on: the model-aided refresh's entry point. A picture of another
+        size or a pose no face has is a `SceneError`; the old reference stays."""
+        width, height = self.size
+        picture = np.asarray(picture)
+        if picture.shape != (height * 3 // 2, width) or picture.dtype != np.uint8:
+            raise SceneError(
+                f"reference: expected a {width}x{height} YUV 4:2:0 uint8 picture, got "
+                f"{picture.shape} {picture.dtype}"
+            )
+        params = np.asarray(params, dtype=np.float64)
+        expected = (6 + self.description.model.n_actions,)
+        if params.shape != expected or not np.all(np.isfinite(params)) or not params[2] > 0:
+            raise SceneError(
+                f"reference pose: expected {expected[0]} finite parameters with a positive "
+                f"scale, got {np.array2string(params, precision=3, threshold=8)}"
+            )
+        self.reference = np.ascontiguousarray(picture)
+        self.reference_params = params.copy()
+        self._reference_points = self.scene.points(params)
+        chroma = self.reference[height:].reshape(2, height // 2, width // 2)
+        self._u, self._v = np.ascontiguousarray(chroma[0]), np.ascontiguousarray(chroma[1])
+
+    def maps(self, params: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Where each pixel reads the reference at `params`: map_x, map_y (H, W) float32, and
+        the mask of the face's own pixels."""
+        from uma.face.render import barycentric_affine, triangle_labels
+
+        scene = self.scene
+        width, height = self.size
+        target = scene.points(params)
+        labels = triangle_labels(
+            target,
+            scene.triangles,
+            (height, width),
+            triangle_mask=_front_facing(target, scene.triangles),
+            depth=scene.depth(params),
+        )
+        affine = barycentric_affine(target, scene.triangles)
+        coeffs = np.einsum("tjk,tjc->tck", affine, self._reference_points[scene.triangles])
+        still = np.array([[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]])  # a pixel no triangle covers
+        table = np.concatenate([coeffs, still]).reshape(-1, 6).T.astype(np.float32)
+        face = labels >= self._strips
+        flat = np.where(labels < 0, len(table[0]) - 1, labels).ravel()
+        # One gather per coefficient (contiguous rows) is several times faster than one of
+        # (H, W, 2, 3) blocks.
+        c = [np.take(row, flat).reshape(height, width) for row in table]
+        map_x = c[0] * self._x
+        map_x += c[1] * self._y
+        map_x += c[2]
+        map_y = c[3] * self._x
+        map_y += c[4] * self._y
+        map_y += c[5]
+        return map_x, map_y, face
+
+    def render(
+        self, params: np.ndarray, light: tuple[float, float] | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """The picture (YUV 4:2:0) at `params` and the mask of the face's pixels; `light`
+        (gain, offset in levels) relights the face's luma against the reference's. Light out
+        of `LIGHT_GAIN_RANGE`/`LIGHT_OFFSET_RANGE` or not finite is a `SceneError`."""
+        import cv2
+
+        params = np.asarray(params, dtype=np.float64)
+        if not np.all(np.isfinite(params)) or not params[2] > 0:
+            raise SceneError(f"parameters: expected finite with a positive scale, got {params}")
+        width, height = self.size
+        map_x, map_y, face = self.maps(params)
+        out = np.empty((height * 3 // 2, width), dtype=np.uint8)
+        luma = cv2.remap(
+            self.reference[:height], map_x, map_y, cv2.INTER_LINEAR,
+            borderMode=cv2.BORDER_REPLICATE,
+        )  # fmt: skip
+        if light is not None:
+            gain, offset = _checked_light(light)
+            lit = luma[face].astype(np.float32) * gain + offset
+            luma[face] = np.clip(np.rint(lit), 0, 255).astype(np.uint8)
+        out[:height] = luma
+        # Chroma: each 2x2 block's mean position, in chroma-plane coordinates.
+        cx = (map_x[0::2, 0::2] + map_x[1::2, 1::2] - 1.0) * 0.25
+        cy = (map_y[0::2, 0::2] + map_y[1::2, 1::2] - 1.0) * 0.25
+        chroma = out[height:].reshape(2, height // 2, width // 2)
+        for plane, source in zip(chroma, (self._u, self._v), strict=True):
+            plane[:] = cv2.remap(
+                source, cx, cy, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE
+            )
+        return out, face
+
+
+def _checked_light(light) -> tuple[float, float]:
+    gain, offset = (float(v) for v in light)
+    low, high = LIGHT_GAIN_RANGE
+    if not (np.isfinite(gain) and low <= gain <= high):
+        raise SceneError(f"light gain: expected in [{low}, {high}], got {gain}")
+    low, high = LIGHT_OFFSET_RANGE
+    if not (np.isfinite(offset) and low <= offset <= high):
+        raise SceneError(f"light offset: expected in [{low}, {high}] levels, got {offset}")
+    return gain, offset
