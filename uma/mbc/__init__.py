@@ -12,8 +12,8 @@ from uma.mbc.decoder import Decoded, DecodeEvent, FaceRenderer, ParameterDecoder
 from uma.mbc.encoder import FaceTracker, TrackerConfig, TrackFailure, TrackResult
 from uma.mbc.errors import PacketError, SceneError
 from uma.mbc.packets import IP_UDP_RTP_BYTES, Packet, parse_packet
-from uma.mbc.scene_render import SceneRenderer, description_reference
 from uma.mbc.quant import Quantiser, QuantiserConfig
+from uma.mbc.scene_render import SceneRenderer, description_reference
 from uma.mbc.stream import ParameterEncoder, StreamConfig
 from uma.mbc.units import FaceUnits
 
