@@ -84,6 +84,11 @@ class ParameterDecoder:
             if ahead:
                 events.append(DecodeEvent("missing", packet.seq, f"{ahead} packet(s) lost"))
                 self._lose_sync()
+        if packet.light != self.units.light:
+            raise PacketError(
+                f"{where} (seq {packet.seq}): light {'present' if packet.light else 'absent'}, "
+                f"the stream was set up {'with' if self.units.light else 'without'} it"
+            )
         self._expected_seq = (packet.seq + 1) % SEQ_MODULUS
         if not packet.intra:
             if self._reference is not None and packet.first_frame != self._next_frame:
@@ -121,11 +126,29 @@ class ParameterDecoder:
                     f"{where} (seq {packet.seq}): frame {offset} decodes to parameters no face "
                     "has (scale not positive)"
                 )
+            problem = _light_problem(self.units.split(params)[1])
+            if problem:
+                self._lose_sync()
+                raise PacketError(f"{where} (seq {packet.seq}): frame {offset}: {problem}")
             frames.append(((packet.first_frame + offset) % FRAME_MODULUS, params))
         self._reference = reference
         self._next_frame = (packet.first_frame + packet.count) % FRAME_MODULUS
         self.params = frames[-1][1]
         return Decoded(tuple(frames), tuple(events))
+
+
+def _light_problem(light: tuple[float, float] | None) -> str:
+    """Why decoded light is absurd (outside the renderer's ranges), or ""."""
+    from uma.mbc.scene_render import LIGHT_GAIN_RANGE, LIGHT_OFFSET_RANGE
+
+    if light is None:
+        return ""
+    gain, offset = light
+    if not LIGHT_GAIN_RANGE[0] <= gain <= LIGHT_GAIN_RANGE[1]:
+        return f"light gain {gain:.3g} outside {LIGHT_GAIN_RANGE}"
+    if not LIGHT_OFFSET_RANGE[0] <= offset <= LIGHT_OFFSET_RANGE[1]:
+        return f"light offset {offset:.3g} levels outside {LIGHT_OFFSET_RANGE}"
+    return ""
 
 
 class FaceRenderer:

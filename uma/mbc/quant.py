@@ -33,6 +33,10 @@ DEFAULT_POSE_STEPS = (4.0, 4.0, 3.0, 500.0, 500.0, 150.0)
 # face), the brows' and eyelids' by 0.4 % (0.17 px): the precision chosen (on the held-out
 # halves) before the units were mbcdata's FAPUs, kept in the new units.
 DEFAULT_ACTION_STEPS = (("MNS", 32.0), ("MW", 12.0), ("ENS", 5.0), ("IRISD", 24.0))
+# Light (`uma.mbc.units.LIGHT_UNITS`): at the default global step 1.5 a gain step of 1.2 %
+# (0.6 level on a face of mid-grey 100 levels above black, rounding at half a step) and an
+# offset step of 0.75 level; an action-step entry of the same kind overrides them.
+LIGHT_STEPS = (("LIGHT_GAIN", 8.0), ("LIGHT_OFFSET", 12.0))
 
 
 @dataclass(frozen=True)
@@ -67,7 +71,7 @@ class Quantiser:
     reference is passed in)."""
 
     def __init__(self, kinds: tuple[str, ...], config: QuantiserConfig = QuantiserConfig()):
-        steps = dict(config.action_steps)
+        steps = dict(LIGHT_STEPS) | dict(config.action_steps)
         self.config = config
         self.base = np.array(
             list(config.pose_steps) + [steps.get(k, steps.get("MNS", 1.0)) for k in kinds],

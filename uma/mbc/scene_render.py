@@ -163,9 +163,7 @@ class SceneRenderer:
         cy = (map_y[0::2, 0::2] + map_y[1::2, 1::2] - 1.0) * 0.25
         chroma = out[height:].reshape(2, height // 2, width // 2)
         for plane, source in zip(chroma, (self._u, self._v), strict=True):
-            plane[:] = cv2.remap(
-                source, cx, cy, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE
-            )
+            plane[:] = cv2.remap(source, cx, cy, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
         return out, face
 
 

@@ -119,6 +119,7 @@ class ParameterEncoder:
             intra=self._pending[0][0],
             global_code=self.config.quantiser.global_code,
             words=words,
+            light=self.units.light,
         )
         self._seq = (self._seq + 1) % SEQ_MODULUS
         self._pending = []

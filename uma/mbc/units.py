@@ -25,9 +25,14 @@ from uma.errors import FaceError
 from uma.face.geometry import N_POSE
 from uma.face.model import FaceModel
 
-__all__ = ["FaceUnits", "ANGLE_UNIT_RAD", "action_fapu"]
+__all__ = ["FaceUnits", "ANGLE_UNIT_RAD", "action_fapu", "LIGHT_NAMES", "LIGHT_UNITS"]
 
 ANGLE_UNIT_RAD = 1e-5
+# Light on the face against the receiver's reference: a luma gain in 1/1024 and an offset in
+# 1/16 of a level (`uma.mbc.scene_render`).
+LIGHT_NAMES = ("light_gain", "light_offset_levels")
+LIGHT_UNITS = (1.0 / 1024.0, 1.0 / 16.0)
+LIGHT_KINDS = ("LIGHT_GAIN", "LIGHT_OFFSET")
 FAPU_DIVISOR = 1024.0
 
 # Which neutral face distance each of uma's action units is measured against; others use MNS.
@@ -50,11 +55,13 @@ class FaceUnits:
     unit: np.ndarray  # (6 + A,)
     names: tuple[str, ...]
     distances: dict[str, float]  # ES, ENS, MNS, MW, IRISD in model units
-    kinds: tuple[str, ...] = ()  # per action unit, the distance it is measured in
+    kinds: tuple[str, ...] = ()  # per action unit, the distance it is measured in (then light)
+    light: bool = False  # the last two parameters are the light (`LIGHT_NAMES`)
 
     @classmethod
-    def of(cls, model: FaceModel, params: np.ndarray) -> FaceUnits:
-        """Units of `model` placed by `params` (the description's pose: its scale_px)."""
+    def of(cls, model: FaceModel, params: np.ndarray, *, light: bool = False) -> FaceUnits:
+        """Units of `model` placed by `params` (the description's pose: its scale_px); with
+        `light` two more parameters, the face's light, end every set."""
         params = np.asarray(params, dtype=np.float64)
         if params.shape != (N_POSE + model.n_actions,) or not params[2] > 0:
             raise FaceError(
@@ -92,7 +99,17 @@ class FaceUnits:
             *model.action_unit_names,
         )
         kinds = tuple(action_fapu(name) for name in model.action_unit_names)
-        return cls(unit=np.array(unit), names=names, distances=distances, kinds=kinds)
+        if light:
+            unit += LIGHT_UNITS
+            names += LIGHT_NAMES
+            kinds += LIGHT_KINDS
+        return cls(unit=np.array(unit), names=names, distances=distances, kinds=kinds, light=light)
+
+    def split(self, values: np.ndarray) -> tuple[np.ndarray, tuple[float, float] | None]:
+        """A decoded set as (geometry parameters, light or None)."""
+        if not self.light:
+            return values, None
+        return values[:-2], (float(values[-2]), float(values[-1]))
 
     def to_units(self, params: np.ndarray) -> np.ndarray:
         """Parameters (..., 6 + A) in face animation units."""
