@@ -28,7 +28,8 @@ import numpy as np
 
 __all__ = ["ClipSpec", "run_mbc_bench", "format_table", "default_clips", "DISPLAYS"]
 
-DISPLAYS = ("unquantised", "quantised", "frozen", "h264_lowest")
+DISPLAYS = ("unquantised", "quantised", "frozen", "h264_lowest", "h264_second", "other_reference")
+REGIONS = ("face", "frame", "model")
 SCALED_FPS = 25.0
 
 
@@ -89,64 +90,55 @@ def _luma(frame: np.ndarray) -> np.ndarray:
     return frame[: frame.shape[0] * 2 // 3]
 
 
-def _h264_lowest(frames: list[np.ndarray], fps: float) -> tuple[list[np.ndarray], float, str]:
-    """The lowest rung's display at the source size, and its measured rate (kbit/s)."""
-    from uma.video import H264Decoder, H264Encoder, load_ladder, resize_yuv420
-
-    ladder = load_ladder()
-    rung = ladder.rungs[0]
-    height, width = _luma(frames[0]).shape
-    step = max(1, int(round(fps / rung.fps)))
-    encoder = H264Encoder(
-        rung.width, rung.height, rung.fps, rung.rate_kbps, **ladder.encoder.kwargs()
-    )
-    decoder = H264Decoder()
-    shown, bits, last = [], 0, None
-    for index, frame in enumerate(frames):
-        if index % step == 0:
-            unit = encoder.encode(resize_yuv420(frame, rung.width, rung.height))
-            bits += unit.size_bits
-            picture = decoder.decode(unit.data)
-            if picture is not None:
-                last = _luma(resize_yuv420(picture, width, height))
-        shown.append(last if last is not None else np.full((height, width), 128, np.uint8))
-    coded = -(-len(frames) // step)
-    return shown, bits / (coded / rung.fps) / 1000.0, rung.label
-
-
-def _scores(reference: np.ndarray, test: np.ndarray, mask: np.ndarray) -> tuple[float, ...]:
-    """(PSNR frame, SSIM frame, PSNR face, SSIM face): one SSIM map serves both."""
-    from skimage.metrics import structural_similarity
-
-    from uma.metrics.quality import PSNR_CAP_DB
-
-    ref = reference.astype(np.float32)
-    tst = test.astype(np.float32)
-    diff = (ref - tst) ** 2
-
-    def psnr(mse: float) -> float:
-        return PSNR_CAP_DB if mse <= 255.0**2 * 1e-10 else float(10 * np.log10(255.0**2 / mse))
-
-    similarity, full = structural_similarity(ref, tst, data_range=255.0, full=True)
-    face = mask if mask.any() else np.ones_like(mask)
-    return (
-        psnr(float(diff.mean())),
-        float(similarity),
-        psnr(float(diff[face].mean())),
-        float(full[face].mean()),
-    )
-
-
 def _median(values: list[float]) -> float | None:
     return round(float(np.median(values)), 3) if values else None
 
 
-def run_clip(clip: ClipSpec, *, seed: int = 0, stream_config=None, tracker_config=None) -> dict:
-    """Code one clip and score it; see the module docstring."""
-    from uma.errors import VideoError
-    from uma.fit.mde import mde_px
-    from uma.mbc.decoder import FaceRenderer, ParameterDecoder
+def _track(clip: ClipSpec, lumas: list[np.ndarray], seed: int, tracker_config):
+    """Every frame's `TrackResult` or `TrackFailure`, and the wall and CPU ms per kind."""
     from uma.mbc.encoder import FaceTracker, TrackerConfig
+
+    # One untimed initialisation first: numba loads its compiled kernels on first use.
+    FaceTracker(clip.description, rng=seed).track(lumas[0])
+    tracker = FaceTracker(clip.description, config=tracker_config or TrackerConfig(), rng=seed)
+    times: dict[str, list[float]] = {"track": [], "init": [], "track_cpu": [], "init_cpu": []}
+    results = []
+    for index, picture in enumerate(lumas):
+        begin, cpu = time.perf_counter(), time.process_time()
+        result = tracker.track(picture, frame=index)
+        kind = "init" if result.reinitialised else "track"
+        times[kind].append((time.perf_counter() - begin) * 1000.0)
+        times[kind + "_cpu"].append((time.process_time() - cpu) * 1000.0)
+        results.append(result)
+    return results, times
+
+
+def _renderer(clip: ClipSpec, reference: str, first, size):
+    """The receiver's renderer: from the last full picture (frame 0, at the pose tracked on
+    it) or from the description's own picture."""
+    from uma.mbc.scene_render import SceneRenderer
+
+    renderer = SceneRenderer(clip.description, size)
+    if reference == "picture" and first:
+        renderer.set_reference(clip.frames[0], first.params)
+    return renderer
+
+
+def run_clip(
+    clip: ClipSpec,
+    *,
+    seed: int = 0,
+    stream_config=None,
+    tracker_config=None,
+    reference: str = "picture",
+) -> dict:
+    """Code one clip and score it; see the module docstring."""
+    from uma.bench.mbc_scores import RegionSums, face_box, h264_display
+    from uma.errors import VideoError
+    from uma.face.geometry import project
+    from uma.fit.mde import mde_px
+    from uma.mbc.decoder import ParameterDecoder
+    from uma.mbc.light import estimate_light
     from uma.mbc.packets import IP_UDP_RTP_BYTES
     from uma.mbc.stream import ParameterEncoder, StreamConfig
     from uma.mbc.units import FaceUnits
@@ -155,94 +147,95 @@ def run_clip(clip: ClipSpec, *, seed: int = 0, stream_config=None, tracker_confi
     description = clip.description
     lumas = [_luma(f) for f in clip.frames]
     height, width = lumas[0].shape
-    # One untimed initialisation first: numba loads its compiled kernels on first use.
-    FaceTracker(description, rng=seed).track(lumas[0])
-    tracker = FaceTracker(description, config=tracker_config or TrackerConfig(), rng=seed)
-    units = FaceUnits.of(description.model, description.params)
-    encoder = ParameterEncoder(units, stream_config)
-    track_ms, init_ms, results, packets = [], [], [], []
-    track_cpu, init_cpu = [], []
-    for index, picture in enumerate(lumas):
-        begin, cpu = time.perf_counter(), time.process_time()
-        result = tracker.track(picture, frame=index)
-        elapsed = (time.perf_counter() - begin) * 1000.0
-        (init_ms if result.reinitialised else track_ms).append(elapsed)
-        (init_cpu if result.reinitialised else track_cpu).append(
-            (time.process_time() - cpu) * 1000.0
-        )
-        results.append(result)
-        packets += encoder.push(index, result.params if result else None)
-    packets += encoder.flush()
+    results, times = _track(clip, lumas, seed, tracker_config)
     if not any(results):
         reasons = {r.reason.split(": ", 1)[-1] for r in results}
         raise VideoError(
             f"{clip.where or clip.name}: no face tracked in any of {len(results)} frames "
             f"({'; '.join(sorted(reasons)[:2])})"
         )
+    # The encoder's mirror of the receiver: its light is measured against what it will show.
+    units = FaceUnits.of(description.model, description.params, light=True)
+    encoder = ParameterEncoder(units, stream_config)
+    mirror = _renderer(clip, reference, results[0], (width, height))
+    other = _renderer(clip, "description" if reference == "picture" else "picture",
+                      results[0], (width, height))  # fmt: skip
+    lights, other_lights, light_ms, packets = {}, {}, [], []
+    for index, result in enumerate(results):
+        if result:
+            begin = time.perf_counter()
+            rendered, mask = mirror.render(result.params)
+            lights[index] = estimate_light(rendered[:height], lumas[index], mask)
+            light_ms.append((time.perf_counter() - begin) * 1000.0)
+            rendered, mask = other.render(result.params)
+            other_lights[index] = estimate_light(rendered[:height], lumas[index], mask)
+        packets += encoder.push(index, np.append(result.params, lights[index]) if result else None)
+    packets += encoder.flush()
     # The receiver: decode every packet in order, render each frame at the newest parameters.
     decoder = ParameterDecoder(units, stream_config)
-    renderer = FaceRenderer(description, (width, height), background=lumas[0])
+    receiver = _renderer(clip, reference, results[0], (width, height))
     decoded: dict[int, np.ndarray] = {}
-    decode_ms: dict[int, tuple[float, float]] = {}
+    decode_ms: dict[int, float] = {}
     for packet in packets:
         data = packet.to_bytes()
-        begin, cpu = time.perf_counter(), time.process_time()
+        begin = time.perf_counter()
         out = decoder.decode(data)
-        count = max(len(out.frames), 1)
-        share = (
-            (time.perf_counter() - begin) * 1000.0 / count,
-            (time.process_time() - cpu) * 1000.0 / count,
-        )
-        for frame, params in out.frames:
-            decoded[frame] = params
-            decode_ms[frame] = share
-    render_ms, render_cpu = [], []
-    sums = {d: np.zeros(4) for d in DISPLAYS}
-    h264, h264_kbps, rung = _h264_lowest(clip.frames, clip.fps)
-    tracked = quantised = None
-    tracked_mask = np.zeros((height, width), bool)
-    shown_tracked = shown_quantised = lumas[0]
-    mde = []
-    scored = 0
+        share = (time.perf_counter() - begin) * 1000.0 / max(len(out.frames), 1)
+        for frame, values in out.frames:
+            decoded[frame], decode_ms[frame] = values, share
+    h264 = {name: h264_display(clip.frames, clip.fps, rung) for name, rung in
+            (("h264_lowest", 0), ("h264_second", 1))}  # fmt: skip
+    displays = ("unquantised", "quantised", "frozen", "h264_lowest", "h264_second",
+                "other_reference")  # fmt: skip
+    sums = {d: RegionSums() for d in displays}
+    shown = {d: clip.frames[0] for d in ("unquantised", "quantised", "other_reference")}
+    model_mask = np.zeros((height, width), bool)
+    render_ms, mde, box = [], [], None
     for index in range(len(lumas)):
         result = results[index]
-        if result:
-            tracked = result.params
-            shown_tracked, tracked_mask = renderer.render(tracked)
+        if result:  # no face: the last good picture stays (no mask in the wrong place)
+            shown["unquantised"], model_mask = receiver.render(result.params, lights[index])
         if index in decoded:
-            begin, cpu = time.perf_counter(), time.process_time()
-            quantised = decoded[index]
-            shown_quantised, _ = renderer.render(quantised)
-            render_ms.append(decode_ms[index][0] + (time.perf_counter() - begin) * 1000.0)
-            render_cpu.append(decode_ms[index][1] + (time.process_time() - cpu) * 1000.0)
-        if clip.truth is not None and result:
-            mde.append(mde_px(description.model, result.params, clip.truth(index)))
+            begin = time.perf_counter()
+            params, light = units.split(decoded[index])
+            shown["quantised"], _ = receiver.render(params, light)
+            render_ms.append(decode_ms[index] + (time.perf_counter() - begin) * 1000.0)
+            shown["other_reference"], _ = other.render(params, other_lights[index])
+        truth_points = None
+        if clip.truth is not None:
+            truth = clip.truth(index)
+            truth_points = project(description.model, truth)
+            if result:
+                mde.append(mde_px(description.model, result.params, truth))
+            _, model_mask = receiver.render(truth)
+        box = face_box(lumas[index], truth_points, box)
         if index == 0:
             continue
-        mask = tracked_mask
-        if clip.truth is not None:
-            _, mask = renderer.render(clip.truth(index))
-        truth = lumas[index]
-        for name, shown in zip(
-            DISPLAYS, (shown_tracked, shown_quantised, lumas[0], h264[index]), strict=True
-        ):
-            sums[name] += _scores(truth, shown, mask)
-        scored += 1
-    means = {d: sums[d] / max(scored, 1) for d in DISPLAYS}
+        pictures = dict(shown, frozen=clip.frames[0],
+                        **{name: h264[name][0][index] for name in h264})  # fmt: skip
+        for name in displays:
+            sums[name].add(clip.frames[index], pictures[name], box, model_mask)
     payload_bytes = sum(p.size_bytes for p in packets)
     wire_bytes = payload_bytes + IP_UDP_RTP_BYTES * len(packets)
     seconds = len(lumas) / SCALED_FPS  # the same frames at 25 frames/s
+    rate_kbps = payload_bytes * 8 / seconds / 1000.0
+    rates = {"unquantised": None, "quantised": rate_kbps, "frozen": 0.0,
+             "other_reference": rate_kbps}  # fmt: skip
+    rates.update({name: h264[name][1] for name in h264})
+    scored = {name: sums[name].means(rates[name]) for name in displays}
     reinits = [r for r in results[1:] if r.reinitialised]
+    face_psnr = {d: scored[d]["face"]["psnr_db"] for d in ("unquantised", "quantised")}
     return {
         "frames": len(lumas),
         "size": f"{width}x{height}",
         "fps": round(clip.fps, 3),
-        "rate_kbps": round(payload_bytes * 8 / seconds / 1000.0, 3),
+        "reference": reference,
+        "rate_kbps": round(rate_kbps, 3),
         "wire_kbps": round(wire_bytes * 8 / seconds / 1000.0, 3),
         "packets": len(packets),
         "frames_per_packet": stream_config.frames_per_packet,
         "payload_bytes_per_frame": round(payload_bytes / len(lumas), 2),
-        "psnr_loss_db": round(float(means["unquantised"][2] - means["quantised"][2]), 3),
+        "psnr_loss_db": round(face_psnr["unquantised"] - face_psnr["quantised"], 3),
         "reinits": len(reinits),
         "lost_tracks": sum(r.reason.startswith("track lost") for r in reinits),
         "failures": sum(not r for r in results),
@@ -250,25 +243,19 @@ def run_clip(clip: ClipSpec, *, seed: int = 0, stream_config=None, tracker_confi
         "evaluations_median": _median(
             [r.evaluations for r in results[1:] if r and not r.reinitialised]
         ),
-        "track_ms_median": _median(track_ms),
-        "init_ms_median": _median(init_ms),
+        "track_ms_median": _median(times["track"]),
+        "init_ms_median": _median(times["init"]),
+        "light_ms_median": _median(light_ms),
         "render_ms_median": _median(render_ms),
         # CPU time of this process (time.process_time): on a shared machine, wall clock also
         # counts the time other processes held the cores.
-        "track_cpu_ms_median": _median(track_cpu),
-        "init_cpu_ms_median": _median(init_cpu),
-        "render_cpu_ms_median": _median(render_cpu),
+        "track_cpu_ms_median": _median(times["track_cpu"]),
+        "init_cpu_ms_median": _median(times["init_cpu"]),
         "mde_median_px": round(float(np.median(mde)), 4) if mde else None,
         "mde_p95_px": round(float(np.percentile(mde, 95)), 4) if mde else None,
-        "h264_lowest": {"rung": rung, "rate_kbps": round(h264_kbps * SCALED_FPS / clip.fps, 2)},
-        "face": {
-            d: {"psnr_db": round(float(means[d][2]), 3), "ssim": round(float(means[d][3]), 4)}
-            for d in DISPLAYS
-        },
-        "frame": {
-            d: {"psnr_db": round(float(means[d][0]), 3), "ssim": round(float(means[d][1]), 4)}
-            for d in DISPLAYS
-        },
+        "h264_lowest": {"rung": h264["h264_lowest"][2]},
+        "h264_second": {"rung": h264["h264_second"][2]},
+        **{region: {d: scored[d][region] for d in displays} for region in REGIONS},
     }
 
 
@@ -288,8 +275,8 @@ def format_table(result: dict[str, Any]) -> str:
     lines = ["uma bench mbc: model-based codec, payload and wire rates at 25 frames/s", ""]
     head = (
         f"  {'clip':<14}{'frames':>7}{'size':>9}{'kbit/s':>8}{'wire':>7}{'loss dB':>8}"
-        f"{'reinits':>8}{'track ms':>9}{'init ms':>8}{'render ms':>10}{'MDE px':>8}{'p95':>7}"
-        f"   cpu ms: {'track':>6}{'init':>6}{'render':>7}"
+        f"{'reinits':>8}{'track ms':>9}{'light ms':>9}{'init ms':>8}{'render ms':>10}"
+        f"{'MDE px':>8}{'p95':>7}"
     )
     lines.append(head)
 
@@ -300,20 +287,23 @@ def format_table(result: dict[str, Any]) -> str:
         lines.append(
             f"  {name:<14}{c['frames']:>7}{c['size']:>9}{c['rate_kbps']:>8.2f}{c['wire_kbps']:>7.2f}"
             f"{c['psnr_loss_db']:>8.2f}{c['reinits']:>8}{num(c['track_ms_median'], '.1f'):>9}"
-            f"{num(c['init_ms_median'], '.0f'):>8}{num(c['render_ms_median'], '.2f'):>10}"
+            f"{num(c['light_ms_median'], '.1f'):>9}{num(c['init_ms_median'], '.0f'):>8}"
+            f"{num(c['render_ms_median'], '.2f'):>10}"
             f"{num(c['mde_median_px'], '.3f'):>8}{num(c['mde_p95_px'], '.3f'):>7}"
-            f"           {num(c['track_cpu_ms_median'], '.1f'):>6}{num(c['init_cpu_ms_median'], '.0f'):>6}"
-            f"{num(c['render_cpu_ms_median'], '.2f'):>7}"
         )
     lines += [
         "",
-        f"  {'clip':<14}{'display':<13}{'face PSNR dB':>13}{'SSIM':>8}{'frame PSNR dB':>15}{'SSIM':>8}",
+        f"  {'clip':<14}{'display':<17}{'kbit/s':>7}  "
+        + "".join(f"{r + ' PSNR':>11}{'SSIM':>7}{'CbCr':>6}" for r in REGIONS),
     ]
     for name, c in result["clips"].items():
         for d in DISPLAYS:
-            label = d if d != "h264_lowest" else f"h264 {c['h264_lowest']['rung'].split()[0]}"
-            lines.append(
-                f"  {name:<14}{label:<13}{c['face'][d]['psnr_db']:>13.2f}{c['face'][d]['ssim']:>8.4f}"
-                f"{c['frame'][d]['psnr_db']:>15.2f}{c['frame'][d]['ssim']:>8.4f}"
+            label = d if not d.startswith("h264") else f"{d} {c[d]['rung'].split()[0]}"
+            kbps = c["face"][d].get("kbps")
+            cells = "".join(
+                f"{c[r][d]['psnr_db']:>11.2f}{c[r][d]['ssim']:>7.3f}"
+                f"{c[r][d]['chroma_psnr_db']:>6.1f}"
+                for r in REGIONS
             )
+            lines.append(f"  {name:<14}{label:<17}{num(kbps, '.2f'):>7}  {cells}")
     return "\n".join(lines)
