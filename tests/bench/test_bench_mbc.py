@@ -9,7 +9,7 @@ import pytest
 
 from uma.cli import main
 
-DISPLAYS = ("unquantised", "quantised", "frozen", "h264_lowest")
+DISPLAYS = ("unquantised", "quantised", "frozen", "h264_lowest", "h264_second")
 KEYS = (
     "frames",
     "size",
@@ -33,9 +33,11 @@ def test_bench_mbc_json_keys(capsys) -> None:
         for key in KEYS:
             assert key in clip, (name, key)
         assert clip["frames"] == 4
-        for region in ("face", "frame"):
+        for region in ("face", "frame", "model"):
             for display in DISPLAYS:
-                assert set(clip[region][display]) == {"psnr_db", "ssim"}
+                keys = set(clip[region][display]) - {"kbps"}
+                assert keys == {"psnr_db", "ssim", "chroma_psnr_db"}, (name, region, display)
+            assert clip[region]["h264_second"]["kbps"] > clip[region]["h264_lowest"]["kbps"] > 0
         assert clip["rate_kbps"] > 0 and clip["wire_kbps"] > clip["rate_kbps"]
     head = result["clips"]["talking-head"]
     assert head["size"] == "352x288" and head["mde_median_px"] < 1.0

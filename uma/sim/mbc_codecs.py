@@ -54,13 +54,37 @@ class MbcPointEncoder:
         self.width, self.height = source_size
         if self.tracks:
             self.tracker = context.tracker or FaceTracker(description, rng=context.seed)
-        units = FaceUnits.of(description.model, description.params)
+        units = FaceUnits.of(description.model, description.params, light=True)
         self.stream = ParameterEncoder(units, context.stream)
+        self.description = description
+        self.mirror = None  # the receiver's renderer as this encoder expects it
+
+    def _reference(self, picture: np.ndarray, params: np.ndarray) -> None:
+        """The receiver renders from the picture it showed last, the pose of the stream's first
+        frame on it: the encoder mirrors that with the picture it started from."""
+        from uma.mbc import SceneRenderer
+        from uma.video import resize_yuv420
+
+        self.mirror = SceneRenderer(self.description, (self.width, self.height))
+        picture = resize_yuv420(np.ascontiguousarray(picture), self.width, self.height)
+        self.mirror.set_reference(picture, params)
+
+    def _light(self, picture: np.ndarray, params: np.ndarray) -> tuple[float, float]:
+        """The face's light on `picture` against what the receiver will render."""
+        from uma.mbc.light import estimate_light
+
+        if self.mirror is None:
+            self._reference(picture, params)
+        rendered, mask = self.mirror.render(params)
+        return estimate_light(rendered[: self.height], _luma(picture), mask)
 
     def initialise(self, picture: np.ndarray, *, frame: int):
         """A fresh track from `picture`: a `TrackResult`, or a `TrackFailure` with its reason."""
         self.tracker.reset()
-        return self.tracker.track(_luma(picture), frame=frame)
+        result = self.tracker.track(_luma(picture), frame=frame)
+        if result:
+            self._reference(picture, result.params)
+        return result
 
     def _params(self, picture: np.ndarray, frame: int):
         """This frame's `TrackResult`, or a `TrackFailure` with its reason."""
@@ -80,7 +104,8 @@ class MbcPointEncoder:
             )
         if intra:
             self.stream.request_intra()
-        packets = self.stream.push(frame, result.params)
+        light = self._light(picture, result.params)
+        packets = self.stream.push(frame, np.append(result.params, light))
         return _packets_coded(
             packets,
             self.width,
@@ -159,28 +184,31 @@ class SelectedMbcEncoder(MbcPointEncoder):
 
 
 class MbcUnitDecoder:
-    """Decodes parameter packets and renders the description's face over the last picture the
-    receiver showed before the switch (its chroma kept), at the source's size."""
+    """Decodes parameter packets and renders the whole scene in colour (`uma.mbc.SceneRenderer`)
+    from the last picture the receiver showed before the switch, the model placed on it at the
+    stream's first decoded pose (the encoder mirrors the same choice); without such a picture,
+    from the description's own. `set_reference` replaces the picture (the model-aided refresh)."""
 
     def __init__(self, *, context) -> None:
-        from uma.mbc import FaceRenderer, FaceUnits, ParameterDecoder
+        from uma.mbc import FaceUnits, ParameterDecoder, SceneRenderer
         from uma.video import resize_yuv420
 
         context = as_context(context)
         description = context.description
         width, height = context.source_size
-        units = FaceUnits.of(description.model, description.params)
-        self.decoder = ParameterDecoder(units, context.stream)
+        self.units = FaceUnits.of(description.model, description.params, light=True)
+        self.decoder = ParameterDecoder(self.units, context.stream)
+        self.renderer = SceneRenderer(description, (width, height))
         background = context.background
+        self._pending = None
         if background is not None:
-            background = resize_yuv420(background, width, height)
-            self.chroma = background[height:]
-            self.renderer = FaceRenderer(
-                description, (width, height), background=np.ascontiguousarray(background[:height])
-            )
-        else:
-            self.chroma = np.full((height // 2, width), 128, dtype=np.uint8)
-            self.renderer = FaceRenderer(description, (width, height))
+            self._pending = np.ascontiguousarray(resize_yuv420(background, width, height))
+
+    def set_reference(self, picture: np.ndarray, params: np.ndarray) -> None:
+        """Render from `picture` (YUV 4:2:0, source size) with the model at `params` on it;
+        a `uma.mbc.SceneError` if it cannot (the old reference stays)."""
+        self.renderer.set_reference(picture, params)
+        self._pending = None
 
     def decode(self, unit: EncodedUnit) -> dict[int, np.ndarray]:
         from uma.mbc import PacketError
@@ -192,7 +220,9 @@ class MbcUnitDecoder:
         # Packet frame numbers wrap (`uma.mbc.packets`); the unit knows the run's numbers.
         frames = unit.frames or (unit.frame,)
         pictures = {}
-        for frame, (_, params) in zip(frames[-len(out.frames) :], out.frames, strict=False):
-            luma, _ = self.renderer.render(params)
-            pictures[frame] = np.concatenate([luma, self.chroma])
+        for frame, (_, values) in zip(frames[-len(out.frames) :], out.frames, strict=False):
+            params, light = self.units.split(values)
+            if self._pending is not None:
+                self.set_reference(self._pending, params)
+            pictures[frame], _ = self.renderer.render(params, light)
         return pictures
