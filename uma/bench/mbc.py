@@ -131,6 +131,8 @@ def run_clip(
     stream_config=None,
     tracker_config=None,
     reference: str = "picture",
+    keep_frame: int | None = None,
+    kept: dict | None = None,
 ) -> dict:
     """Code one clip and score it; see the module docstring."""
     from uma.bench.mbc_scores import RegionSums, face_box, h264_display
@@ -215,6 +217,8 @@ def run_clip(
                         **{name: h264[name][0][index] for name in h264})  # fmt: skip
         for name in displays:
             sums[name].add(clip.frames[index], pictures[name], box, model_mask)
+        if kept is not None and index == keep_frame:
+            kept.update(pictures, source=clip.frames[index])
     payload_bytes = sum(p.size_bytes for p in packets)
     wire_bytes = payload_bytes + IP_UDP_RTP_BYTES * len(packets)
     seconds = len(lumas) / SCALED_FPS  # the same frames at 25 frames/s
@@ -259,15 +263,32 @@ def run_clip(
     }
 
 
-def run_mbc_bench(clips: list[ClipSpec], *, seed: int = 0, progress=None) -> dict[str, Any]:
+def run_mbc_bench(
+    clips: list[ClipSpec], *, seed: int = 0, progress=None, picture: Path | None = None
+) -> dict[str, Any]:
+    """Every clip's scores; with `picture`, the side-by-side PNG of each clip's middle frame."""
     from uma.metrics.quality import keep_freed_memory
 
     keep_freed_memory()
     out: dict[str, Any] = {"seed": seed, "clips": {}}
+    rows = []
     for clip in clips:
         if progress is not None:
             progress(clip.name)
-        out["clips"][clip.name] = run_clip(clip, seed=seed)
+        kept: dict = {}
+        middle = len(clip.frames) * 2 // 3
+        result = run_clip(clip, seed=seed, keep_frame=middle, kept=kept)
+        out["clips"][clip.name] = result
+        if kept:
+            tails = {
+                d: f"{result['face'][d]['kbps']:.1f} kbit/s" for d in ("quantised", "h264_lowest")
+            }
+            rows.append((f"{clip.name} #{middle}", kept, tails))
+    if picture is not None and rows:
+        from uma.bench.mbc_picture import save_side_by_side
+
+        save_side_by_side(picture, rows)
+        out["picture"] = str(picture)
     return out
 
 

@@ -26,6 +26,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--frames", type=int, default=150, help="frames per clip from the first (default 150)"
     )
+    parser.add_argument(
+        "--picture",
+        metavar="FILE.png",
+        help="also draw source | MBC | H.264 alone at one instant of each clip into FILE.png",
+    )
     add_common_arguments(parser)
     parser.set_defaults(func=handle)
 
@@ -58,6 +63,9 @@ def handle(args: argparse.Namespace) -> int:
         if not quiet:
             print(f"uma bench mbc: {name}...", file=sys.stderr)
 
-    result = run_mbc_bench(clips, seed=args.seed, progress=progress)
+    picture = Path(args.picture) if args.picture else None
+    if picture is not None and not picture.parent.is_dir():
+        raise ConfigError(f"--picture: expected a file in an existing folder, got {picture}")
+    result = run_mbc_bench(clips, seed=args.seed, progress=progress, picture=picture)
     emit(result, format_table(result), as_json=args.json)
     return 0
