@@ -28,14 +28,20 @@ def test_identity_pose_returns_the_reference(still_head) -> None:
 
 
 def test_ground_truth_reproduces_the_whole_frame(still_head) -> None:
+    """With the talking head's own far ring the whole frame comes back within 36 dB; with the
+    receiver's (nearer, so the background stays still, where the talking head drags its
+    background along) within 22 dB (23.9 measured)."""
     import cv2
 
-    renderer = SceneRenderer(still_head.description, (352, 288))
+    own = SceneRenderer(still_head.description, (352, 288), far_ring_head_radii=None)
+    receiver = SceneRenderer(still_head.description, (352, 288))
     for index in (20, 60):
         frame = cv2.cvtColor(still_head.render_bgr(index), cv2.COLOR_BGR2YUV_I420)
-        picture, _ = renderer.render(still_head.params_at(index))
+        picture, _ = own.render(still_head.params_at(index))
         assert _psnr(picture[:288], frame[:288]) >= 36.0  # luma, whole picture
         assert _psnr(picture[288:], frame[288:]) >= 44.0  # chroma
+        picture, _ = receiver.render(still_head.params_at(index))
+        assert _psnr(picture[:288], frame[:288]) >= 22.0
 
 
 def test_replaced_reference_is_drawn_from(still_head) -> None:

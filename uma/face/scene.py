@@ -72,9 +72,16 @@ class SceneMesh:
 
     @classmethod
     def build(
-        cls, model: FaceModel, template_params: np.ndarray, shape: tuple[int, int]
+        cls,
+        model: FaceModel,
+        template_params: np.ndarray,
+        shape: tuple[int, int],
+        *,
+        far_ring_scale: float | None = None,
     ) -> SceneMesh:
-        """Rings placed from the face at `template_params` in a frame of `shape` (H, W)."""
+        """Rings placed from the face at `template_params` in a frame of `shape` (H, W). With
+        `far_ring_scale` the far ring lies at that many head-ring radii from the face's centre
+        (so the picture beyond it stays still) instead of `FAR_RING_SCALE` frame diagonals."""
         outline = boundary_loop(model.triangles)
         rim = model.vertices[outline]
         centre = rim[:, :2].mean(axis=0)
@@ -87,6 +94,9 @@ class SceneMesh:
         direction = ring_px - centre_px
         direction /= np.linalg.norm(direction, axis=1, keepdims=True)
         radius_px = FAR_RING_SCALE * float(np.hypot(*shape))
+        if far_ring_scale is not None:
+            head_px = np.linalg.norm(ring_px - centre_px, axis=1)
+            radius_px = far_ring_scale * head_px[:, None]
         far_ring_px = centre_px + radius_px * direction
         n, m = model.n_vertices, len(outline)
         i = np.arange(m)
