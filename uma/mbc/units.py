@@ -57,6 +57,7 @@ class FaceUnits:
     distances: dict[str, float]  # ES, ENS, MNS, MW, IRISD in model units
     kinds: tuple[str, ...] = ()  # per action unit, the distance it is measured in (then light)
     light: bool = False  # the last two parameters are the light (`LIGHT_NAMES`)
+    origin: np.ndarray | None = None  # subtracted before scaling (a gain travels as gain - 1)
 
     @classmethod
     def of(cls, model: FaceModel, params: np.ndarray, *, light: bool = False) -> FaceUnits:
@@ -103,7 +104,17 @@ class FaceUnits:
             unit += LIGHT_UNITS
             names += LIGHT_NAMES
             kinds += LIGHT_KINDS
-        return cls(unit=np.array(unit), names=names, distances=distances, kinds=kinds, light=light)
+        origin = np.zeros(len(unit))
+        if light:
+            origin[-2] = 1.0  # neutral light codes as zeros: exactly representable
+        return cls(
+            unit=np.array(unit),
+            names=names,
+            distances=distances,
+            kinds=kinds,
+            light=light,
+            origin=origin,
+        )
 
     def split(self, values: np.ndarray) -> tuple[np.ndarray, tuple[float, float] | None]:
         """A decoded set as (geometry parameters, light or None)."""
@@ -113,8 +124,10 @@ class FaceUnits:
 
     def to_units(self, params: np.ndarray) -> np.ndarray:
         """Parameters (..., 6 + A) in face animation units."""
-        return np.asarray(params, dtype=np.float64) / self.unit
+        origin = 0.0 if self.origin is None else self.origin
+        return (np.asarray(params, dtype=np.float64) - origin) / self.unit
 
     def from_units(self, values: np.ndarray) -> np.ndarray:
         """Face animation units back to the geometry's parameters."""
-        return np.asarray(values, dtype=np.float64) * self.unit
+        origin = 0.0 if self.origin is None else self.origin
+        return np.asarray(values, dtype=np.float64) * self.unit + origin
