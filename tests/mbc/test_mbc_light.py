@@ -66,3 +66,19 @@ def test_light_flag_must_match_the_stream(head) -> None:
     assert not parse_packet(packets[0].to_bytes()).light
     with pytest.raises(PacketError, match="light absent"):
         ParameterDecoder(_units(head)).decode(packets[0].to_bytes())
+
+
+def test_measured_light_of_a_relit_rendering() -> None:
+    import cv2
+
+    from uma.face.talking_head import Motion, TalkingHeadSource
+    from uma.mbc.light import measure_light
+    from uma.mbc.scene_render import SceneRenderer
+
+    head = TalkingHeadSource(176, 144, seed=1, motion=Motion(noise_std=0.0, light_angle_rad=0.0))
+    renderer = SceneRenderer(head.description, (176, 144))
+    params = head.params_at(0)
+    frame = cv2.cvtColor(head.render_bgr(0), cv2.COLOR_BGR2YUV_I420)[:144].astype(np.float64)
+    relit = np.clip(1.1 * frame - 12.0, 0, 255)
+    gain, offset = measure_light(renderer, relit, params)
+    assert gain == pytest.approx(1.1, abs=0.03) and offset == pytest.approx(-12.0, abs=3.0)

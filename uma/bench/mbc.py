@@ -140,7 +140,7 @@ def run_clip(
     from uma.face.geometry import project
     from uma.fit.mde import mde_px
     from uma.mbc.decoder import ParameterDecoder
-    from uma.mbc.light import estimate_light
+    from uma.mbc.light import measure_light
     from uma.mbc.packets import IP_UDP_RTP_BYTES
     from uma.mbc.stream import ParameterEncoder, StreamConfig
     from uma.mbc.units import FaceUnits
@@ -166,11 +166,9 @@ def run_clip(
     for index, result in enumerate(results):
         if result:
             begin = time.perf_counter()
-            rendered, mask = mirror.render(result.params)
-            lights[index] = estimate_light(rendered[:height], lumas[index], mask)
+            lights[index] = measure_light(mirror, lumas[index], result.params)
             light_ms.append((time.perf_counter() - begin) * 1000.0)
-            rendered, mask = other.render(result.params)
-            other_lights[index] = estimate_light(rendered[:height], lumas[index], mask)
+            other_lights[index] = measure_light(other, lumas[index], result.params)
         packets += encoder.push(index, np.append(result.params, lights[index]) if result else None)
     packets += encoder.flush()
     # The receiver: decode every packet in order, render each frame at the newest parameters.

@@ -14,7 +14,7 @@ import numpy as np
 
 from uma.mbc.scene_render import LIGHT_GAIN_RANGE, LIGHT_OFFSET_RANGE
 
-__all__ = ["estimate_light", "NEUTRAL_LIGHT"]
+__all__ = ["estimate_light", "measure_light", "NEUTRAL_LIGHT"]
 
 NEUTRAL_LIGHT = (1.0, 0.0)
 _MIN_PIXELS = 64
@@ -39,3 +39,11 @@ def estimate_light(
     gain = float(np.clip(gain, *LIGHT_GAIN_RANGE))
     offset = float(np.clip(a.mean() - gain * r.mean(), *LIGHT_OFFSET_RANGE))
     return gain, offset
+
+
+def measure_light(renderer, luma: np.ndarray, params: np.ndarray) -> tuple[float, float]:
+    """The light of the face at `params` on `luma` (H, W) against what `renderer` (a
+    `SceneRenderer`, the receiver's reference) draws there."""
+    patch, mask, (x0, y0) = renderer.face_luma(params)
+    h, w = patch.shape
+    return estimate_light(patch, luma[y0 : y0 + h, x0 : x0 + w], mask)

@@ -156,6 +156,40 @@ class SceneRenderer:
         map_y += c[5]
         return map_x, map_y, face
 
+    def face_luma(self, params: np.ndarray) -> tuple[np.ndarray, np.ndarray, tuple[int, int]]:
+        """The face's own luma at `params` without light, over its bounding box only: (patch,
+        mask, (x0, y0) of the box); what the encoder measures light against, at a fraction of
+        `render`'s cost. Empty when the face lies outside the picture."""
+        import cv2
+
+        from uma.face.geometry import project, visible_triangles
+        from uma.face.render import barycentric_affine, triangle_labels
+
+        model = self.description.model
+        width, height = self.size
+        target = project(model, params)
+        x0, y0 = np.maximum(np.floor(target.min(axis=0)).astype(int), 0)
+        x1 = min(int(np.ceil(target[:, 0].max())) + 1, width)
+        y1 = min(int(np.ceil(target[:, 1].max())) + 1, height)
+        if x1 <= x0 or y1 <= y0:
+            return np.zeros((0, 0), np.uint8), np.zeros((0, 0), bool), (0, 0)
+        local = target - (x0, y0)
+        triangles = model.triangles
+        labels = triangle_labels(
+            local, triangles, (y1 - y0, x1 - x0), triangle_mask=visible_triangles(model, params)
+        )
+        source = self._reference_points[: model.n_vertices]
+        maps = np.einsum("tjc,tjk->tck", source[triangles], barycentric_affine(local, triangles))
+        maps = np.concatenate([maps, np.full((1, 2, 3), -1e4)]).astype(np.float32)[labels]
+        ys, xs = np.mgrid[0 : y1 - y0, 0 : x1 - x0].astype(np.float32)
+        map_x = maps[..., 0, 0] * xs + maps[..., 0, 1] * ys + maps[..., 0, 2]
+        map_y = maps[..., 1, 0] * xs + maps[..., 1, 1] * ys + maps[..., 1, 2]
+        patch = cv2.remap(
+            self.reference[:height], map_x, map_y, cv2.INTER_LINEAR,
+            borderMode=cv2.BORDER_REPLICATE,
+        )  # fmt: skip
+        return patch, labels >= 0, (int(x0), int(y0))
+
     def render(
         self, params: np.ndarray, light: tuple[float, float] | None = None
     ) -> tuple[np.ndarray, np.ndarray]:

@@ -71,12 +71,11 @@ class MbcPointEncoder:
 
     def _light(self, picture: np.ndarray, params: np.ndarray) -> tuple[float, float]:
         """The face's light on `picture` against what the receiver will render."""
-        from uma.mbc.light import estimate_light
+        from uma.mbc.light import measure_light
 
         if self.mirror is None:
             self._reference(picture, params)
-        rendered, mask = self.mirror.render(params)
-        return estimate_light(rendered[: self.height], _luma(picture), mask)
+        return measure_light(self.mirror, _luma(picture), params)
 
     def initialise(self, picture: np.ndarray, *, frame: int):
         """A fresh track from `picture`: a `TrackResult`, or a `TrackFailure` with its reason."""
