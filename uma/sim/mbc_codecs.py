@@ -59,9 +59,11 @@ class MbcPointEncoder:
         self.description = description
         self.mirror = None  # the receiver's renderer as this encoder expects it
 
-    def _reference(self, picture: np.ndarray, params: np.ndarray) -> None:
-        """The receiver renders from the picture it showed last, the pose of the stream's first
-        frame on it: the encoder mirrors that with the picture it started from."""
+    def set_reference(self, picture: np.ndarray, params: np.ndarray) -> None:
+        """Measure light against `picture` (YUV 4:2:0) with the model at `params` on it, as the
+        receiver renders: by default the picture this encoder initialised on (the receiver's is
+        the last it showed, at the stream's first pose); the model-aided refresh calls this and
+        `MbcUnitDecoder.set_reference` with the same picture and pose."""
         from uma.mbc import SceneRenderer
         from uma.video import resize_yuv420
 
@@ -74,7 +76,7 @@ class MbcPointEncoder:
         from uma.mbc.light import measure_light
 
         if self.mirror is None:
-            self._reference(picture, params)
+            self.set_reference(picture, params)
         return measure_light(self.mirror, _luma(picture), params)
 
     def initialise(self, picture: np.ndarray, *, frame: int):
@@ -82,7 +84,7 @@ class MbcPointEncoder:
         self.tracker.reset()
         result = self.tracker.track(_luma(picture), frame=frame)
         if result:
-            self._reference(picture, result.params)
+            self.set_reference(picture, result.params)
         return result
 
     def _params(self, picture: np.ndarray, frame: int):
