@@ -33,7 +33,7 @@ def test_ground_truth_reproduces_the_whole_frame(still_head) -> None:
     background along) within 22 dB (23.9 measured)."""
     import cv2
 
-    own = SceneRenderer(still_head.description, (352, 288), far_ring_head_radii=None)
+    own = SceneRenderer(still_head.description, (352, 288), talking_head_scene=True)
     receiver = SceneRenderer(still_head.description, (352, 288))
     for index in (20, 60):
         frame = cv2.cvtColor(still_head.render_bgr(index), cv2.COLOR_BGR2YUV_I420)

@@ -78,15 +78,17 @@ class SceneMesh:
         shape: tuple[int, int],
         *,
         far_ring_scale: float | None = None,
+        head_ring_scale: float = HEAD_RING_SCALE,
     ) -> SceneMesh:
         """Rings placed from the face at `template_params` in a frame of `shape` (H, W). With
         `far_ring_scale` the far ring lies at that many head-ring radii from the face's centre
-        (so the picture beyond it stays still) instead of `FAR_RING_SCALE` frame diagonals."""
+        (so the picture beyond it stays still) instead of `FAR_RING_SCALE` frame diagonals;
+        `head_ring_scale` sizes the head ring against the outline (`HEAD_RING_SCALE`)."""
         outline = boundary_loop(model.triangles)
         rim = model.vertices[outline]
         centre = rim[:, :2].mean(axis=0)
         head_ring = np.column_stack(
-            [centre + HEAD_RING_SCALE * (rim[:, :2] - centre), rim[:, 2] - HEAD_RING_DEPTH]
+            [centre + head_ring_scale * (rim[:, :2] - centre), rim[:, 2] - HEAD_RING_DEPTH]
         )
         # Far ring: along the directions from the face's centre to the head ring, in the image.
         ring_px = _project_points(head_ring, template_params)

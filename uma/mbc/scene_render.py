@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from uma.face.describe import ContentDescription
-from uma.face.scene import SceneMesh
+from uma.face.scene import HEAD_RING_SCALE, SceneMesh
 from uma.mbc.errors import SceneError
 
 __all__ = ["SceneRenderer", "description_reference", "LIGHT_GAIN_RANGE", "LIGHT_OFFSET_RANGE"]
@@ -30,6 +30,7 @@ __all__ = ["SceneRenderer", "description_reference", "LIGHT_GAIN_RANGE", "LIGHT_
 # far ring (1.5 frame diagonals) whole-frame SSIM 0.61 / 0.91 instead of 0.52 / 0.77, face box
 # unchanged (+0.1 / +0.2 dB); 2.5 radii gives 0.58 / 0.90.
 FAR_RING_HEAD_RADII: float | None = 1.6
+HEAD_RING_OUTLINES = 1.4  # the head ring's radius in face-outline radii (hair, ears, neck)
 LIGHT_GAIN_RANGE = (0.25, 4.0)  # a face's luma gain against its reference's
 LIGHT_OFFSET_RANGE = (-128.0, 128.0)  # levels
 
@@ -73,8 +74,8 @@ def _front_facing(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
 class SceneRenderer:
     """Draws the whole scene at given parameters by warping a reference picture (see the module).
 
-    `far_ring_head_radii` None places the far ring as `uma.face.scene` does by default (the
-    talking head's own scene: 1.5 frame diagonals away).
+    `talking_head_scene` places the rings as `uma.face.scene` does by default (the talking
+    head's own scene: its far ring 1.5 frame diagonals away) instead of the receiver's.
     """
 
     def __init__(
@@ -82,7 +83,7 @@ class SceneRenderer:
         description: ContentDescription,
         size: tuple[int, int],
         *,
-        far_ring_head_radii: float | None = FAR_RING_HEAD_RADII,
+        talking_head_scene: bool = False,
     ):
         width, height = (int(v) for v in size)
         if width < 2 or height < 2 or width % 2 or height % 2:
@@ -93,7 +94,8 @@ class SceneRenderer:
             description.model,
             description.params,
             (height, width),
-            far_ring_scale=far_ring_head_radii,
+            far_ring_scale=None if talking_head_scene else FAR_RING_HEAD_RADII,
+            head_ring_scale=HEAD_RING_SCALE if talking_head_scene else HEAD_RING_OUTLINES,
         )
         self._strips = len(self.scene.triangles) - len(description.model.triangles)
         ys, xs = np.mgrid[0:height, 0:width].astype(np.float32)
@@ -124,6 +126,14 @@ class SceneRenderer:
         chroma = self.reference[height:].reshape(2, height // 2, width // 2)
         self._u, self._v = np.ascontiguousarray(chroma[0]), np.ascontiguousarray(chroma[1])
 
+    def _drawn(self, target: np.ndarray) -> np.ndarray:
+        """Triangles to draw: the face's front-facing ones and every background strip (a strip
+        folded over by a large move still covers its pixels; left out, they would show the
+        reference's old head there)."""
+        drawn = _front_facing(target, self.scene.triangles)
+        drawn[: self._strips] = True
+        return drawn
+
     def maps(self, params: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Where each pixel reads the reference at `params`: map_x, map_y (H, W) float32, and
         the mask of the face's own pixels."""
@@ -136,7 +146,7 @@ class SceneRenderer:
             target,
             scene.triangles,
             (height, width),
-            triangle_mask=_front_facing(target, scene.triangles),
+            triangle_mask=self._drawn(target),
             depth=scene.depth(params),
         )
         affine = barycentric_affine(target, scene.triangles)
