@@ -2,6 +2,7 @@
 description, and a talking-head source with ground truth. OpenCV is imported where needed."""
 
 from uma.face.clip import describe_clip, picture_of, read_picture, shipped_points
+from uma.face.colour import bgr_to_luma, bgr_to_ycbcr, ycbcr_to_bgr
 from uma.face.describe import ContentDescription, describe, load_description, read_points
 from uma.face.detect import Box, detect_face
 from uma.face.fap import FapSequence, read_fap, write_fap
@@ -32,6 +33,9 @@ from uma.face.talking_head import Motion, TalkingHeadSource
 from uma.face.wfm import read_wfm
 
 __all__ = [
+    "bgr_to_luma",
+    "bgr_to_ycbcr",
+    "ycbcr_to_bgr",
     "FaceModel",
     "load_model",
     "save_model",
