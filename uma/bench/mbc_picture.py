@@ -55,7 +55,7 @@ def save_side_by_side(path: str | Path, rows) -> None:
     from uma.atomic import atomic_write_bytes
     from uma.errors import UmaError
 
-    ok, png = cv2.imencode(".png", side_by_side(rows))
+    ok, png = cv2.imencode(".png", side_by_side(rows), [cv2.IMWRITE_PNG_COMPRESSION, 9])
     if not ok:
         raise UmaError(f"{path}: cannot encode the picture as PNG")
     atomic_write_bytes(path, png.tobytes())
