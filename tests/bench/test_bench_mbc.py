@@ -25,9 +25,14 @@ KEYS = (
 )
 
 
-def test_bench_mbc_json_keys(capsys) -> None:
-    assert main(["bench", "mbc", "--frames", "4", "--json"]) == 0
+def test_bench_mbc_json_keys(capsys, tmp_path) -> None:
+    import cv2
+
+    picture = tmp_path / "side.png"
+    assert main(["bench", "mbc", "--frames", "4", "--json", "--picture", str(picture)]) == 0
     result = json.loads(capsys.readouterr().out)
+    drawn = cv2.imread(str(picture))
+    assert result["picture"] == str(picture) and drawn.shape[0] >= 288 * len(result["clips"])
     assert "talking-head" in result["clips"]
     for name, clip in result["clips"].items():
         for key in KEYS:
@@ -49,6 +54,11 @@ def _one_error_line(capsys) -> str:
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("uma: error: "), err
     return err[0]
+
+
+def test_picture_in_a_missing_folder_is_refused(tmp_path, capsys) -> None:
+    assert main(["bench", "mbc", "--picture", str(tmp_path / "no" / "p.png")]) == 2
+    assert "--picture" in _one_error_line(capsys)
 
 
 def test_video_without_a_description_is_refused(capsys) -> None:
