@@ -138,6 +138,11 @@ def picture_of(points: PointsFile, *, frame: int | None = None) -> np.ndarray:
         return read_picture(points.video, frame=frame if frame is not None else points.frame)
     if points.image is not None:
         return read_picture(points.image, frame=frame)
+    if points.frame is not None:
+        raise FaceError(
+            f"{points.path}: frame: {points.frame} given but no video: names the clip "
+            "(name it in the file, or give VIDEO)"
+        )
     raise FaceError(f"{points.path}: names no picture (video: or image:)")
 
 

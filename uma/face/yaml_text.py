@@ -1,0 +1,75 @@
+"""YAML (and JSON) files of the face room, read once, with PyYAML's errors put on one line.
+
+PyYAML's own messages run over several lines (context, a quoted snippet, a caret); a user
+needs `FILE:LINE: what was expected, what was found`. `read_yaml` gives that for syntax errors,
+bad characters, binary data and nesting too deep to read, and returns the composed node too,
+so callers can name the line of any key.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from uma.errors import FaceError
+
+__all__ = ["read_yaml", "yaml_error_text"]
+
+MAX_YAML_BYTES = 16 * 1024 * 1024  # a points file is a few kB, the wireframe about 100 kB
+
+
+def read_yaml(path: str | Path, *, what: str, loader: type | None = None) -> tuple[Any, Any]:
+    """(data, node) of the YAML/JSON file at `path` (a `what`, for messages); `node` is None
+    for an empty document. `loader` defaults to `yaml.SafeLoader` (pass a subclass of it)."""
+    import yaml
+
+    path = Path(path)
+    try:
+        size = path.stat().st_size
+        if size > MAX_YAML_BYTES:
+            raise FaceError(
+                f"{path}: expected {what} of at most {MAX_YAML_BYTES} bytes, got {size}"
+            )
+        text = path.read_bytes().decode("utf-8")
+    except FileNotFoundError:
+        raise FaceError(f"{path}: no such {what}") from None
+    except IsADirectoryError:
+        raise FaceError(f"{path}: expected {what}, got a folder") from None
+    except UnicodeDecodeError as err:
+        raise FaceError(
+            f"{path}: expected {what} (UTF-8 text), got binary data (byte {err.start})"
+        ) from None
+    except OSError as err:
+        raise FaceError(f"{path}: cannot read ({err.strerror or err})") from None
+    reader = (loader or yaml.SafeLoader)(text)
+    try:
+        node = reader.get_single_node()
+        data = reader.construct_document(node) if node is not None else None
+    except yaml.YAMLError as err:
+        raise FaceError(f"{path}:{yaml_error_text(err, text)}") from None
+    except RecursionError:
+        raise FaceError(f"{path}: expected {what}, got nesting too deep to read") from None
+    finally:
+        reader.dispose()
+    return data, node
+
+
+def yaml_error_text(err: Exception, text: str = "") -> str:
+    """`LINE: invalid YAML: PROBLEM (CONTEXT on line N)` from a PyYAML error, on one line."""
+    problem = getattr(err, "problem", None)
+    mark = getattr(err, "problem_mark", None)
+    if problem is None:  # a ReaderError: a character YAML does not allow
+        position = getattr(err, "position", None)
+        line = text[:position].count("\n") + 1 if isinstance(position, int) else 1
+        character = getattr(err, "character", None)
+        found = f"character {character!r}" if character is not None else "an unreadable character"
+        return f"{line}: expected YAML text, got {found}"
+    line = mark.line + 1 if mark is not None else 1
+    problem = problem.replace(", but found ", ", got ").replace(", but got ", ", got ")
+    context = getattr(err, "context", None)
+    context_mark = getattr(err, "context_mark", None)
+    where = ""
+    if context:
+        on = context_mark.line + 1 if context_mark is not None else None
+        where = f" ({context} on line {on})" if on and on != line else f" ({context})"
+    return " ".join(f"{line}: invalid YAML: {problem}{where}".split())
