@@ -74,6 +74,7 @@ def _synth(args: argparse.Namespace) -> int:
     from uma.atomic import atomic_open, atomic_write_text
     from uma.errors import ConfigError
     from uma.face import TalkingHeadSource, read_fap
+    from uma.face.fap import MAX_FPS, MIN_FPS
 
     sequence = read_fap(args.fap) if args.fap else None
     if sequence is not None:
@@ -92,8 +93,10 @@ def _synth(args: argparse.Namespace) -> int:
         args.frames = args.frames if args.frames is not None else len(sequence)
     args.frames = 250 if args.frames is None else args.frames
     args.fps = 25.0 if args.fps is None else args.fps
-    if args.frames <= 0 or args.fps <= 0 or args.seed < 0:
-        raise ConfigError("--frames, --fps and --seed: expected positive numbers (seed >= 0)")
+    if args.frames <= 0 or args.seed < 0:
+        raise ConfigError("--frames and --seed: expected positive numbers (seed >= 0)")
+    if not MIN_FPS <= args.fps <= MAX_FPS:  # also refuses NaN
+        raise ConfigError(f"--fps: expected {MIN_FPS:g}-{MAX_FPS:g} frames/s, got {args.fps:g}")
     out = Path(args.out)
     width, height = args.size
     source = TalkingHeadSource(
