@@ -204,4 +204,5 @@ def test_describe_cli_bad_model_and_unwritable_out(tmp_path, capsys):
     blocked = tmp_path / "file"
     blocked.write_text("")
     assert main(["describe", str(image), "--points", points, "--out", str(blocked / "d")]) == 2
-    assert "cannot write" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "existing file" in err and str(blocked) in err
