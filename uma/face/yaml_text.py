@@ -41,6 +41,8 @@ def read_yaml(path: str | Path, *, what: str, loader: type | None = None) -> tup
         ) from None
     except OSError as err:
         raise FaceError(f"{path}: cannot read ({err.strerror or err})") from None
+    if path.suffix.lower() == ".json":
+        return _json(path, text, what), _json_node(text)
     reader = (loader or yaml.SafeLoader)(text)
     try:
         node = reader.get_single_node()
@@ -52,6 +54,39 @@ def read_yaml(path: str | Path, *, what: str, loader: type | None = None) -> tup
     finally:
         reader.dispose()
     return data, node
+
+
+def _json(path: Path, text: str, what: str) -> Any:
+    """JSON by the json module: YAML refuses the tab indentation JSON writers use."""
+    import json
+
+    def pairs(items: list[tuple[str, Any]]) -> dict[str, Any]:
+        out: dict[str, Any] = {}
+        for key, value in items:
+            if key in out:
+                raise FaceError(f"{path}: {key!r}: duplicate key in one object")
+            out[key] = value
+        return out
+
+    try:
+        return json.loads(text, object_pairs_hook=pairs)
+    except json.JSONDecodeError as err:
+        raise FaceError(
+            f"{path}:{err.lineno}: invalid JSON: {err.msg[:1].lower()}{err.msg[1:]} "
+            f"(column {err.colno})"
+        ) from None
+    except RecursionError:
+        raise FaceError(f"{path}: expected {what}, got nesting too deep to read") from None
+
+
+def _json_node(text: str) -> Any:
+    """The YAML node of valid JSON, for key lines (tabs are only whitespace in JSON)."""
+    import yaml
+
+    try:
+        return yaml.compose(text.replace("\t", " "), Loader=yaml.SafeLoader)
+    except (yaml.YAMLError, RecursionError):
+        return None
 
 
 def yaml_error_text(err: Exception, text: str = "") -> str:
@@ -66,6 +101,7 @@ def yaml_error_text(err: Exception, text: str = "") -> str:
         return f"{line}: expected YAML text, got {found}"
     line = mark.line + 1 if mark is not None else 1
     problem = problem.replace(", but found ", ", got ").replace(", but got ", ", got ")
+    problem = problem.replace("'<stream end>'", "the end of the file")
     context = getattr(err, "context", None)
     context_mark = getattr(err, "context_mark", None)
     where = ""
