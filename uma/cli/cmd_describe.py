@@ -91,6 +91,11 @@ def _describe(args: argparse.Namespace) -> int:
         image = read_picture(image_path, frame=args.frame, video_frame=file_frame)
     else:
         source = points_file.video or points_file.image
+        if source is None and points_file.frame is not None:
+            raise FaceError(
+                f"{args.points}: frame: {points_file.frame} given but no video: names the clip: "
+                "give VIDEO"
+            )
         if source is None:
             raise FaceError(f"{args.points}: names no picture: give IMAGE or VIDEO")
         image_path = Path(str(source).removeprefix("skimage:"))

@@ -146,6 +146,11 @@ def parse_pts(text: str, *, where: str = "<pts>", one_based: bool = True) -> np.
             raise ValueError
     except ValueError:
         raise FaceError(f"{where}:{number}: expected 'n_points: N' (N > 0), got {line!r}") from None
+    if count > len(numbered):
+        raise FaceError(
+            f"{where}:{number}: n_points: {count} points announced, but the file has only "
+            f"{len(numbered)} lines"
+        )
     number, line = take("'{'")
     if line != "{":
         raise FaceError(f"{where}:{number}: expected '{{', got {line!r}")

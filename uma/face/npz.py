@@ -102,9 +102,14 @@ def read_npz(path: str | Path, *, what: str, names: tuple[str, ...]) -> dict[str
             try:
                 raw = archive.read(info)
             except (zipfile.BadZipFile, zlib.error, ValueError, OSError, EOFError) as err:
-                raise FaceError(f"{path}: {name}: damaged or truncated member ({err})") from None
+                raise FaceError(
+                    f"{path}: {name}: expected an intact member, got a damaged or truncated one "
+                    f"({err})"
+                ) from None
             except NotImplementedError as err:
-                raise FaceError(f"{path}: {name}: unsupported compression ({err})") from None
+                raise FaceError(
+                    f"{path}: {name}: expected deflate or no compression, got another ({err})"
+                ) from None
             out[name] = _parse_npy(raw, f"{path}: {name}")
     return out
 
