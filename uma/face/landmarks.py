@@ -206,6 +206,8 @@ def read_dlib_xml(path: str | Path) -> list[LandmarkFace]:
         raise FaceError(f"{path}:{line}: not well-formed XML ({err})") from None
     except OSError as err:
         raise FaceError(f"{path}: cannot read ({err.strerror})") from None
+    except (LookupError, ValueError) as err:  # an encoding Python does not know, and the like
+        raise FaceError(f"{path}: expected dlib landmark XML, got unreadable XML ({err})") from None
     faces = []
     for image in root.iter("image"):
         name = image.get("file")

@@ -43,8 +43,9 @@ def read_yaml(path: str | Path, *, what: str, loader: type | None = None) -> tup
         raise FaceError(f"{path}: cannot read ({err.strerror or err})") from None
     if path.suffix.lower() == ".json":
         return _json(path, text, what), _json_node(text)
-    reader = (loader or yaml.SafeLoader)(text)
+    reader = None
     try:
+        reader = (loader or yaml.SafeLoader)(text)  # checks the characters at once
         node = reader.get_single_node()
         data = reader.construct_document(node) if node is not None else None
     except yaml.YAMLError as err:
@@ -52,7 +53,8 @@ def read_yaml(path: str | Path, *, what: str, loader: type | None = None) -> tup
     except RecursionError:
         raise FaceError(f"{path}: expected {what}, got nesting too deep to read") from None
     finally:
-        reader.dispose()
+        if reader is not None:
+            reader.dispose()
     return data, node
 
 
