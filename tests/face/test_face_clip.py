@@ -121,7 +121,10 @@ def test_frame_on_a_still_is_refused(tmp_path, capsys):
             "video: a.mp4\nframe: -1\npoints: {'3.5': [1, 2]}\n",
             r"p.yaml:2 \(frame\): expected a whole number",
         ),
-        ("image: a.png\nframe: 2\npoints: {'3.5': [1, 2]}\n", r":2 \(frame\): a frame is of a video"),
+        (
+            "image: a.png\nframe: 2\npoints: {'3.5': [1, 2]}\n",
+            r":2 \(frame\): a frame is of a video",
+        ),
         ("video: a.mp4\nimage: b.png\npoints: {'3.5': [1, 2]}\n", "not both"),
     ],
 )

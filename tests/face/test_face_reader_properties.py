@@ -83,6 +83,8 @@ FOREIGN = [
     b"\x93NUMPY\x01\x00v\x00{'descr': '|O', 'fortran_order': False, 'shape': (3,), }",
     b"version: 1\nn_points: 99999999999\n{\n",
     b"2.1 x 1e300 1\n",
+    ("2.1 x 25 1\n" + " ".join(["0", "0", "1"] + ["0"] * 65) + "\n0 1000000000000\n").encode(),
+    b"<?xml version='1.0' encoding='HSO-8859-1'?><dataset/>",
     b"points: {'3.5': [.nan, 1]}\n",
     b"[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[",
     "caf\u00e9: \u2603\n".encode(),
