@@ -2,7 +2,8 @@
 description, and a talking-head source with ground truth. OpenCV is imported where needed."""
 
 from uma.face.clip import describe_clip, picture_of, read_picture, shipped_points
-from uma.face.describe import ContentDescription, describe, load_description, read_points
+from uma.face.describe import ContentDescription, describe, read_points
+from uma.face.description_file import load_description
 from uma.face.detect import Box, detect_face
 from uma.face.fap import FapSequence, read_fap, write_fap
 from uma.face.fap_map import (

@@ -25,7 +25,7 @@ from uma.face.npz import write_npz
 from uma.face.points import read_points
 from uma.failure import Failure
 
-__all__ = ["ContentDescription", "describe", "load_description", "read_points"]
+__all__ = ["ContentDescription", "describe", "read_points"]
 
 MARGIN = 0.15  # of the face box, around the texture crop
 JPEG_QUALITY = 90
@@ -99,14 +99,6 @@ class ContentDescription:
         data = self.to_bytes()
         atomic_write_bytes(path, data)
         return len(data)
-
-
-def load_description(path: str | Path) -> ContentDescription:
-    """Read a description written by `ContentDescription.save`; anything else (truncated,
-    damaged, foreign, NaN) is a one-line `FaceError` naming the file and the field."""
-    from uma.face.description_file import read_description
-
-    return read_description(path)
 
 
 MAX_RMS_FRAC = 0.06  # of scale_px (~6 mm on a face): worse than careless clicking

@@ -20,14 +20,15 @@ from uma.face.geometry import N_POSE
 from uma.face.model import FaceModel
 from uma.face.npz import read_npz
 
-__all__ = ["read_description"]
+__all__ = ["load_description"]
 
 WHAT = "a uma content description"
 MEMBERS = ("meta", "vertices", "triangles", "action_units", "params", "shape", "texture_jpeg")
 
 
-def read_description(path: str | Path) -> ContentDescription:
-    """The description at `path`; a `FaceError` of one line for anything else."""
+def load_description(path: str | Path) -> ContentDescription:
+    """Read a description written by `ContentDescription.save`; anything else (truncated,
+    damaged, foreign, NaN) is a one-line `FaceError` naming the file and the field."""
     path = Path(path)
     arrays = read_npz(path, what=WHAT, names=MEMBERS)
     meta = _meta(arrays["meta"], f"{path}: meta")
@@ -58,7 +59,7 @@ def read_description(path: str | Path) -> ContentDescription:
     params = _floats(arrays["params"], f"{path}: params", ndim=1)
     if params.shape != (N_POSE + len(names),):
         raise FaceError(
-            f"{path}: params: expected {N_POSE + len(names)} numbers ({N_POSE} pose + "
+            f"{path}: params: expected {N_POSE + len(names)} parameters ({N_POSE} pose + "
             f"{len(names)} action units), got {params.size}"
         )
     if not params[2] > 0:
