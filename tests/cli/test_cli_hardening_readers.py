@@ -204,12 +204,18 @@ def test_points_on_no_face_are_refused_and_points_off_the_face_warned(tmp_path, 
     assert "lie away from the face detected" in err[0]
 
 
-def test_truncated_jpeg_is_called_a_damaged_image(tmp_path, capsys):
-    ok, jpeg = cv2.imencode(".jpg", cv2.cvtColor(skimage.data.astronaut(), cv2.COLOR_RGB2BGR))
-    image = tmp_path / "astro.jpg"
-    image.write_bytes(jpeg.tobytes()[:600])
+@pytest.mark.parametrize("kind", ["jpeg", "png"])
+def test_damaged_image_is_called_so_in_one_line(tmp_path, capfd, kind):
+    photo = cv2.cvtColor(skimage.data.astronaut(), cv2.COLOR_RGB2BGR)
+    data = bytearray(cv2.imencode(f".{kind}", photo)[1].tobytes())
+    if kind == "jpeg":
+        data = data[:600]  # truncated: PyAV would open it as a one-frame "video"
+    else:
+        data[12] ^= 4  # the first chunk's name damaged: OpenCV logs its own line
+    image = tmp_path / f"astro.{kind}"
+    image.write_bytes(bytes(data))
     assert main(["describe", str(image), "--points", str(ASTRONAUT), "--out", str(tmp_path)]) == 2
-    line = _one_line(capsys.readouterr().err)
+    line = _one_line(capfd.readouterr().err)  # file-descriptor level: OpenCV's log counts
     assert str(image) in line and "truncated or damaged" in line and "which frame" not in line
 
 

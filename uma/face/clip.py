@@ -15,8 +15,8 @@ import numpy as np
 
 from uma.errors import FaceError, VideoError
 from uma.face.describe import ContentDescription, describe
+from uma.face.image_bytes import decode_image, what_the_bytes_look_like
 from uma.face.model import FaceModel
-from uma.face.npz import what_the_bytes_look_like
 from uma.face.points import SKIMAGE_PREFIX, PointsFile, load_points
 
 __all__ = ["SHIPPED_CLIPS", "shipped_points", "read_picture", "picture_of", "describe_clip"]
@@ -69,7 +69,7 @@ def read_picture(
         raise FaceError(f"{path}: is a folder, not an image or video file") from None
     except OSError as err:
         raise FaceError(f"{path}: cannot read ({err.strerror})") from None
-    image = cv2.imdecode(data, cv2.IMREAD_COLOR) if data.size else None
+    image = decode_image(data, cv2.IMREAD_COLOR) if data.size else None
     if image is not None:
         if frame is not None:
             raise FaceError(f"{path}: a still image has no frame {frame}: --frame is for videos")

@@ -17,6 +17,7 @@ import numpy as np
 from uma.errors import FaceError
 from uma.face.describe import ContentDescription
 from uma.face.geometry import N_POSE
+from uma.face.image_bytes import decode_image
 from uma.face.model import FaceModel
 from uma.face.npz import read_npz
 
@@ -108,7 +109,7 @@ def _texture(array: np.ndarray, where: str) -> np.ndarray:
 
     if array.dtype != np.uint8 or array.ndim != 1 or array.size == 0:
         raise FaceError(f"{where}: expected JPEG bytes, got {array.dtype} {array.shape}")
-    image = cv2.imdecode(array, cv2.IMREAD_UNCHANGED)
+    image = decode_image(array, cv2.IMREAD_UNCHANGED)
     if image is None or image.ndim not in (2, 3) or min(image.shape[:2]) < 1:
         raise FaceError(f"{where}: expected a JPEG image, got {array.size} undecodable bytes")
     return image

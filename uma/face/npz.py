@@ -15,42 +15,13 @@ from pathlib import Path
 import numpy as np
 
 from uma.errors import FaceError
+from uma.face.image_bytes import what_the_bytes_look_like
 
-__all__ = ["write_npz", "read_npz", "MAX_ARCHIVE_BYTES", "what_the_bytes_look_like"]
+__all__ = ["write_npz", "read_npz", "MAX_ARCHIVE_BYTES"]
 
 # Far above any description (about 12 kB for a CIF face); also caps what a member may claim to
 # hold once inflated, so a crafted archive cannot make the reader allocate gigabytes.
 MAX_ARCHIVE_BYTES = 64 * 1024 * 1024
-
-_SIGNATURES = (
-    (b"\xff\xd8\xff", "a JPEG image"),
-    (b"\x89PNG\r\n\x1a\n", "a PNG image"),
-    (b"GIF8", "a GIF image"),
-    (b"BM", "a BMP image"),
-    (b"\x93NUMPY", "a single .npy array"),
-    (b"\x1f\x8b", "a gzip file"),
-    (b"%PDF", "a PDF document"),
-    (b"P5", "a PGM image"),
-    (b"<?xml", "an XML file"),
-)
-
-
-def what_the_bytes_look_like(data: bytes) -> str:
-    """A few words on what `data` seems to be, for 'expected X, got Y' messages."""
-    if not data:
-        return "an empty file"
-    if data[4:8] == b"ftyp":
-        return "an MP4/MOV video"
-    for signature, name in _SIGNATURES:
-        if data.startswith(signature):
-            return name
-    head = data[:512]
-    try:
-        text = head.decode("utf-8")
-    except UnicodeDecodeError:
-        return f"{len(data)} bytes of binary data"
-    first = text.strip().splitlines()[0][:40] if text.strip() else ""
-    return f"text ({first!r} ...)" if first else "blank text"
 
 
 def write_npz(**arrays: np.ndarray) -> bytes:
