@@ -188,6 +188,19 @@ def test_bad_model_yaml_is_one_line(tmp_path, capsys):
     assert f"{model}:" in line and "expected" in line and "got" in line
 
 
+@pytest.mark.parametrize("command", ["run", "describe"])
+def test_a_character_yaml_refuses_is_one_line_with_its_line(tmp_path, capsys, command):
+    bad = tmp_path / "bad.yaml"
+    bad.write_bytes(b"name: x\nroute: \x00\n")
+    if command == "run":
+        args = ["run", str(bad), "--out", str(tmp_path / "out"), "--quiet"]
+    else:
+        args = ["describe", "--points", str(bad), "--out", str(tmp_path)]
+    assert main(args) == 2
+    line = _one_line(capsys.readouterr().err)
+    assert f"{bad}:2: " in line and "#x0000" in line
+
+
 def test_points_on_no_face_are_refused_and_points_off_the_face_warned(tmp_path, capsys):
     data = yaml.safe_load(_points_text())
     for name, dy_px in (("neck", 110), ("low", 40)):

@@ -99,7 +99,11 @@ def yaml_error_text(err: Exception, text: str = "") -> str:
         position = getattr(err, "position", None)
         line = text[:position].count("\n") + 1 if isinstance(position, int) else 1
         character = getattr(err, "character", None)
-        found = f"character {character!r}" if character is not None else "an unreadable character"
+        found = (
+            f"character #x{character:04x}"
+            if isinstance(character, int)
+            else "an unreadable character"
+        )
         return f"{line}: expected YAML text, got {found}"
     line = mark.line + 1 if mark is not None else 1
     problem = problem.replace(", but found ", ", got ").replace(", but got ", ", got ")
