@@ -119,3 +119,25 @@ def test_points_on_no_detected_face_are_refused_and_strays_warned():
     assert not failure and "no detected face" in failure.reason
     tiny = {k: (150 + (x - 150) / 20, y) for k, (x, y) in inside.items()}
     assert "span" in face_of_points([face], tiny)[1]
+
+
+def test_endless_and_oversized_inputs_are_refused(tmp_path, monkeypatch):
+    import os
+
+    import uma.face.npz
+    from uma.face import load_description
+    from uma.face.fap import read_fap
+
+    if not os.path.exists("/dev/zero"):
+        pytest.skip("no /dev/zero")
+    endless = tmp_path / "z.yaml"
+    endless.symlink_to("/dev/zero")
+    with pytest.raises(FaceError, match=r"z\.yaml: expected at most 16777216 bytes .* got more"):
+        read_points(endless)
+    monkeypatch.setattr(uma.face.npz, "MAX_ARCHIVE_BYTES", 1000)
+    big = tmp_path / "big.face"
+    big.write_bytes(b"PK\x03\x04" + bytes(2000))
+    with pytest.raises(FaceError, match=r"big\.face: expected at most 1000 bytes"):
+        load_description(big)
+    with pytest.raises(FaceError, match=r"expected a file \(\.fap file\), got a folder"):
+        read_fap(tmp_path)

@@ -139,6 +139,7 @@ MAX_DISTANCE_FAPU = 4 * 1024
 MAX_ANGLE_AU = 314159  # pi rad in units of 1e-5 rad
 # Frame rates a .fap file may give: from one frame per 100 s to a fast camera's 1000 frames/s.
 MIN_FPS, MAX_FPS = 0.01, 1000.0
+MAX_FAP_BYTES = 64 * 1024 * 1024  # an hour at 25 frames/s with every FAP set is about 50 MB
 
 
 def fap_limit(number: int) -> int:
@@ -286,18 +287,14 @@ def _short(line: str, limit: int = 40) -> str:
 
 def read_fap(path: str | Path) -> FapSequence:
     """Read a `.fap` file (see the module docstring for the layout)."""
+    from uma.face.capped import read_capped
+
     path = Path(path)
+    data = read_capped(path, what=".fap file", limit=MAX_FAP_BYTES)
     try:
-        text = path.read_text(encoding="utf-8", errors="strict")
-    except FileNotFoundError:
-        raise FaceError(f"{path}: no such .fap file") from None
+        text = data.decode("utf-8")
     except UnicodeDecodeError:
-        try:
-            text = path.read_text(encoding="latin-1")  # names written on Windows
-        except OSError as err:
-            raise FaceError(f"{path}: cannot read ({err.strerror})") from None
-    except OSError as err:
-        raise FaceError(f"{path}: cannot read ({err.strerror})") from None
+        text = data.decode("latin-1")  # names written on Windows
     return parse_fap(text, where=str(path))
 
 

@@ -52,6 +52,7 @@ __all__ = [
 ]
 
 N_LANDMARKS = 68
+MAX_LANDMARK_BYTES = 256 * 1024 * 1024  # dlib's 300-W training XML is about 40 MB
 
 # MPEG-4 feature point -> the iBUG-68 landmarks (0-based) whose mean it is.
 IBUG68_TO_MPEG4: dict[str, tuple[int, ...]] = {
@@ -181,13 +182,16 @@ def parse_pts(text: str, *, where: str = "<pts>", one_based: bool = True) -> np.
 
 def read_pts(path: str | Path, *, one_based: bool = True) -> np.ndarray:
     """(N, 2) points of a `.pts` file, 0-based (see `parse_pts`)."""
+    from uma.face.capped import read_capped
+
     path = Path(path)
+    data = read_capped(path, what="landmark file", limit=MAX_LANDMARK_BYTES)
     try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise FaceError(f"{path}: no such landmark file") from None
-    except (OSError, UnicodeDecodeError) as err:
-        raise FaceError(f"{path}: not a readable .pts landmark file ({err})") from None
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as err:
+        raise FaceError(
+            f"{path}: expected a .pts landmark file (text), got binary data (byte {err.start})"
+        ) from None
     return parse_pts(text, where=str(path), one_based=one_based)
 
 
@@ -196,16 +200,15 @@ def read_dlib_xml(path: str | Path) -> list[LandmarkFace]:
     `<image file=...><box top= left= width= height=><part name="00" x= y=/>...`."""
     import xml.etree.ElementTree as ElementTree
 
+    from uma.face.capped import read_capped
+
     path = Path(path)
+    data = read_capped(path, what="landmark file", limit=MAX_LANDMARK_BYTES)
     try:
-        root = ElementTree.parse(path).getroot()
-    except FileNotFoundError:
-        raise FaceError(f"{path}: no such landmark file") from None
+        root = ElementTree.fromstring(data)
     except ElementTree.ParseError as err:
         line = err.position[0] if err.position else "?"
         raise FaceError(f"{path}:{line}: not well-formed XML ({err})") from None
-    except OSError as err:
-        raise FaceError(f"{path}: cannot read ({err.strerror})") from None
     except (LookupError, ValueError) as err:  # an encoding Python does not know, and the like
         raise FaceError(f"{path}: expected dlib landmark XML, got unreadable XML ({err})") from None
     faces = []

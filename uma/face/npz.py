@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from uma.errors import FaceError
+from uma.face.capped import read_capped
 from uma.face.image_bytes import what_the_bytes_look_like
 
 __all__ = ["write_npz", "read_npz", "MAX_ARCHIVE_BYTES"]
@@ -50,7 +51,7 @@ def read_npz(path: str | Path, *, what: str, names: tuple[str, ...]) -> dict[str
     import zlib
 
     path = Path(path)
-    data = _read_bytes(path, what)
+    data = read_capped(path, what=what, limit=MAX_ARCHIVE_BYTES)
     expected = f"expected {what} (a zip of .npy arrays)"
     if not data.startswith(b"PK\x03\x04"):
         raise FaceError(f"{path}: {expected}, got {what_the_bytes_look_like(data)}")
@@ -83,22 +84,6 @@ def read_npz(path: str | Path, *, what: str, names: tuple[str, ...]) -> dict[str
                 ) from None
             out[name] = _parse_npy(raw, f"{path}: {name}")
     return out
-
-
-def _read_bytes(path: Path, what: str) -> bytes:
-    try:
-        size = path.stat().st_size
-        if size > MAX_ARCHIVE_BYTES:
-            raise FaceError(
-                f"{path}: expected {what} of at most {MAX_ARCHIVE_BYTES} bytes, got {size}"
-            )
-        return path.read_bytes()
-    except FileNotFoundError:
-        raise FaceError(f"{path}: no such {what}") from None
-    except IsADirectoryError:
-        raise FaceError(f"{path}: expected {what}, got a folder") from None
-    except OSError as err:
-        raise FaceError(f"{path}: cannot read ({err.strerror or err})") from None
 
 
 def _parse_npy(raw: bytes, where: str) -> np.ndarray:

@@ -133,7 +133,8 @@ def _parse(path: Path) -> tuple[dict[str, tuple[float, float]], dict[str, Any], 
         line = node.start_mark.line + 1 if isinstance(node, yaml.Node) else 1
         raise FaceError(
             f"{path}:{line}: expected a mapping of feature point names to [x, y] "
-            f"(or points: with video:/image:), got {_short(data)}"
+            f"(or points: with video:/image:), got "
+            f"{'an empty file' if data is None else _short(data)}"
         )
     points = {}
     for name, value in mapping.items():

@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from uma.errors import FaceError
+from uma.face.capped import read_capped
 
 __all__ = ["read_yaml", "yaml_error_text"]
 
@@ -24,23 +25,13 @@ def read_yaml(path: str | Path, *, what: str, loader: type | None = None) -> tup
     import yaml
 
     path = Path(path)
+    raw = read_capped(path, what=what, limit=MAX_YAML_BYTES)
     try:
-        size = path.stat().st_size
-        if size > MAX_YAML_BYTES:
-            raise FaceError(
-                f"{path}: expected {what} of at most {MAX_YAML_BYTES} bytes, got {size}"
-            )
-        text = path.read_bytes().decode("utf-8")
-    except FileNotFoundError:
-        raise FaceError(f"{path}: no such {what}") from None
-    except IsADirectoryError:
-        raise FaceError(f"{path}: expected {what}, got a folder") from None
+        text = raw.decode("utf-8")
     except UnicodeDecodeError as err:
         raise FaceError(
             f"{path}: expected {what} (UTF-8 text), got binary data (byte {err.start})"
         ) from None
-    except OSError as err:
-        raise FaceError(f"{path}: cannot read ({err.strerror or err})") from None
     if path.suffix.lower() == ".json":
         return _json(path, text, what), _json_node(text)
     reader = None
