@@ -141,3 +141,29 @@ def test_endless_and_oversized_inputs_are_refused(tmp_path, monkeypatch):
         load_description(big)
     with pytest.raises(FaceError, match=r"expected a file \(\.fap file\), got a folder"):
         read_fap(tmp_path)
+
+
+def test_the_face_that_suits_the_points_is_chosen():
+    big, small = Box(0, 0, 400, 400), Box(100, 100, 100, 100)
+    points = {f"3.{k}": (115.0 + 9 * k, 140.0) for k in range(1, 9)}  # 63 px across
+    box, warning = face_of_points([big, small], points)
+    assert box == small and warning is None
+
+
+def test_a_face_the_frontal_cascade_misses_is_still_a_face(shared_data):
+    import cv2
+
+    from uma.face.detect import detect_faces, locate_points
+    from uma.face.landmarks import read_dlib_xml, to_mpeg4
+
+    folder = shared_data / "faces" / "landmarks68"
+    face = next(
+        f
+        for f in read_dlib_xml(folder / "training_with_face_landmarks.xml")
+        if f.image == "2008_002079.jpg" and f.box[:2] == (122, 134)
+    )
+    gray = cv2.cvtColor(cv2.imread(str(folder / face.image)), cv2.COLOR_BGR2GRAY)
+    points = to_mpeg4(face.landmarks)
+    assert not face_of_points(detect_faces(gray), points)  # crowded: the default misses it
+    box, warning = locate_points(gray, points)  # the other cascades find it
+    assert warning is None and abs(box.x - 122) < 20 and abs(box.y - 134) < 20

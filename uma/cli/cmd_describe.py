@@ -78,7 +78,7 @@ def _describe(args: argparse.Namespace) -> int:
     from uma.errors import FaceError
     from uma.face import describe, load_model
     from uma.face.clip import picture_of, read_picture
-    from uma.face.detect import detect_faces, face_of_points
+    from uma.face.detect import Box, detect_faces, locate_points
     from uma.face.points import load_points
 
     points_file = load_points(args.points, image=args.image, face=args.face)
@@ -101,10 +101,12 @@ def _describe(args: argparse.Namespace) -> int:
         image_path = Path(str(source).removeprefix("skimage:"))
         image = picture_of(points_file, frame=args.frame)
     model = load_model(args.model) if args.model else None
-    faces = detect_faces(cv2.cvtColor(image, cv2.COLOR_BGR2GRAY))
+    gray = cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
+    faces = detect_faces(gray)
     if not faces:
         raise FaceError(f"{image_path}: {faces.reason}")
-    placed = face_of_points(faces, points)
+    annotated = Box(*points_file.box) if points_file.box is not None else None
+    placed = locate_points(gray, points, frontal=faces, annotated=annotated)
     if not placed:
         raise FaceError(f"{args.points}: {placed.reason} (picture {image_path})")
     box, warning = placed

@@ -175,13 +175,15 @@ def describe_clip(
     """
     import cv2
 
-    from uma.face.detect import detect_faces, face_of_points
+    from uma.face.detect import Box, locate_points
 
     points = points_file if isinstance(points_file, PointsFile) else load_points(points_file)
     picture = picture_of(points)
     # As `uma describe`: points that lie on no face the detector finds are not this picture's.
-    faces = detect_faces(cv2.cvtColor(picture, cv2.COLOR_BGR2GRAY))
-    placed = face_of_points(faces, points.points) if faces else faces
+    annotated = Box(*points.box) if points.box is not None else None
+    placed = locate_points(
+        cv2.cvtColor(picture, cv2.COLOR_BGR2GRAY), points.points, annotated=annotated
+    )
     if not placed:
         raise FaceError(f"{points.path}: {placed.reason}")
     result = describe(picture, points.points, model=model, crop=crop, ridge_px=ridge_px)

@@ -248,8 +248,9 @@ def read_dlib_xml(path: str | Path) -> list[LandmarkFace]:
 
 def landmark_points(
     path: str | Path, *, image: str | Path | None = None, face: int | None = None
-) -> tuple[dict[str, tuple[float, float]], Path | None]:
-    """MPEG-4 points from a landmark file, and the image they belong to (None for `.pts`).
+) -> tuple[dict[str, tuple[float, float]], Path | None, tuple[int, int, int, int] | None]:
+    """MPEG-4 points from a landmark file, the image they belong to and the annotated face box
+    (left, top, width, height; both None for `.pts`).
 
     `.pts`: the file's points. dlib XML: the faces of `image` (matched by path relative to
     the XML file, or else by file name); `face` picks one in file order, else the largest box.
@@ -261,7 +262,7 @@ def landmark_points(
             raise FaceError(
                 f"{path}: expected the 68-point iBUG layout, got {landmarks.shape[0]} points"
             )
-        return to_mpeg4(landmarks), None
+        return to_mpeg4(landmarks), None, None
     faces = read_dlib_xml(path)
     names = sorted({f.image for f in faces})
     if image is None:
@@ -288,7 +289,7 @@ def landmark_points(
         picked = chosen[face]
     else:
         picked = max(chosen, key=lambda f: f.box[2] * f.box[3])
-    return to_mpeg4(picked.landmarks), path.parent / picked.image
+    return to_mpeg4(picked.landmarks), path.parent / picked.image, picked.box
 
 
 def _same_file(a: Path, b: Path) -> bool:

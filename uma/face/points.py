@@ -47,6 +47,7 @@ class PointsFile:
     video: Path | None = None
     frame: int | None = None
     image: str | None = None  # a resolved path, or "skimage:NAME"
+    box: tuple[int, int, int, int] | None = None  # the face box a landmark file annotates
 
 
 def resolve_reference(value: str, base: Path) -> str:
@@ -174,9 +175,12 @@ def load_points(
     if path.suffix.lower() in (".pts", ".xml"):
         from uma.face.landmarks import landmark_points
 
-        points, picture = landmark_points(path, image=image, face=face)
+        points, picture, box = landmark_points(path, image=image, face=face)
         return PointsFile(
-            path=path, points=points, image=str(picture) if picture is not None else None
+            path=path,
+            points=points,
+            image=str(picture) if picture is not None else None,
+            box=box,
         )
     points, picture, lines = _parse(path)
     video, image, frame = (picture.get(k) for k in _PICTURE_KEYS)
