@@ -115,17 +115,21 @@ def _parse(path: Path) -> tuple[dict[str, tuple[float, float]], dict[str, Any], 
     top = _key_lines(node, path, "")
     nested = isinstance(data, dict) and "points" in data
     if nested:
-        points_node = next(v for k, v in node.value if k.value == "points")
+        # The node is None only for JSON that YAML cannot compose: then lines default to 1.
+        points_node = next(
+            (v for k, v in getattr(node, "value", ()) if getattr(k, "value", None) == "points"),
+            None,
+        )
         if not isinstance(data["points"], dict) or not data["points"]:
             raise FaceError(
-                f"{path}:{top['points']} (points): expected a mapping of feature point names "
-                f"to [x, y], got {_short(data['points'])}"
+                f"{path}:{top.get('points', 1)} (points): expected a mapping of feature point "
+                f"names to [x, y], got {_short(data['points'])}"
             )
         extra = [k for k in data if k not in ("points", *_PICTURE_KEYS)]
         if extra:
             raise FaceError(
-                f"{path}:{top[extra[0]]} ({extra[0]}): expected one of points, "
-                f"{', '.join(_PICTURE_KEYS)}, got {extra[0]!r}"
+                f"{path}:{top.get(extra[0], 1)} ({_short(extra[0])}): expected one of points, "
+                f"{', '.join(_PICTURE_KEYS)}, got {_short(extra[0])}"
             )
         mapping, lines, prefix = data["points"], _key_lines(points_node, path, "points"), "points"
     elif isinstance(data, dict) and data:
@@ -151,7 +155,7 @@ def _parse(path: Path) -> tuple[dict[str, tuple[float, float]], dict[str, Any], 
             raise FaceError(f"{where}: expected [x, y] in finite pixels, got {_short(value)}")
         points[name] = (float(value[0]), float(value[1]))
     picture = {k: data[k] for k in _PICTURE_KEYS if nested and k in data}
-    return points, picture, top
+    return points, picture, {k: top.get(k, 1) for k in _PICTURE_KEYS}
 
 
 def _short(value: Any, limit: int = 40) -> str:
