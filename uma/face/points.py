@@ -127,8 +127,9 @@ def _parse(path: Path) -> tuple[dict[str, tuple[float, float]], dict[str, Any], 
             )
         extra = [k for k in data if k not in ("points", *_PICTURE_KEYS)]
         if extra:
+            shown = extra[0] if extra[0].isidentifier() else _short(extra[0])
             raise FaceError(
-                f"{path}:{top.get(extra[0], 1)} ({_short(extra[0])}): expected one of points, "
+                f"{path}:{top.get(extra[0], 1)} ({shown}): expected one of points, "
                 f"{', '.join(_PICTURE_KEYS)}, got {_short(extra[0])}"
             )
         mapping, lines, prefix = data["points"], _key_lines(points_node, path, "points"), "points"
