@@ -142,8 +142,22 @@ def _check_points(points: dict) -> None:
     assert np.all(np.isfinite(np.array(list(points.values()))))
 
 
+def _check_mapped(points: dict) -> None:
+    """Landmarks mapped to MPEG-4 points: a point whose landmarks are absent is left out."""
+    assert set(points) <= MPEG4_POINTS
+    assert all(np.isfinite(xy).all() for xy in points.values())
+
+
 def _check_pts(xy: np.ndarray) -> None:
     assert xy.ndim == 2 and xy.shape[1] == 2 and np.all(np.isfinite(xy))
+
+
+def _check_model(model: FaceModel) -> None:
+    assert isinstance(model, FaceModel) and np.all(np.isfinite(model.vertices))
+
+
+def _check_picture(image: np.ndarray) -> None:
+    assert image.ndim == 3 and image.shape[2] == 3 and image.dtype == np.uint8
 
 
 def _check_xml(faces: list) -> None:
@@ -188,7 +202,7 @@ def test_pts_landmarks(folder, content):
     path = folder / "l.pts"
     path.write_bytes(content)
     one_line_or_result(path, read_pts, _check_pts)
-    one_line_or_result(path, lambda p: load_points(p).points, lambda p: None)
+    one_line_or_result(path, lambda p: load_points(p).points, _check_mapped)
 
 
 @SETTINGS
@@ -197,7 +211,7 @@ def test_dlib_xml_landmarks(folder, content):
     path = folder / "l.xml"
     path.write_bytes(content)
     one_line_or_result(path, read_dlib_xml, _check_xml)
-    one_line_or_result(path, lambda p: load_points(p, image="a.jpg").points, lambda p: None)
+    one_line_or_result(path, lambda p: load_points(p, image="a.jpg").points, _check_mapped)
 
 
 @settings(max_examples=20, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -206,4 +220,31 @@ def test_model_yaml(folder, data):
     whole = (codecs_dir() / "face" / "uma-face.yaml").read_bytes()
     path = folder / "m.yaml"
     path.write_bytes(data.draw(hostile(whole[:2500])))  # a head of it: damaged already
-    one_line_or_result(path, read_model_yaml, lambda m: isinstance(m, FaceModel))
+    one_line_or_result(path, read_model_yaml, _check_model)
+
+
+@settings(max_examples=20, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(data=st.data())
+def test_candide3_wfm_models(folder, shared_data, data):
+    from uma.face.wfm import read_wfm
+
+    whole = (shared_data / "faces" / "candide3" / "candide3.wfm").read_bytes()
+    path = folder / "m.wfm"
+    path.write_bytes(data.draw(hostile(whole)))
+    one_line_or_result(path, read_wfm, _check_model)
+
+
+def _good_picture(kind: str) -> bytes:
+    rng = np.random.default_rng(4)
+    picture = rng.integers(0, 255, (24, 32, 3), dtype=np.uint8)
+    return cv2.imencode(f".{kind}", picture)[1].tobytes()
+
+
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(data=st.data(), kind=st.sampled_from(["jpg", "png"]))
+def test_pictures(folder, data, kind):
+    from uma.face.clip import read_picture
+
+    path = folder / f"p.{kind}"
+    path.write_bytes(data.draw(hostile(_good_picture(kind))))
+    one_line_or_result(path, read_picture, _check_picture)
