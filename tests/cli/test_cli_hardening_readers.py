@@ -145,6 +145,25 @@ def _points_text() -> str:
     return ASTRONAUT.read_text(encoding="utf-8")
 
 
+def test_points_on_no_face_are_refused_as_a_scenario_description(tmp_path, capsys):
+    data = yaml.safe_load(_points_text())
+    moved = dict(data, points={k: [x, y + 150] for k, (x, y) in data["points"].items()})
+    (tmp_path / "neck.yaml").write_text(yaml.safe_dump(moved))
+    scenario = tmp_path / "s.yaml"
+    scenario.write_text(
+        "name: probe\nsource: {kind: talking-head, width: 176, height: 144, fps: 25}\n"
+        "route:\n  - {technology: WLAN, duration_s: 1}\n  - {technology: GSM, duration_s: 1}\n"
+        "engine:\n  policy: oracle\n"
+        "  switching: {policy: threshold, to_mbc_below_kbps: 30, to_h264_above_kbps: 60}\n"
+        "  mbc: {description: neck.yaml}\nmetrics: {ssim: false}\n"
+    )
+    out = tmp_path / "out"
+    assert main(["run", str(scenario), "--out", str(out), "--quiet"]) == 2
+    line = _one_line(capsys.readouterr().err)
+    assert "neck.yaml" in line and "no detected face" in line
+    assert not (out / "metrics.json").exists()
+
+
 def test_truncated_points_yaml_is_one_line_with_its_line(tmp_path, capsys):
     points = tmp_path / "p.yaml"
     text = _points_text()
