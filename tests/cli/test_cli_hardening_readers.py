@@ -284,3 +284,18 @@ def test_frame_without_video_takes_the_video_of_the_command_line(astronaut_clip,
     # Without the video on the command line, the file names no clip: one line.
     assert main(["describe", "--points", str(points), "--out", str(tmp_path)]) == 2
     assert "no video: names the clip" in _one_line(capsys.readouterr().err)
+
+
+@pytest.mark.parametrize("where", ["folder", "under-a-file"])
+def test_source_synth_out_that_cannot_be_written_names_the_path(tmp_path, capsys, where):
+    blocker = tmp_path / "blocker"
+    if where == "folder":
+        blocker.mkdir()
+        out = blocker
+    else:
+        blocker.write_text("")
+        out = blocker / "clip.mp4"
+    args = ["source", "synth", "--frames", "2", "--size", "64x64", "--out", str(out)]
+    assert main(args) == 2
+    line = _one_line(capsys.readouterr().err)
+    assert str(blocker) in line and "None" not in line

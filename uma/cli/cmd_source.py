@@ -55,12 +55,22 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def handle_synth(args: argparse.Namespace) -> int:
-    from uma.errors import VideoError
+    from pathlib import Path
 
+    from uma.atomic import prepare_out_dir
+    from uma.errors import OutputError, UmaError
+
+    out = Path(args.out)
+    if out.is_dir():
+        raise OutputError(f"--out: expected a clip file name, got the folder {str(out)!r}")
+    prepare_out_dir(out.parent, what="--out")
     try:
         return _synth(args)
+    except UmaError:
+        raise
     except OSError as err:
-        raise VideoError(f"{err.filename or args.out}: cannot write ({err.strerror})") from None
+        where = err.filename or args.out
+        raise OutputError(f"{where}: cannot write ({err.strerror or err})") from None
 
 
 def _synth(args: argparse.Namespace) -> int:
