@@ -173,12 +173,13 @@ def run_quality_bench(*, clips: dict[str, Path], pairs: int = 200, repeats: int 
 
 def format_table(result: dict[str, Any]) -> str:
     timing = result["timing"]
+    face = result["ssim_face_max_abs_diff"]
     lines = [
         f"uma bench quality: {result['pairs']} pairs ({result['pairs_with_face']} with a face box)"
         f" from {', '.join(result['clips'])}",
         "",
         f"  SSIM, max |uma - scikit-image (float64)|  frame {result['ssim_max_abs_diff']:.2e}"
-        f", face box {result['ssim_face_max_abs_diff'] or float('nan'):.2e}",
+        f", face box {'n/a' if face is None else format(face, '.2e')}",
         f"  SSIM, max |uma - scikit-image (float32)|  {result['ssim_max_abs_diff_vs_float32']:.2e}",
         f"  PSNR, max |frame_scores - psnr_db|       {result['psnr_max_abs_diff_db']:.2e} dB",
         "",
