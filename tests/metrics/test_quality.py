@@ -233,3 +233,19 @@ def test_ssim_within_1e_4_of_scikit_image_on_200_real_pairs(shared_data):
     assert agreement["ssim_max_abs_diff"] < 1e-4
     assert agreement["ssim_face_max_abs_diff"] < 1e-4
     assert agreement["psnr_max_abs_diff_db"] == 0.0
+
+
+def test_buffers_of_old_shapes_are_dropped():
+    import uma.metrics.quality as quality
+
+    rng = np.random.default_rng(8)
+    ref, test = _random_pair(rng, (64, 64), 10)
+    expected = [
+        structural_similarity(ref[:h, :h], test[:h, :h], data_range=255) for h in range(8, 40)
+    ]
+    got = [ssim(ref[:h, :h], test[:h, :h]) for h in range(8, 40)]  # 32 shapes
+    assert got == pytest.approx(expected, abs=1e-6)
+    assert len(quality._buffers.shapes) == quality._SHAPES_KEPT
+    assert ssim(ref, test) == pytest.approx(
+        structural_similarity(ref, test, data_range=255), abs=1e-6
+    )

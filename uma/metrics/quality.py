@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import math
 import threading
+from collections import OrderedDict
 
 import numpy as np
 
@@ -91,17 +92,29 @@ _N = _WINDOW * _WINDOW
 _C1 = (0.01 * 255.0) ** 2
 _C2 = (0.03 * 255.0) ** 2
 _buffers = threading.local()
+_SHAPES_KEPT = 4  # per thread: a frame size and a few crop sizes; older shapes are dropped
 
 
 def _buffer(name: str, shape: tuple[int, int], dtype) -> np.ndarray:
-    """A per-thread array reused across calls of the same shape: no page faults per frame."""
-    store = getattr(_buffers, "arrays", None)
-    if store is None:
-        store = _buffers.arrays = {}
-    key = (name, shape, np.dtype(dtype).str)
-    array = store.get(key)
+    """A per-thread array reused across calls of the same shape: no page faults per frame.
+
+    Only the `_SHAPES_KEPT` shapes used last keep their arrays, so scoring crops of ever new
+    sizes (face boxes) does not pile up memory.
+    """
+    shapes = getattr(_buffers, "shapes", None)
+    if shapes is None:
+        shapes = _buffers.shapes = OrderedDict()
+    arrays = shapes.get(shape)
+    if arrays is None:
+        if len(shapes) >= _SHAPES_KEPT:
+            shapes.popitem(last=False)
+        arrays = shapes[shape] = {}
+    else:
+        shapes.move_to_end(shape)
+    key = (name, np.dtype(dtype).str)
+    array = arrays.get(key)
     if array is None:
-        array = store[key] = np.empty(shape, dtype)
+        array = arrays[key] = np.empty(shape, dtype)
     return array
 
 
