@@ -168,14 +168,23 @@ def _targets(rows: dict[str, dict[str, Any]], *, real: bool) -> dict[str, Any]:
     }
 
 
-def pair_task(scenario: Scenario, engine: str, config: HeadlineConfig) -> dict[str, Any]:
-    """The task for `run_pair`: plain data that pickles small and travels to any worker."""
+def pair_task(
+    scenario: Scenario, engine: str, config: HeadlineConfig, *, inline_metrics: bool = False
+) -> dict[str, Any]:
+    """The task for `run_pair`: plain data that pickles small and travels to any worker.
+
+    `inline_metrics` scores on the simulating thread (`metrics.workers: 0`), as a sweep's
+    points do when the parallelism is across runs; the scores do not depend on it.
+    """
     variant = engine_scenario(scenario, engine, playout=config.playout)
     out_dir = None if config.out_dir is None else config.out_dir / scenario.name / engine
+    data = variant.model_dump(mode="json")
+    if inline_metrics:
+        data["metrics"] = dict(data.get("metrics", {}), workers=0)
     return {
         "scenario_name": scenario.name,
         "engine": engine,
-        "scenario": variant.model_dump(mode="json"),
+        "scenario": data,
         "out_dir": None if out_dir is None else str(out_dir),
     }
 
@@ -204,7 +213,12 @@ def run_headline(config: HeadlineConfig, *, progress=None, executor=None) -> dic
     `make_executor`: local processes or a Dask cluster) in parallel; the rows are the same
     either way, only `wall_s` differs.
     """
-    tasks = [pair_task(s, engine, config) for s in config.scenarios for engine in ENGINES]
+    parallel = executor is not None
+    tasks = [
+        pair_task(s, engine, config, inline_metrics=parallel)
+        for s in config.scenarios
+        for engine in ENGINES
+    ]
     replies = (
         executor.map_unordered(run_pair, tasks) if executor is not None else map(run_pair, tasks)
     )
