@@ -19,6 +19,7 @@ against the source's ground truth (the talking head has it; real video has none:
 
 from __future__ import annotations
 
+import functools
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -28,7 +29,15 @@ import numpy as np
 
 from uma.config.scenario import Scenario
 
-__all__ = ["HeadlineConfig", "ENGINES", "engine_scenario", "run_headline", "format_table"]
+__all__ = [
+    "HeadlineConfig",
+    "ENGINES",
+    "engine_scenario",
+    "pair_task",
+    "run_pair",
+    "run_headline",
+    "format_table",
+]
 
 ENGINES = ("h264", "uma", "predictive", "oracle")
 ROW_KEYS = (
@@ -81,14 +90,22 @@ def engine_scenario(scenario: Scenario, engine: str, *, playout: str = "adaptive
     return scenario.model_copy(update={"engine": config, "receiver": receiver})
 
 
+@functools.lru_cache(maxsize=4)
+def _truth_source(source_json: str, seed: int):
+    """The source a run read, reopened once per process for its ground truth (engines share it)."""
+    from uma.config.scenario import SourceConfig
+    from uma.sim.sources import open_source
+
+    return open_source(SourceConfig.model_validate_json(source_json), seed=seed)
+
+
 def init_mde_px(result) -> float | None:
     """Median MDE of the run's MBC initialisations against the source's ground truth."""
     from uma.fit.mde import mde_px
-    from uma.sim.sources import open_source
 
     if not result.mbc_inits or result.description is None:
         return None
-    source = open_source(result.scenario.source, seed=result.scenario.seed)
+    source = _truth_source(result.scenario.source.model_dump_json(), result.scenario.seed)
     truth = getattr(source, "ground_truth", None)
     if truth is None:
         return None
@@ -151,30 +168,71 @@ def _targets(rows: dict[str, dict[str, Any]], *, real: bool) -> dict[str, Any]:
     }
 
 
-def run_headline(config: HeadlineConfig, *, progress=None) -> dict[str, Any]:
-    """Every scenario with every engine; the JSON object CONVENTIONS.md names."""
+def pair_task(
+    scenario: Scenario, engine: str, config: HeadlineConfig, *, inline_metrics: bool = False
+) -> dict[str, Any]:
+    """The task for `run_pair`: plain data that pickles small and travels to any worker.
+
+    `inline_metrics` scores on the simulating thread (`metrics.workers: 0`), as a sweep's
+    points do when the parallelism is across runs; the scores do not depend on it.
+    """
+    variant = engine_scenario(scenario, engine, playout=config.playout)
+    out_dir = None if config.out_dir is None else config.out_dir / scenario.name / engine
+    data = variant.model_dump(mode="json")
+    if inline_metrics:
+        data["metrics"] = dict(data.get("metrics", {}), workers=0)
+    return {
+        "scenario_name": scenario.name,
+        "engine": engine,
+        "scenario": data,
+        "out_dir": None if out_dir is None else str(out_dir),
+    }
+
+
+def run_pair(task: dict[str, Any]) -> dict[str, Any]:
+    """Simulate one scenario-engine pair (in whatever process runs it); its table row."""
+    from uma.config.scenario import Scenario
     from uma.sim import run_scenario
     from uma.sim.summary import run_metrics, save_run
 
+    start = time.perf_counter()
+    result = run_scenario(Scenario.model_validate(task["scenario"]))
+    if task["out_dir"] is not None:
+        metrics = save_run(result, Path(task["out_dir"]))
+    else:
+        metrics = run_metrics(result)
+    row = _row(result, metrics)
+    row["wall_s"] = round(time.perf_counter() - start, 1)
+    return {"scenario_name": task["scenario_name"], "engine": task["engine"], "row": row}
+
+
+def run_headline(config: HeadlineConfig, *, progress=None, executor=None) -> dict[str, Any]:
+    """Every scenario with every engine; the JSON object CONVENTIONS.md names.
+
+    Pairs run one after another in this process, or on `executor` (`uma.experiments`'s
+    `make_executor`: local processes or a Dask cluster) in parallel; the rows are the same
+    either way, only `wall_s` differs.
+    """
+    parallel = executor is not None
+    tasks = [
+        pair_task(s, engine, config, inline_metrics=parallel)
+        for s in config.scenarios
+        for engine in ENGINES
+    ]
+    replies = (
+        executor.map_unordered(run_pair, tasks) if executor is not None else map(run_pair, tasks)
+    )
+    rows: dict[tuple[str, str], dict[str, Any]] = {}
+    for reply in replies:
+        rows[reply["scenario_name"], reply["engine"]] = reply["row"]
+        if progress is not None:
+            progress(f"{reply['scenario_name']} {reply['engine']}: {reply['row']['wall_s']} s")
     out: dict[str, Any] = {"playout": config.playout, "scenarios": {}, "targets": {}}
     for scenario in config.scenarios:
-        rows: dict[str, Any] = {}
-        for engine in ENGINES:
-            variant = engine_scenario(scenario, engine, playout=config.playout)
-            start = time.perf_counter()
-            result = run_scenario(variant)
-            if config.out_dir is not None:
-                metrics = save_run(result, config.out_dir / scenario.name / engine)
-            else:
-                metrics = run_metrics(result)
-            row = _row(result, metrics)
-            row["wall_s"] = round(time.perf_counter() - start, 1)
-            rows[engine] = row
-            if progress is not None:
-                progress(f"{scenario.name} {engine}: {row['wall_s']} s")
-        out["scenarios"][scenario.name] = rows
+        by_engine = {engine: rows[scenario.name, engine] for engine in ENGINES}
+        out["scenarios"][scenario.name] = by_engine
         real = scenario.source.kind != "talking-head"
-        out["targets"][scenario.name] = _targets(rows, real=real)
+        out["targets"][scenario.name] = _targets(by_engine, real=real)
     return out
 
 
