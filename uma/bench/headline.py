@@ -8,7 +8,7 @@ Each scenario runs with three engines on the same source and route (same seed):
   policy when the scenario names none): it knows only what the engine measures;
 - `predictive`: the predictive policy, which also reads the route's coverage map (the
   scenario's technology segments) and switches `lookahead_ms` before a GPRS or GSM segment
-  (not in CONVENTIONS' list: an extra row);
+  (beyond the required engines: an extra row);
 - `oracle`: an upper bound that knows the trace: the oracle rate policy (the true capacity)
   and the oracle switching policy (the lowest true capacity over the look-ahead window).
 All three play out adaptively (`receiver.playout: adaptive`, unless `playout` says otherwise):
@@ -125,7 +125,7 @@ def _row(result, metrics: dict[str, Any]) -> dict[str, Any]:
     row["init_mde_px"] = init_mde_px(result)
     row["description_delivered_s"] = metrics["description_delivered_s"]
     row["by_technology"] = metrics["by_technology"]
-    # Not in CONVENTIONS' list, but a reader of the table needs them.
+    # Not among the required keys, but a reader of the table needs them.
     row["rung_switches"] = metrics["switches"]
     row["init_failures"] = metrics["init_failures"]
     row["mbc_refused_reason"] = metrics["mbc_refused_reason"]
@@ -207,7 +207,7 @@ def run_pair(task: dict[str, Any]) -> dict[str, Any]:
 
 
 def run_headline(config: HeadlineConfig, *, progress=None, executor=None) -> dict[str, Any]:
-    """Every scenario with every engine; the JSON object CONVENTIONS.md names.
+    """Every scenario with every engine; the JSON object of docs/benchmarks.md.
 
     Pairs run one after another in this process, or on `executor` (`uma.experiments`'s
     `make_executor`: local processes or a Dask cluster) in parallel; the rows are the same
