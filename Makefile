@@ -20,7 +20,7 @@ demo: install
 test: install
 	$(BIN)/python -m pytest -q -m "not slow" --durations=15
 
-# The regression gate on the repository's baselines (about 15 s).
+# The regression gate on the repository's baselines: seven short scenarios (about 30 s).
 regress: install
 	$(BIN)/uma regress tests/baselines/suite.yaml
 
