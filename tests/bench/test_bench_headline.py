@@ -14,7 +14,13 @@ from uma.paths import scenarios_dir
 
 def test_each_engine_changes_only_what_it_names():
     base = load_scenario(scenarios_dir() / "stockholm-uppsala.yaml")
-    h264, uma, predictive_, oracle = (engine_scenario(base, engine) for engine in ENGINES)
+    h264, uma, predictive_, oracle, av1, av1_mbc = (
+        engine_scenario(base, engine) for engine in ENGINES
+    )
+    assert av1.engine.codec == av1_mbc.engine.codec == "av1"
+    assert av1.engine.switching.policy == "none"
+    assert av1_mbc.engine.switching.policy == "threshold" and av1_mbc.engine.policy == "throughput"
+    assert h264.engine.codec == uma.engine.codec == oracle.engine.codec == base.engine.codec
     assert predictive_.engine.switching.policy == "predictive"
     assert h264.engine.switching.policy == "none" and h264.engine.policy == "throughput"
     assert uma.engine.switching.policy == "threshold" and uma.engine.policy == "throughput"
@@ -82,6 +88,11 @@ def test_headline_json_keys_on_a_micro_route(micro):
     assert rows["uma"]["init_mde_px"] is not None and rows["uma"]["init_mde_px"] < 5.0
     assert rows["uma"]["freeze_ratio"] < rows["h264"]["freeze_ratio"]
     assert rows["oracle"]["switches"] >= 1
+    assert rows["av1"]["codec"] == "av1" and rows["av1"]["kbps_video"] > 0
+    assert rows["av1"]["kbps_h264"] == 0 and rows["av1"]["kbps_mbc"] == 0
+    assert rows["av1+mbc"]["inits"] >= 1 and rows["av1+mbc"]["kbps_mbc"] > 0
+    assert rows["h264"]["switch_lag_s"] is None
+    assert rows["uma"]["switch_lag_s"] is not None and 0 <= rows["uma"]["switch_lag_s"] < 1.4
 
 
 # One second of the pattern: no face, so no MBC; the cheapest run that still has every engine.

@@ -2,7 +2,7 @@
 
 Units: rates in kbit/s, delays in ms, PSNR in dB, times in seconds, MDE in pixels.
 
-Each scenario runs with three engines on the same source and route (same seed):
+Each scenario runs with six engines on the same source and route (same seed):
 - `h264`: the H.264 ladder only (`engine.switching.policy: none`);
 - `uma`: switching between H.264 and MBC with the scenario's switching policy (the threshold
   policy when the scenario names none): it knows only what the engine measures;
@@ -10,8 +10,11 @@ Each scenario runs with three engines on the same source and route (same seed):
   scenario's technology segments) and switches `lookahead_ms` before a GPRS or GSM segment
   (beyond the required engines: an extra row);
 - `oracle`: an upper bound that knows the trace: the oracle rate policy (the true capacity)
-  and the oracle switching policy (the lowest true capacity over the look-ahead window).
-All three play out adaptively (`receiver.playout: adaptive`, unless `playout` says otherwise):
+  and the oracle switching policy (the lowest true capacity over the look-ahead window);
+- `av1`: the AV1 ladder only (`engine.codec: av1`, SVT-AV1 at a real-time preset), and
+  `av1+mbc`: AV1 with the threshold switching policy, so the table says whether switching to
+  the model-based codec still pays against a modern codec at low rates.
+All play out adaptively (`receiver.playout: adaptive`, unless `playout` says otherwise):
 with a fixed 300 ms deadline GSM's 250 ms one-way delay alone would freeze every engine there,
 whatever it sends. `init_mde_px` is the median mean distance error of the MBC initialisations
 against the source's ground truth (the talking head has it; real video has none: null).
@@ -39,7 +42,9 @@ __all__ = [
     "format_table",
 ]
 
-ENGINES = ("h264", "uma", "predictive", "oracle")
+ENGINES = ("h264", "uma", "predictive", "oracle", "av1", "av1+mbc")
+# engine -> the full-frame codec it runs (the scenario's own for the others)
+_LADDER_CODEC = {"av1": "av1", "av1+mbc": "av1"}
 ROW_KEYS = (
     "freeze_ratio",
     "displayed_fps",
@@ -67,11 +72,14 @@ def engine_scenario(scenario: Scenario, engine: str, *, playout: str = "adaptive
         raise ValueError(f"engine: expected one of {', '.join(ENGINES)}, got {engine!r}")
     config = scenario.engine
     switching = config.switching
-    if engine == "h264":
+    if engine in _LADDER_CODEC:
+        # the codec's own ladder (codecs/<codec>.yaml), whatever the scenario named for H.264
+        config = config.model_copy(update={"codec": _LADDER_CODEC[engine], "ladder": None})
+    if engine in ("h264", "av1"):
         config = config.model_copy(
             update={"switching": switching.model_copy(update={"policy": "none"})}
         )
-    elif engine in ("uma", "predictive"):
+    elif engine in ("uma", "predictive", "av1+mbc"):
         policy = switching.policy if switching.policy not in ("none", "oracle") else "threshold"
         policy = "predictive" if engine == "predictive" else policy
         config = config.model_copy(
@@ -118,8 +126,49 @@ def init_mde_px(result) -> float | None:
     return round(float(np.median(errors)), 3) if errors else None
 
 
+def switch_lag_s(result) -> float | None:
+    """Mean seconds from each handover into GPRS or GSM to the first model-codec frame sent.
+
+    Only handovers from another technology count (GPRS to GSM continues a stretch already
+    timed). A handover while the last frame sent was a model-codec frame counts 0; one after
+    which no model-codec frame is sent before the route leaves GPRS and GSM is left out. None
+    when no handover into them was followed by a model-codec frame.
+    """
+    from uma.codecs import model_names
+
+    log = result.log
+    capture_s = np.asarray(log["capture_ms"], dtype=float) / 1000.0
+    sent = np.asarray(log["sent"]).astype(bool)
+    on_model = np.isin(np.asarray(log["codec"]).astype(str), list(model_names()))
+    low = np.isin(np.asarray(log["technology"]).astype(str), LOW_TECHNOLOGIES)
+    lags = []
+    for event in result.events:
+        old, _, new = event.detail.partition("->")
+        if event.kind != "handover" or new.strip() not in LOW_TECHNOLOGIES:
+            continue
+        if old.strip() in LOW_TECHNOLOGIES:
+            continue
+        after = capture_s >= event.time_s
+        earlier = np.flatnonzero(~after & sent)
+        if earlier.size and on_model[earlier[-1]]:
+            lags.append(0.0)
+            continue
+        leaving = np.flatnonzero(after & ~low)
+        end_s = capture_s[leaving[0]] if leaving.size else np.inf
+        first = np.flatnonzero(after & (capture_s < end_s) & sent & on_model)
+        if first.size:
+            lags.append(float(capture_s[first[0]] - event.time_s))
+    return round(float(np.mean(lags)), 3) if lags else None
+
+
 def _row(result, metrics: dict[str, Any]) -> dict[str, Any]:
     row: dict[str, Any] = {key: metrics.get(key) for key in ROW_KEYS}
+    from uma.codecs import metric_key
+
+    # the full-frame ladder's rate, whichever codec it is (kbps_h264 stays H.264's own)
+    row["kbps_video"] = metrics.get(f"kbps_{metric_key(result.scenario.engine.codec)}")
+    row["codec"] = result.scenario.engine.codec
+    row["switch_lag_s"] = switch_lag_s(result)
     row["switches"] = metrics["codec_switches"]
     row["inits"] = metrics["inits"]
     row["init_mde_px"] = init_mde_px(result)
@@ -244,21 +293,22 @@ def format_table(result: dict[str, Any]) -> str:
     """The readable table: one block per scenario, one line per engine."""
     lines = [f"uma bench headline (every engine plays out {result['playout']})"]
     head = (
-        f"  {'engine':<7}{'frozen':>7}{'fps':>6}{'PSNR':>6}{'SSIM':>7}{'face dB':>8}"
-        f"{'face SSIM':>10}{'p95 ms':>8}{'H.264':>7}{'MBC':>6}{'sw':>4}{'init':>5}"
-        f"{'MDE':>6}{'descr s':>8}"
+        f"  {'engine':<8}{'frozen':>7}{'fps':>6}{'PSNR':>6}{'SSIM':>7}{'face dB':>8}"
+        f"{'face SSIM':>10}{'p95 ms':>8}{'video':>7}{'MBC':>6}{'sw':>4}{'init':>5}"
+        f"{'MDE':>6}{'descr s':>8}{'lag s':>6}"
     )
     for name, rows in result["scenarios"].items():
         lines += ["", f"{name}", head]
         for engine, row in rows.items():
             lines.append(
-                f"  {engine:<7}{_fmt(row['freeze_ratio'], '7.3f')}"
+                f"  {engine:<8}{_fmt(row['freeze_ratio'], '7.3f')}"
                 f"{_fmt(row['displayed_fps'], '6.1f')}{_fmt(row['psnr_db'], '6.1f')}"
                 f"{_fmt(row['ssim'], '7.3f')}{_fmt(row['psnr_face_db'], '8.1f')}"
                 f"{_fmt(row['ssim_face'], '10.3f')}{_fmt(row['delay_p95_ms'], '8.0f')}"
-                f"{_fmt(row['kbps_h264'], '7.1f')}{_fmt(row['kbps_mbc'], '6.2f')}"
+                f"{_fmt(row['kbps_video'], '7.1f')}{_fmt(row['kbps_mbc'], '6.2f')}"
                 f"{row['switches']:>4}{row['inits']:>5}{_fmt(row['init_mde_px'], '6.2f')}"
                 f"{_fmt(row['description_delivered_s'], '8.1f')}"
+                f"{_fmt(row['switch_lag_s'], '6.1f')}"
             )
         techs = sorted({t for row in rows.values() for t in row["by_technology"]})
         lines.append("  frozen / face SSIM by technology:")
@@ -271,12 +321,13 @@ def format_table(result: dict[str, Any]) -> str:
                         f"{tech} {_fmt(cell['freeze_ratio'], '.2f')}/"
                         f"{_fmt(cell['ssim_face'], '.3f')}"
                     )
-            lines.append(f"    {engine:<7}" + "  ".join(cells))
+            lines.append(f"    {engine:<8}" + "  ".join(cells))
         targets = result["targets"].get(name, {})
         lines.append("  targets: " + ", ".join(f"{k} {v}" for k, v in targets.items()))
     lines.append(
         "\nfrozen: share of display instants frozen; fps: displayed frames/s; face: the "
-        "source's face box; sw: codec switches; init: MBC initialisations; MDE: their median "
+        "source's face box; video: kbit/s of the full-frame ladder (H.264, or AV1 in the av1 rows); "
+        "lag s: from a handover into GPRS/GSM to the first model-codec frame; sw: codec switches; init: MBC initialisations; MDE: their median "
         "error against ground truth (px); descr s: when the content description arrived."
     )
     return "\n".join(lines)

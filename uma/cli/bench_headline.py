@@ -14,12 +14,14 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     parser = sub.add_parser(
         "headline",
-        help="what switching to the model-based codec buys: H.264 only vs switching vs oracle",
+        help="what switching to the model-based codec buys, against H.264 and AV1 alone",
         description="Run the default commute (synthetic talking head) and the real one (measured "
-        "traces, akiyo looped) with three engines each: h264 (the H.264 ladder only), uma "
-        "(switching to the model-based codec) and oracle (knows the trace), and print frozen "
-        "share, displayed fps, PSNR and SSIM over the frame and the face, delay p95, kbit/s per "
-        "codec, switches, initialisations and description delivery, with the issue's targets.",
+        "traces, akiyo looped) with six engines each: h264 (the H.264 ladder only), uma "
+        "(switching to the model-based codec), predictive (switching with the coverage map), "
+        "oracle (knows the trace), av1 (the AV1 ladder only) and av1+mbc (AV1 with switching), "
+        "and print frozen share, displayed fps, PSNR and SSIM over the frame and the face, delay "
+        "p95, kbit/s per codec, switches, initialisations, description delivery and the lag "
+        "from a handover into GPRS or GSM to the model codec, with the targets.",
     )
     parser.add_argument(
         "--scenario",
