@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import json
 
-import av
 import cv2
 import numpy as np
 import pytest
@@ -33,23 +32,6 @@ def good_face(tmp_path_factory) -> bytes:
     result = describe(image, read_points(ASTRONAUT))
     assert isinstance(result, ContentDescription)
     return result.to_bytes()
-
-
-@pytest.fixture(scope="module")
-def astronaut_clip(tmp_path_factory):
-    """Three frames as an H.264 clip, frame 1 the astronaut photograph."""
-    path = tmp_path_factory.mktemp("clip") / "astro.mp4"
-    photo = cv2.cvtColor(skimage.data.astronaut(), cv2.COLOR_RGB2BGR)
-    with av.open(str(path), "w", format="mp4") as container:
-        stream = container.add_stream("libx264", rate=25)
-        stream.width, stream.height, stream.pix_fmt = 512, 512, "yuv420p"
-        stream.options = {"crf": "12", "preset": "ultrafast"}
-        for k, picture in enumerate([np.zeros_like(photo), photo, np.zeros_like(photo)]):
-            frame = av.VideoFrame.from_ndarray(picture, format="bgr24")
-            frame.pts = k
-            container.mux(stream.encode(frame))
-        container.mux(stream.encode(None))
-    return path
 
 
 def _arrays(good: bytes, tmp_path) -> dict[str, np.ndarray]:
@@ -95,20 +77,26 @@ def test_corrupt_description_through_bench_mbc(good_face, astronaut_clip, tmp_pa
     assert code == 2 and str(face) in line and "expected" in line
 
 
-@pytest.mark.parametrize("kind", ["truncated", "flipped", "jpeg", "nan"])
-def test_corrupt_description_in_a_scenario(good_face, tmp_path, capsys, kind):
-    (tmp_path / "d.face").write_bytes(_corrupt_faces(good_face, tmp_path)[kind])
-    scenario = tmp_path / "s.yaml"
+def _run_with_description(folder, description: str, capsys) -> str:
+    """`uma run` of a WLAN-to-GSM switching scenario whose description is `description`;
+    it must be refused (exit 2): its one line."""
+    scenario = folder / "s.yaml"
     scenario.write_text(
         "name: probe\nsource: {kind: talking-head, width: 176, height: 144, fps: 25}\n"
         "route:\n  - {technology: WLAN, duration_s: 1}\n  - {technology: GSM, duration_s: 1}\n"
         "engine:\n  policy: oracle\n"
         "  switching: {policy: threshold, to_mbc_below_kbps: 30, to_h264_above_kbps: 60}\n"
-        "  mbc: {description: d.face}\nmetrics: {ssim: false}\n"
+        f"  mbc: {{description: {description}}}\nmetrics: {{ssim: false}}\n"
     )
+    assert main(["run", str(scenario), "--out", str(folder / "out"), "--quiet"]) == 2
+    return _one_line(capsys.readouterr().err)
+
+
+@pytest.mark.parametrize("kind", ["truncated", "flipped", "jpeg", "nan"])
+def test_corrupt_description_in_a_scenario(good_face, tmp_path, capsys, kind):
+    (tmp_path / "d.face").write_bytes(_corrupt_faces(good_face, tmp_path)[kind])
+    line = _run_with_description(tmp_path, "d.face", capsys)
     out = tmp_path / "out"
-    assert main(["run", str(scenario), "--out", str(out), "--quiet"]) == 2
-    line = _one_line(capsys.readouterr().err)
     assert "d.face" in line and "expected" in line
     assert not (out / "metrics.json").exists()
 
@@ -149,17 +137,8 @@ def test_points_on_no_face_are_refused_as_a_scenario_description(tmp_path, capsy
     data = yaml.safe_load(_points_text())
     moved = dict(data, points={k: [x, y + 150] for k, (x, y) in data["points"].items()})
     (tmp_path / "neck.yaml").write_text(yaml.safe_dump(moved))
-    scenario = tmp_path / "s.yaml"
-    scenario.write_text(
-        "name: probe\nsource: {kind: talking-head, width: 176, height: 144, fps: 25}\n"
-        "route:\n  - {technology: WLAN, duration_s: 1}\n  - {technology: GSM, duration_s: 1}\n"
-        "engine:\n  policy: oracle\n"
-        "  switching: {policy: threshold, to_mbc_below_kbps: 30, to_h264_above_kbps: 60}\n"
-        "  mbc: {description: neck.yaml}\nmetrics: {ssim: false}\n"
-    )
+    line = _run_with_description(tmp_path, "neck.yaml", capsys)
     out = tmp_path / "out"
-    assert main(["run", str(scenario), "--out", str(out), "--quiet"]) == 2
-    line = _one_line(capsys.readouterr().err)
     assert "neck.yaml" in line and "no detected face" in line
     assert not (out / "metrics.json").exists()
 

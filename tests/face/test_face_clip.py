@@ -1,10 +1,8 @@
 """Describing a frame of a video, and the shipped clip points (akiyo, carphone)."""
 
-import av
 import cv2
 import numpy as np
 import pytest
-import skimage.data
 
 from uma.cli import main
 from uma.errors import FaceError
@@ -14,23 +12,6 @@ from uma.face.points import load_points
 from uma.paths import codecs_dir
 
 CLIPS = {"akiyo": ("akiyo.mp4", 0, (288, 352)), "carphone": ("carphone_qcif.mp4", 18, (144, 176))}
-
-
-@pytest.fixture(scope="module")
-def astronaut_clip(tmp_path_factory):
-    """Three frames of the astronaut photograph as an H.264 clip, frame 1 the photograph."""
-    path = tmp_path_factory.mktemp("clip") / "astro.mp4"
-    photo = cv2.cvtColor(skimage.data.astronaut(), cv2.COLOR_RGB2BGR)
-    with av.open(str(path), "w", format="mp4") as container:
-        stream = container.add_stream("libx264", rate=25)
-        stream.width, stream.height, stream.pix_fmt = 512, 512, "yuv420p"
-        stream.options = {"crf": "12", "preset": "ultrafast"}
-        for k, picture in enumerate([np.zeros_like(photo), photo, np.zeros_like(photo)]):
-            frame = av.VideoFrame.from_ndarray(picture, format="bgr24")
-            frame.pts = k
-            container.mux(stream.encode(frame))
-        container.mux(stream.encode(None))
-    return path
 
 
 def test_describe_a_video_frame(astronaut_clip, tmp_path, capsys):
