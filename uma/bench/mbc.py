@@ -1,19 +1,22 @@
 """`uma bench mbc`: the model-based codec end to end on a clip, scored against the true frames.
 
-Units: kbit/s at 25 frames/s (a clip at another rate is scaled); PSNR in dB and SSIM on luma;
-milliseconds per frame, wall clock and this process's CPU time (medians; measured here
-only, never inside the codec).
+Units: kbit/s at 25 frames/s (a clip at another rate is scaled; H.264's displays at the clip's
+own rate); PSNR in dB on luma and on chroma, SSIM on luma (`uma.bench.mbc_scores`);
+milliseconds per frame, wall clock and this process's CPU time (medians; measured here only,
+never inside the codec).
 
 Per clip: the tracker (`uma.mbc.encoder`) analyses every frame (the first, and any it loses,
-by the hybrid initialisation), the parameter encoder codes them into packets, the decoder
-decodes those packets, and the renderer draws the personal model at the decoded parameters
-over the first frame (the last full picture the receiver had). Four displays are scored
-against the true frames, over the whole frame and over the face region (the pixels the model
-covers at the tracked parameters, or at the ground truth on the talking head): the rendering
-at the tracker's unquantised parameters, at the decoded (quantised) ones, the frozen display
-(the first frame held: what H.264 shows in an outage), and H.264 at the ladder's lowest rung on
-the same frames (real libx264, decoded, upscaled, each picture held until the next). Frame 0,
-the one the receiver holds in full, is not scored.
+by the hybrid initialisation); the encoder measures each frame's light against what the
+receiver will render (`uma.mbc.light`), and the parameter encoder codes pose, action units
+and light into packets; the decoder decodes them, and the receiver's `SceneRenderer` warps the
+whole reference (frame 0, the last full picture the receiver had, at the pose tracked on it)
+to each decoded pose, in colour. Displays: the rendering at the tracker's unquantised
+parameters, at the decoded ones, the same stream from the other reference (the description's
+picture), the frozen display (frame 0 held: what H.264 shows in an outage), and H.264 at the
+ladder's lowest and second rungs (real libx264, decoded, upscaled, each picture held until
+the next). Where the tracker has no face the last good picture stays. Each is scored over the
+face box of `uma.face.region` (as the simulation scores), the whole frame and the model's own
+pixels. Frame 0, the one the receiver holds in full, is not scored.
 """
 
 from __future__ import annotations

@@ -13,9 +13,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser(
         "mbc",
         help="model-based codec: track, code, decode and render a clip; rates, quality, speed",
-        description="Track the personal face model through a clip, code its parameters, decode "
-        "and render them, and score the rendering (unquantised and quantised) against the true "
-        "frames beside the frozen first frame and H.264 at the ladder's lowest rung. Without "
+        description="Track the personal face model through a clip, code its parameters and the "
+        "face's light, decode them and render the whole scene from the first frame, and score "
+        "the rendering (unquantised and quantised) in the face box, the whole frame and the "
+        "model's pixels against the true frames, beside the frozen first frame and H.264 at the "
+        "ladder's lowest and second rungs. Without "
         "--video: the built-in talking head (with ground truth), akiyo and carphone (with the "
         "clicked points shipped in codecs/face/).",
     )
