@@ -100,6 +100,9 @@ class SceneRenderer:
         self._strips = len(self.scene.triangles) - len(description.model.triangles)
         ys, xs = np.mgrid[0:height, 0:width].astype(np.float32)
         self._x, self._y = xs, ys
+        self._face_source = None
+        self._face_chroma = None
+        self._last_face = None
         self.set_reference(*description_reference(description, self.size))
 
     def set_reference(self, picture: np.ndarray, params: np.ndarray) -> None:
@@ -125,6 +128,15 @@ class SceneRenderer:
         self._reference_points = self.scene.points(params)
         chroma = self.reference[height:].reshape(2, height // 2, width // 2)
         self._u, self._v = np.ascontiguousarray(chroma[0]), np.ascontiguousarray(chroma[1])
+
+    def set_face_source(self, use_description: bool) -> None:
+        """Draw the face's own triangles from the description's picture (its pose there is
+        known exactly) and only the rest of the scene from the reference: for a reference whose
+        pose is only approximately known (the receiver's last picture, shown a while before the
+        stream's first pose)."""
+        self._face_source = None
+        if use_description:
+            self._face_source = description_reference(self.description, self.size)
 
     def _drawn(self, target: np.ndarray) -> np.ndarray:
         """Triangles to draw: the face's front-facing ones and every background strip (a strip
@@ -188,16 +200,19 @@ class SceneRenderer:
         labels = triangle_labels(
             local, triangles, (y1 - y0, x1 - x0), triangle_mask=visible_triangles(model, params)
         )
-        source = self._reference_points[: model.n_vertices]
+        picture, source = self.reference, self._reference_points[: model.n_vertices]
+        if self._face_source is not None:
+            picture = self._face_source[0]
+            source = project(model, self._face_source[1])
         maps = np.einsum("tjc,tjk->tck", source[triangles], barycentric_affine(local, triangles))
         maps = np.concatenate([maps, np.full((1, 2, 3), -1e4)]).astype(np.float32)[labels]
         ys, xs = np.mgrid[0 : y1 - y0, 0 : x1 - x0].astype(np.float32)
         map_x = maps[..., 0, 0] * xs + maps[..., 0, 1] * ys + maps[..., 0, 2]
         map_y = maps[..., 1, 0] * xs + maps[..., 1, 1] * ys + maps[..., 1, 2]
         patch = cv2.remap(
-            self.reference[:height], map_x, map_y, cv2.INTER_LINEAR,
-            borderMode=cv2.BORDER_REPLICATE,
-        )  # fmt: skip
+            picture[:height], map_x, map_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE
+        )
+        self._last_face = (map_x, map_y, picture)
         return patch, labels >= 0, (int(x0), int(y0))
 
     def render(
@@ -222,6 +237,8 @@ class SceneRenderer:
             gain, offset = _checked_light(light)
             lit = luma[face].astype(np.float32) * gain + offset
             luma[face] = np.clip(np.rint(lit), 0, 255).astype(np.uint8)
+        if self._face_source is not None:
+            self._paste_face(luma, params)
         out[:height] = luma
         # Chroma: each 2x2 block's mean position, in chroma-plane coordinates.
         cx = (map_x[0::2, 0::2] + map_x[1::2, 1::2] - 1.0) * 0.25
@@ -229,7 +246,41 @@ class SceneRenderer:
         chroma = out[height:].reshape(2, height // 2, width // 2)
         for plane, source in zip(chroma, (self._u, self._v), strict=True):
             plane[:] = cv2.remap(source, cx, cy, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+        if self._face_source is not None and self._face_chroma is not None:
+            (x0, y0), mask, planes = self._face_chroma
+            for plane, patch in zip(chroma, planes, strict=True):
+                h, w = patch.shape
+                box = plane[y0 : y0 + h, x0 : x0 + w]
+                box[mask] = patch[mask]
         return out, face
+
+    def _paste_face(self, luma: np.ndarray, params: np.ndarray) -> None:
+        """The face's pixels from the description's picture into `luma`; its chroma kept for
+        `render` to paste after the scene's chroma (a face box at an odd corner keeps the
+        scene's chroma that frame)."""
+        import cv2
+
+        width, height = self.size
+        self._face_chroma = None
+        patch, mask, (x0, y0) = self.face_luma(params)
+        h, w = patch.shape
+        if h == 0 or w == 0:
+            return
+        box = luma[y0 : y0 + h, x0 : x0 + w]
+        box[mask] = patch[mask]
+        if x0 % 2 or y0 % 2 or h < 2 or w < 2:
+            return
+        map_x, map_y, picture = self._last_face
+        h2, w2 = h // 2 * 2, w // 2 * 2
+        cx = (map_x[0:h2:2, 0:w2:2] + map_x[1:h2:2, 1:w2:2] - 1.0) * 0.25
+        cy = (map_y[0:h2:2, 0:w2:2] + map_y[1:h2:2, 1:w2:2] - 1.0) * 0.25
+        planes = picture[height:].reshape(2, height // 2, width // 2)
+        chroma = [
+            cv2.remap(np.ascontiguousarray(plane), cx, cy, cv2.INTER_LINEAR,
+                      borderMode=cv2.BORDER_REPLICATE)
+            for plane in planes
+        ]  # fmt: skip
+        self._face_chroma = ((x0 // 2, y0 // 2), mask[0:h2:2, 0:w2:2], chroma)
 
 
 def _checked_light(light) -> tuple[float, float]:

@@ -70,6 +70,7 @@ class MbcPointEncoder:
         self.mirror = SceneRenderer(self.description, (self.width, self.height))
         picture = resize_yuv420(np.ascontiguousarray(picture), self.width, self.height)
         self.mirror.set_reference(picture, params)
+        self.mirror.set_face_source(True)
 
     def _light(self, picture: np.ndarray, params: np.ndarray) -> tuple[float, float]:
         """The face's light on `picture` against what the receiver will render."""
@@ -204,6 +205,9 @@ class MbcUnitDecoder:
         self._pending = None
         if background is not None:
             self._pending = np.ascontiguousarray(resize_yuv420(background, width, height))
+            # That picture's pose is only the stream's first: the face itself comes from the
+            # description, whose pose is exact; hair, neck and background from the picture.
+            self.renderer.set_face_source(True)
 
     def set_reference(self, picture: np.ndarray, params: np.ndarray) -> None:
         """Render from `picture` (YUV 4:2:0, source size) with the model at `params` on it;
