@@ -12,7 +12,7 @@ and light into packets; the decoder decodes them, and the receiver's `SceneRende
 whole reference (frame 0, the last full picture the receiver had, at the pose tracked on it)
 to each decoded pose, in colour. Displays: the rendering at the tracker's unquantised
 parameters, at the decoded ones, the same stream from the other reference (the description's
-picture), the frozen display (frame 0 held: what H.264 shows in an outage), and H.264 at the
+picture) and with the face from the description (the simulation's choice), the frozen display (frame 0 held: what H.264 shows in an outage), and H.264 at the
 ladder's lowest and second rungs (real libx264, decoded, upscaled, each picture held until
 the next). Where the tracker has no face the last good picture stays. Each is scored over the
 face box of `uma.face.region` (as the simulation scores), the whole frame and the model's own
@@ -31,7 +31,15 @@ import numpy as np
 
 __all__ = ["ClipSpec", "run_mbc_bench", "format_table", "default_clips", "DISPLAYS"]
 
-DISPLAYS = ("unquantised", "quantised", "frozen", "h264_lowest", "h264_second", "other_reference")
+DISPLAYS = (
+    "unquantised",
+    "quantised",
+    "frozen",
+    "h264_lowest",
+    "h264_second",
+    "other_reference",
+    "description_face",
+)
 REGIONS = ("face", "frame", "model")
 SCALED_FPS = 25.0
 
@@ -165,13 +173,17 @@ def run_clip(
     mirror = _renderer(clip, reference, results[0], (width, height))
     other = _renderer(clip, "description" if reference == "picture" else "picture",
                       results[0], (width, height))  # fmt: skip
-    lights, other_lights, light_ms, packets = {}, {}, [], []
+    # The simulation's choice: the scene from the picture, the face from the description.
+    mixed = _renderer(clip, "picture", results[0], (width, height))
+    mixed.set_face_source(True)
+    lights, other_lights, mixed_lights, light_ms, packets = {}, {}, {}, [], []
     for index, result in enumerate(results):
         if result:
             begin = time.perf_counter()
             lights[index] = measure_light(mirror, lumas[index], result.params)
             light_ms.append((time.perf_counter() - begin) * 1000.0)
             other_lights[index] = measure_light(other, lumas[index], result.params)
+            mixed_lights[index] = measure_light(mixed, lumas[index], result.params)
         packets += encoder.push(index, np.append(result.params, lights[index]) if result else None)
     packets += encoder.flush()
     # The receiver: decode every packet in order, render each frame at the newest parameters.
@@ -188,10 +200,10 @@ def run_clip(
             decoded[frame], decode_ms[frame] = values, share
     h264 = {name: h264_display(clip.frames, clip.fps, rung) for name, rung in
             (("h264_lowest", 0), ("h264_second", 1))}  # fmt: skip
-    displays = ("unquantised", "quantised", "frozen", "h264_lowest", "h264_second",
-                "other_reference")  # fmt: skip
+    displays = DISPLAYS
     sums = {d: RegionSums() for d in displays}
-    shown = {d: clip.frames[0] for d in ("unquantised", "quantised", "other_reference")}
+    rendered = ("unquantised", "quantised", "other_reference", "description_face")
+    shown = {d: clip.frames[0] for d in rendered}
     model_mask = np.zeros((height, width), bool)
     render_ms, mde, box = [], [], None
     for index in range(len(lumas)):
@@ -204,6 +216,7 @@ def run_clip(
             shown["quantised"], _ = receiver.render(params, light)
             render_ms.append(decode_ms[index] + (time.perf_counter() - begin) * 1000.0)
             shown["other_reference"], _ = other.render(params, other_lights[index])
+            shown["description_face"], _ = mixed.render(params, mixed_lights[index])
         truth_points = None
         if clip.truth is not None:
             truth = clip.truth(index)
@@ -225,7 +238,7 @@ def run_clip(
     seconds = len(lumas) / SCALED_FPS  # the same frames at 25 frames/s
     rate_kbps = payload_bytes * 8 / seconds / 1000.0
     rates = {"unquantised": None, "quantised": rate_kbps, "frozen": 0.0,
-             "other_reference": rate_kbps}  # fmt: skip
+             "other_reference": rate_kbps, "description_face": rate_kbps}  # fmt: skip
     rates.update({name: h264[name][1] for name in h264})
     scored = {name: sums[name].means(rates[name]) for name in displays}
     reinits = [r for r in results[1:] if r.reinitialised]
