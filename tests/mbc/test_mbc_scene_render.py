@@ -65,3 +65,13 @@ def test_bad_reference_and_light_are_typed_errors(still_head) -> None:
         renderer.render(params, light=(1.0, 1e6))
     picture, mask = renderer.render(params, light=(1.2, -10.0))
     assert picture.dtype == np.uint8 and mask.any()
+
+
+def test_face_from_the_description_is_relit(still_head) -> None:
+    renderer = SceneRenderer(still_head.description, (352, 288))
+    renderer.set_face_source(True)
+    params = still_head.params_at(10)
+    plain, face = renderer.render(params)
+    lit, _ = renderer.render(params, light=(1.0, 20.0))
+    lifted = lit[:288][face].astype(int) - plain[:288][face]
+    assert np.median(lifted) == 20

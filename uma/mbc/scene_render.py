@@ -233,12 +233,12 @@ class SceneRenderer:
             self.reference[:height], map_x, map_y, cv2.INTER_LINEAR,
             borderMode=cv2.BORDER_REPLICATE,
         )  # fmt: skip
+        if self._face_source is not None:
+            self._paste_face(luma, params)  # before the light: the pasted face is relit too
         if light is not None:
             gain, offset = _checked_light(light)
             lit = luma[face].astype(np.float32) * gain + offset
             luma[face] = np.clip(np.rint(lit), 0, 255).astype(np.uint8)
-        if self._face_source is not None:
-            self._paste_face(luma, params)
         out[:height] = luma
         # Chroma: each 2x2 block's mean position, in chroma-plane coordinates.
         cx = (map_x[0::2, 0::2] + map_x[1::2, 1::2] - 1.0) * 0.25
