@@ -13,7 +13,14 @@ from dataclasses import dataclass
 
 from uma.engine.points import OperatingPoint
 
-__all__ = ["FrameDecision", "EngineEvent", "DescriptionChunk", "UnitSent", "EngineOutcome"]
+__all__ = [
+    "FrameDecision",
+    "EngineEvent",
+    "DescriptionChunk",
+    "UnitSent",
+    "PaceDecision",
+    "EngineOutcome",
+]
 
 
 @dataclass(frozen=True)
@@ -71,6 +78,15 @@ class UnitSent:
 
     first_seq: int
     padding_bits: float | None = None
+
+
+@dataclass(frozen=True)
+class PaceDecision:
+    """What the pacer lets out now: the world's packets in order, each with its sequence
+    number, and when to ask again (inf: when something new is queued)."""
+
+    sent: tuple[tuple[object, int], ...]
+    next_s: float
 
 
 @dataclass(frozen=True)

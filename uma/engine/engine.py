@@ -22,10 +22,17 @@ from dataclasses import replace
 
 from uma.codecs import Role, spec
 from uma.config.scenario import EngineConfig, FeedbackConfig
-from uma.engine.decisions import EngineEvent, EngineOutcome, FrameDecision, UnitSent
+from uma.engine.decisions import (
+    EngineEvent,
+    EngineOutcome,
+    FrameDecision,
+    PaceDecision,
+    UnitSent,
+)
 from uma.engine.estimator import EstimatorState, initial_estimate, stale_decrease
 from uma.engine.estimators import ESTIMATORS
 from uma.engine.inflight import InFlight, Keyframes
+from uma.engine.pacer import PADDING, PRIORITY, VIDEO, PacedPacket, Pacer
 from uma.engine.pacing import backlogged, padding_bits
 from uma.engine.parts import DescriptionPlan, build_parts
 from uma.engine.points import OperatingPoint
@@ -67,6 +74,13 @@ class UmaEngine:
         self.codec_since_s = self.last_switch_s = 0.0
         self.last_sent_s = float("-inf")
         self.keyframes = Keyframes(feedback.keyframe_min_interval_ms / 1000.0)
+        pacer = config.pacer
+        self.pacer = (
+            Pacer(burst_ms=pacer.burst_ms, padding_wait_ms=pacer.padding_wait_ms)
+            if pacer.enabled
+            else None
+        )
+        self.next_unit = 0
 
     def _emit(self, now_s: float, kind: str, detail: str) -> None:
         self.events.append(EngineEvent(now_s, kind, detail))
@@ -131,6 +145,64 @@ class UmaEngine:
         pad = padding_bits(self, self.points[rung], interval_s, sent_bits=sum(sizes_bits))
         return UnitSent(first_seq, pad)
 
+    def on_unit_queued(
+        self, packets: list[tuple[object, int]], *, rung: int, frames: tuple[int, ...],
+        keyframe: bool, now_s: float,
+    ) -> UnitSent:  # fmt: skip
+        """With the pacer on: a coded unit of point `rung` carrying `frames`, as the world's
+        packets and their sizes, waits in the engine's queue (`on_pace` lets it out, numbered
+        then). Its `first_seq` is -1; the padding due is queued with `on_padding_queued`."""
+        assert self.pacer is not None, "on_unit_queued needs engine.pacer.enabled"
+        unit, self.next_unit = self.next_unit, self.next_unit + 1
+        point = self.points[rung]
+        deadline_s = frames[-1] / self.ladder.source_fps + self.config.pacer.deadline_ms / 1000.0
+        paced = [
+            PacedPacket(payload, size, unit, frames[-1], deadline_s, keyframe)
+            for payload, size in packets
+        ]
+        model = spec(point.codec).role is Role.MODEL
+        dropped = self.pacer.push(paced, PRIORITY if model else VIDEO)
+        self._dropped(dropped, now_s, "model codec first")
+        interval_s = len(frames) / min(point.fps, self.ladder.source_fps)
+        sent_bits = sum(size for _, size in packets)
+        return UnitSent(-1, padding_bits(self, point, interval_s, sent_bits=sent_bits))
+
+    def on_padding_queued(self, packets: list[tuple[object, int]], now_s: float) -> None:
+        """Padding packets wait in the pacer's lowest class."""
+        assert self.pacer is not None, "on_padding_queued needs engine.pacer.enabled"
+        paced = [PacedPacket(payload, size, -1, -1, now_s) for payload, size in packets]
+        self.pacer.push(paced, PADDING)
+
+    def on_pace(self, now_s: float, *, capacity_kbps: float | None = None) -> PaceDecision:
+        """The packets the pacer lets out at `now_s` (each numbered), and when to ask again;
+        the oracle paces at the true capacity `capacity_kbps`."""
+        assert self.pacer is not None, "on_pace needs engine.pacer.enabled"
+        seen_kbps = self.estimate_kbps if capacity_kbps is None else capacity_kbps
+        release = self.pacer.release(
+            now_s,
+            seen_kbps * self.config.pacer.rate_factor,
+            network_delay_s=self.estimator.queue_delay_ms / 1000.0,
+        )
+        self._dropped(release.dropped_frames, now_s, "too late to be shown")
+        if release.needs_keyframe:
+            self.keyframes.request()
+        sizes = [packet.size_bits for packet in release.sent]
+        first_seq = self.inflight.on_sent(sizes)
+        sent = tuple((packet.payload, first_seq + i) for i, packet in enumerate(release.sent))
+        return PaceDecision(sent, release.next_s)
+
+    def _dropped(self, frames: tuple[int, ...], now_s: float, why: str) -> None:
+        if frames:
+            self.counts["pacer_dropped_frames"] = self.counts.get("pacer_dropped_frames", 0) + len(
+                frames
+            )
+            self._emit(now_s, "pacer_drop", f"frames {frames[0]}-{frames[-1]}: {why}")
+
+    @property
+    def queued_bits(self) -> int:
+        """Bits waiting in the engine's own queue (0 without the pacer)."""
+        return 0 if self.pacer is None else self.pacer.queued_bits
+
     @property
     def outstanding_bits(self) -> int:
         return self.inflight.outstanding_bits
@@ -182,7 +254,9 @@ class UmaEngine:
             return replace(decision, scheduled=False, reason="fps")
         probe_due = now_s - self.last_sent_s >= self.config.probe_interval_ms / 1000.0
         seen_kbps = self.estimate_kbps if capacity_kbps is None else capacity_kbps
-        held = backlogged(self.config, point, now_s, self.inflight, seen_kbps)
+        held = backlogged(
+            self.config, point, now_s, self.inflight, seen_kbps, queued_bits=self.queued_bits
+        )
         if held and not switched and not probe_due:
             return replace(decision, reason="backlog")
         self.switched_between = False

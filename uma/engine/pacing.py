@@ -31,15 +31,22 @@ __all__ = ["backlogged", "padding_bits"]
 
 
 def backlogged(
-    config, point: OperatingPoint, now_s: float, inflight: InFlight, seen_kbps: float
+    config,
+    point: OperatingPoint,
+    now_s: float,
+    inflight: InFlight,
+    seen_kbps: float,
+    *,
+    queued_bits: int = 0,
 ) -> bool:
     """Whether a frame at `point` should be held at `now_s` (`config` an `EngineConfig`;
-    `seen_kbps` the rate the engine judges the downlink by)."""
+    `seen_kbps` the rate the engine judges the downlink by; `queued_bits` wait in the
+    engine's own queue, the pacer's)."""
     codec = spec(point.codec)
     if not codec.skip_for_backlog:
         hold_ms = getattr(config, codec.config_section).outage_hold_ms
         return now_s - inflight.last_report_s > hold_ms / 1000.0
-    return inflight.outstanding_bits > seen_kbps * config.max_backlog_ms
+    return inflight.outstanding_bits + queued_bits > seen_kbps * config.max_backlog_ms
 
 
 def padding_bits(

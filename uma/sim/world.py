@@ -24,7 +24,13 @@ from uma.sim.links import Downlink, FixedLink, LinkProps, downlink_process
 from uma.sim.packets import HEADER_BYTES
 from uma.sim.playout import make_playout
 from uma.sim.points import load_run_ladder, model_plan, operating_points
-from uma.sim.processes import display_process, engine_process, report_process, sender_process
+from uma.sim.processes import (
+    display_process,
+    engine_process,
+    pacer_process,
+    report_process,
+    sender_process,
+)
 from uma.sim.quality import QualityMeter
 from uma.sim.receiver import ReceiverState
 from uma.sim.result import RunResult, collect_result
@@ -213,6 +219,8 @@ def run_scenario(
     env.process(engine_process(env, world))
     env.process(downlink_process(env, downlink))
     env.process(report_process(env, world))
+    if scenario.engine.pacer.enabled:
+        env.process(pacer_process(env, world))
     display = env.process(display_process(env, world))
     env.run(until=display)
     for index, (psnr, similarity, face_psnr, face_ssim) in quality.finish().items():
