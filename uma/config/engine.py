@@ -13,6 +13,7 @@ from pydantic import AllowInfNan, Field, Strict, field_validator, model_validato
 
 from uma.codecs import full_frame_names
 from uma.config.codecs import FaceRegionConfig, MbcConfig
+from uma.config.technologies import LABELS
 from uma.config.types import Bool, Fraction, NonNeg, NonNegInt, PosInt, PosNum, Section, Str
 
 __all__ = [
@@ -20,6 +21,7 @@ __all__ = [
     "EstimatorConfig",
     "SwitchingConfig",
     "PacerConfig",
+    "HandoverConfig",
     "POLICY_NAMES",
     "ESTIMATOR_KINDS",
     "SWITCHING_NAMES",
@@ -92,6 +94,23 @@ class PacerConfig(Section):
     padding_wait_ms: NonNeg = 100.0
 
 
+class HandoverConfig(Section):
+    """Handover awareness (`uma.engine.handover`): on a change of the technology the receiver
+    reports, the estimate becomes that technology's prior capacity at once (its rate model's
+    mean, or `priors_kbps[technology]`). Off for a single-technology route."""
+
+    enabled: Bool = False
+    priors_kbps: dict[Str, PosNum] = Field(default_factory=dict)
+
+    @field_validator("priors_kbps")
+    @classmethod
+    def _technologies(cls, value: dict[str, float]) -> dict[str, float]:
+        for name in value:
+            if name not in LABELS:
+                raise ValueError(f"expected technologies among {', '.join(LABELS)}, got {name!r}")
+        return value
+
+
 class SwitchingConfig(Section):
     """When to switch between H.264 and the model-based codec (`uma.engine.policy`).
 
@@ -147,6 +166,7 @@ class EngineConfig(Section):
     mbc: MbcConfig = Field(default_factory=MbcConfig)
     face_region: FaceRegionConfig = Field(default_factory=FaceRegionConfig)
     pacer: PacerConfig = Field(default_factory=PacerConfig)
+    handover: HandoverConfig = Field(default_factory=HandoverConfig)
     # Tuning (see `uma.engine.engine`): reports missing for this many intervals mean an outage;
     # no more than this much sending time in flight; unacknowledged packets presumed lost after
     # this long; while backlogged, a probe frame this often.

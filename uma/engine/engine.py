@@ -31,6 +31,7 @@ from uma.engine.decisions import (
 )
 from uma.engine.estimator import EstimatorState, initial_estimate, stale_decrease
 from uma.engine.estimators import ESTIMATORS
+from uma.engine.handover import Handover, handover_estimate
 from uma.engine.inflight import InFlight, Keyframes
 from uma.engine.pacer import PADDING, PRIORITY, VIDEO, PacedPacket, Pacer
 from uma.engine.pacing import backlogged, padding_bits
@@ -55,6 +56,7 @@ class UmaEngine:
         model_unavailable: str = "",
         coverage: tuple[tuple[float, str], ...] = (),
         description: DescriptionPlan | None = None,
+        technology_priors_kbps: dict[str, float] | None = None,
     ) -> None:
         self.config, self.feedback, self.points = config, feedback, points
         self.policy = POLICIES[config.policy]
@@ -81,6 +83,7 @@ class UmaEngine:
             else None
         )
         self.next_unit = 0
+        self.handover = Handover(technology_priors_kbps or {}) if config.handover.enabled else None
 
     def _emit(self, now_s: float, kind: str, detail: str) -> None:
         self.events.append(EngineEvent(now_s, kind, detail))
@@ -96,6 +99,14 @@ class UmaEngine:
             outstanding_bits=self.outstanding_bits,
             config=self.config.estimator,
         )
+        prior_kbps = None if self.handover is None else self.handover.on_report(report.technology)
+        if prior_kbps is not None:
+            config = self.config.estimator
+            self.estimator = handover_estimate(
+                self.estimator, prior_kbps, now_s=now_s, min_kbps=config.min_kbps,
+                max_kbps=config.max_kbps,
+            )  # fmt: skip
+            self._emit(now_s, "handover_prior", f"{report.technology} {prior_kbps:.1f} kbps")
 
     def on_keyframe_request(self, request: KeyframeRequest, now_s: float) -> None:
         self.keyframes.request()

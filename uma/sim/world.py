@@ -156,6 +156,7 @@ def run_scenario(
             chunks=-(-plan.description_bytes // payload_bytes),
             chunk_bits=8 * (payload_bytes + HEADER_BYTES),
         ),
+        technology_priors_kbps=technology_priors_kbps(scenario),
     )
     props = _link_props(scenario)
     world_ref: list[World] = []
@@ -168,6 +169,7 @@ def run_scenario(
         now=lambda: env.now,
         keyframe_retry_s=scenario.receiver.keyframe_retry_ms / 1000.0,
         base_delay_window_s=scenario.receiver.base_delay_window_s,
+        technology=lambda: capacity.technology_at(env.now),
     )
     downlink = Downlink(
         env=env,
@@ -242,6 +244,16 @@ def run_scenario(
         description_bytes=plan.description_bytes,
         duration_s=end_s,
     )
+
+
+def technology_priors_kbps(scenario: Scenario) -> dict[str, float]:
+    """Each technology's prior capacity for the engine's handover awareness: its rate
+    model's mean, unless `engine.handover.priors_kbps` names it."""
+    from uma.config.technologies import LABELS
+    from uma.traces import technology_defaults
+
+    priors = {label: technology_defaults(label).rate.mean_kbps for label in LABELS}
+    return priors | dict(scenario.engine.handover.priors_kbps)
 
 
 def _time_s(event: EngineEvent) -> float:
