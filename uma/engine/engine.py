@@ -260,6 +260,7 @@ class UmaEngine:
         decision = FrameDecision(
             frame, self.rung, scheduled=True, send=False, force_idr=False, point=point,
             initialise=initialise, description=chunks, estimate_kbps=self.estimate_kbps,
+            queued_bits=self.queued_bits,
         )  # fmt: skip
         if not self.ladder.scheduled(frame, self.rung):
             return replace(decision, scheduled=False, reason="fps")

@@ -79,6 +79,8 @@ def engine_process(env: simpy.Environment, world: World):
         log["technology"][index] = world.capacity.technology_at(env.now)
         log["capacity_kbps"][index] = capacity_kbps
         log["estimate_kbps"][index] = decision.estimate_kbps
+        log["queue_bytes"][index] = world.downlink.queued_bytes
+        log["engine_queue_bytes"][index] = decision.queued_bits // 8
         log["rung"][index] = decision.rung
         log["scheduled"][index] = int(decision.scheduled)
         if decision.initialise is not None:
