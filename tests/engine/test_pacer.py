@@ -103,3 +103,17 @@ def test_burst_allowance_bounds_what_leaves_at_once():
     release = pacer.release(10.0, 992.0, network_delay_s=0.0)
     # 100 ms at 992 kbit/s is 99.2 kbit: ten 9.92 kbit packets and no more than one over.
     assert 10 <= len(release.sent) <= 11
+
+
+def test_a_frame_fits_only_when_it_drains_before_the_next():
+    from uma.engine.pacing import frame_fits
+    from uma.engine.points import OperatingPoint
+
+    point = OperatingPoint("h264", 400.0, 25.0, 352, 288, 4.0)  # 16 kbit a frame
+    fits = dict(rate_kbps=500.0, fps=25.0, slack_frames=1.0)  # 20 kbit drain a frame
+    assert frame_fits(point, queued_bits=0, **fits)
+    assert frame_fits(point, queued_bits=4000, **fits)
+    assert not frame_fits(point, queued_bits=4001, **fits)
+    assert frame_fits(point, queued_bits=20000, **(fits | {"slack_frames": 2.0}))
+    model = OperatingPoint("mbc", 4.0, 25.0, 352, 288, 4.0)
+    assert frame_fits(model, queued_bits=10**6, **fits)  # never skipped for backlog

@@ -88,6 +88,9 @@ class PacerConfig(Section):
     """
 
     enabled: Bool = False
+    # Salsify's frame sizing: hold a frame when what waits plus its share of the rate would
+    # not leave within `fit_frames` frame intervals (0: off).
+    fit_frames: NonNeg = 0.0
     rate_factor: PosNum = 1.0
     burst_ms: PosNum = 40.0
     deadline_ms: PosNum = 1000.0

@@ -34,7 +34,7 @@ from uma.engine.estimators import ESTIMATORS
 from uma.engine.handover import Handover, handover_estimate
 from uma.engine.inflight import InFlight, Keyframes
 from uma.engine.pacer import PADDING, PRIORITY, VIDEO, PacedPacket, Pacer
-from uma.engine.pacing import backlogged, padding_bits
+from uma.engine.pacing import backlogged, frame_fits, padding_bits
 from uma.engine.parts import DescriptionPlan, build_parts
 from uma.engine.points import OperatingPoint
 from uma.engine.policy import POLICIES, PolicyView
@@ -269,6 +269,13 @@ class UmaEngine:
         held = backlogged(
             self.config, point, now_s, self.inflight, seen_kbps, queued_bits=self.queued_bits
         )
+        fit = self.config.pacer.fit_frames
+        if fit > 0 and self.pacer is not None and not held:
+            held = not frame_fits(
+                point, queued_bits=self.queued_bits, slack_frames=fit,
+                rate_kbps=seen_kbps * self.config.pacer.rate_factor,
+                fps=min(point.fps, self.ladder.source_fps),
+            )  # fmt: skip
         if held and not switched and not probe_due:
             return replace(decision, reason="backlog")
         self.switched_between = False
