@@ -117,3 +117,14 @@ def test_a_frame_fits_only_when_it_drains_before_the_next():
     assert frame_fits(point, queued_bits=20000, **(fits | {"slack_frames": 2.0}))
     model = OperatingPoint("mbc", 4.0, 25.0, 352, 288, 4.0)
     assert frame_fits(model, queued_bits=10**6, **fits)  # never skipped for backlog
+
+
+def test_a_silent_feedback_path_holds_everything_and_judges_deadlines_still():
+    pacer = Pacer(burst_ms=40.0, padding_wait_ms=100.0)
+    pacer.push(_unit(0, 0, 0.5, packets=2, keyframe=True), VIDEO)
+    held = pacer.release(0.0, 1000.0, network_delay_s=0.0, hold=True)
+    assert held.sent == () and held.next_s == float("inf") and pacer.queued_bits > 0
+    assert pacer.release(0.3, 1000.0, network_delay_s=0.0, hold=True).sent == ()
+    assert pacer.release(0.6, 1000.0, network_delay_s=0.0, hold=True).dropped_frames == (0,)
+    pacer.push(_unit(1, 1, 5.0, keyframe=True), VIDEO)
+    assert len(pacer.release(0.7, 1000.0, network_delay_s=0.0).sent) == 1

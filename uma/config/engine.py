@@ -84,7 +84,8 @@ class PacerConfig(Section):
     Packets leave at `rate_factor` x the estimate (the oracle's true capacity), with
     `burst_ms` of that rate as the burst allowance; a frame that would leave later than its
     capture time + `deadline_ms` (less the reported queueing delay) is dropped in the engine,
-    and a keyframe follows; padding waits at most `padding_wait_ms`.
+    and a keyframe follows; padding waits at most `padding_wait_ms`; with `hold_after_ms`,
+    nothing leaves while no report came for that long.
     """
 
     enabled: Bool = False
@@ -95,6 +96,9 @@ class PacerConfig(Section):
     burst_ms: PosNum = 40.0
     deadline_ms: PosNum = 1000.0
     padding_wait_ms: NonNeg = 100.0
+    # No report for this long (an outage, a handover gap): nothing leaves the pacer, so the
+    # old link's rate is not pushed into the new one's queue (0: off).
+    hold_after_ms: NonNeg = 0.0
 
 
 class HandoverConfig(Section):

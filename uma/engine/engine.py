@@ -189,10 +189,12 @@ class UmaEngine:
         the oracle paces at the true capacity `capacity_kbps`."""
         assert self.pacer is not None, "on_pace needs engine.pacer.enabled"
         seen_kbps = self.estimate_kbps if capacity_kbps is None else capacity_kbps
+        hold_s = self.config.pacer.hold_after_ms / 1000.0
         release = self.pacer.release(
             now_s,
             seen_kbps * self.config.pacer.rate_factor,
             network_delay_s=self.estimator.queue_delay_ms / 1000.0,
+            hold=hold_s > 0 and now_s - self.inflight.last_report_s > hold_s,
         )
         self._dropped(release.dropped_frames, now_s, "too late to be shown")
         if release.needs_keyframe:

@@ -77,12 +77,18 @@ class Pacer:
             self.queued_bits += packet.size_bits
         return tuple(dropped)
 
-    def release(self, now_s: float, rate_kbps: float, *, network_delay_s: float) -> PacerRelease:
-        """Send what the bucket allows at `now_s` at `rate_kbps`; drop what is too late."""
+    def release(
+        self, now_s: float, rate_kbps: float, *, network_delay_s: float, hold: bool = False
+    ) -> PacerRelease:
+        """Send what the bucket allows at `now_s` at `rate_kbps`; drop what is too late. With
+        `hold` (the feedback is silent: an outage or a handover gap) nothing leaves, the bucket
+        does not fill, and deadlines are still judged at `rate_kbps`."""
         rate_bps = max(rate_kbps, 1e-3) * 1000.0
         burst_bits = rate_bps * self.burst_s
         if self.last_s is None:
             self.tokens_bits = burst_bits  # an idle pacer's bucket is full
+        elif hold:
+            self.tokens_bits = min(self.tokens_bits, 0.0)
         else:
             self.tokens_bits = min(burst_bits, self.tokens_bits + (now_s - self.last_s) * rate_bps)
         self.last_s = now_s
@@ -92,7 +98,7 @@ class Pacer:
         video = self.queues[VIDEO]
         needs_keyframe = bool(dropped) and not (video and video[0].keyframe)
         sent: list[PacedPacket] = []
-        while self.tokens_bits > 0.0:
+        while self.tokens_bits > 0.0 and not hold:
             packet = self._next()
             if packet is None:
                 break
@@ -100,7 +106,7 @@ class Pacer:
             self.queued_bits -= packet.size_bits
             sent.append(packet)
         next_s = float("inf")
-        if any(self.queues):
+        if any(self.queues) and not hold:
             next_s = now_s + max(1e-4, -self.tokens_bits / rate_bps + 1e-9)
         return PacerRelease(tuple(sent), tuple(dropped), needs_keyframe, next_s)
 
