@@ -60,9 +60,22 @@ def test_a_drop_takes_its_dependants_and_asks_for_a_keyframe():
     release = pacer.release(0.0, 100.0, network_delay_s=0.0)
     assert release.dropped_frames == (0, 1) and release.needs_keyframe
     pacer.push(_unit(2, 2, 0.1, packets=10), VIDEO)
-    pacer.push(_unit(3, 3, 5.0, keyframe=True), VIDEO)
+    pacer.push(_unit(3, 3, 0.1, packets=10), VIDEO)
+    pacer.push(_unit(4, 4, 5.0), VIDEO)
+    # A keyframe queued behind them supersedes them at once.
+    assert pacer.push(_unit(5, 5, 0.1, packets=10, keyframe=True), VIDEO) == (2, 3, 4)
     release = pacer.release(0.0, 100.0, network_delay_s=0.0)
-    assert release.dropped_frames == (2,) and not release.needs_keyframe
+    assert release.dropped_frames == () and not release.needs_keyframe
+
+
+def test_a_keyframe_is_never_dropped_late_only_superseded():
+    pacer = Pacer(burst_ms=40.0, padding_wait_ms=100.0)
+    pacer.push(_unit(0, 0, 0.1, packets=10, keyframe=True), VIDEO)
+    assert pacer.release(0.0, 50.0, network_delay_s=1.0).dropped_frames == ()
+    pacer.push(_unit(1, 1, 0.2), VIDEO)
+    assert pacer.push(_unit(2, 2, 0.3, keyframe=True), VIDEO) == (1,)  # unit 0 has started
+    sent, dropped = _drain(pacer, 50.0, 10.0, delay_s=1.0)
+    assert {payload[0] for _, payload in sent} == {0, 2} and dropped == []
 
 
 def test_reported_queueing_delay_counts_against_the_deadline():
@@ -121,7 +134,7 @@ def test_a_frame_fits_only_when_it_drains_before_the_next():
 
 def test_a_silent_feedback_path_holds_everything_and_judges_deadlines_still():
     pacer = Pacer(burst_ms=40.0, padding_wait_ms=100.0)
-    pacer.push(_unit(0, 0, 0.5, packets=2, keyframe=True), VIDEO)
+    pacer.push(_unit(0, 0, 0.5, packets=2), VIDEO)
     held = pacer.release(0.0, 1000.0, network_delay_s=0.0, hold=True)
     assert held.sent == () and held.next_s == float("inf") and pacer.queued_bits > 0
     assert pacer.release(0.3, 1000.0, network_delay_s=0.0, hold=True).sent == ()

@@ -190,9 +190,12 @@ class UmaEngine:
         assert self.pacer is not None, "on_pace needs engine.pacer.enabled"
         seen_kbps = self.estimate_kbps if capacity_kbps is None else capacity_kbps
         hold_s = self.config.pacer.hold_after_ms / 1000.0
+        # Never slower than the point in use sends: a lowest rung above the estimate would
+        # otherwise only queue here until its frames are dropped, and nothing be measured.
+        rate_kbps = max(seen_kbps * self.config.pacer.rate_factor, self.points[self.rung].rate_kbps)
         release = self.pacer.release(
             now_s,
-            seen_kbps * self.config.pacer.rate_factor,
+            rate_kbps,
             network_delay_s=self.estimator.queue_delay_ms / 1000.0,
             hold=hold_s > 0 and now_s - self.inflight.last_report_s > hold_s,
         )

@@ -9,7 +9,9 @@ burst allowance, and a frame still waiting when it could no longer be shown in t
 capture time plus `deadline_ms`, less the queueing delay the receiver last reported) is
 dropped here, with the frames that depend on it, so the link carries only what can still be
 used; the engine then forces a keyframe. A unit whose first packet left is sent whole (a
-half-sent unit would break the receiver's chain).
+half-sent unit would break the receiver's chain). A keyframe is never dropped for being late
+(however slow the link, something must get through, or the estimate could never see it),
+only when a newer keyframe is queued behind it: it is superseded.
 
 Three classes, served in order: `PRIORITY` (the model codec's parameters: a few kbit/s the
 switch chose because nothing larger fits, never dropped; when one comes, waiting full-frame
@@ -72,6 +74,9 @@ class Pacer:
         dropped: list[int] = []
         if priority == PRIORITY and packets:
             dropped = self._drop_video(lambda packet: packet.unit != self.started_unit)
+        elif priority == VIDEO and packets and packets[0].keyframe:
+            # A new keyframe supersedes every full-frame unit waiting before it.
+            dropped = self._drop_video(lambda packet: packet.unit != self.started_unit)
         for packet in packets:
             self.queues[priority].append(packet)
             self.queued_bits += packet.size_bits
@@ -133,7 +138,7 @@ class Pacer:
         if not video:
             return []
         head = video[0]
-        if head.unit == self.started_unit:
+        if head.unit == self.started_unit or head.keyframe:
             return []
         unit_bits = sum(p.size_bits for p in video if p.unit == head.unit)
         ahead_bits = sum(p.size_bits for p in self.queues[PRIORITY])
