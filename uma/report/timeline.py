@@ -149,6 +149,16 @@ def _figure(run: RunFiles):
     return fig
 
 
+def _numbers(values: np.ndarray, column: str) -> np.ndarray:
+    """A frames.csv column the reader kept as text, as numbers (empty: 0)."""
+    from uma.errors import ConfigError
+
+    try:
+        return np.array([float(v) if v != "" else 0.0 for v in values])
+    except ValueError:
+        raise ConfigError(f"frames.csv ({column}): expected numbers") from None
+
+
 def _queues(ax, t_s: np.ndarray, f: dict[str, np.ndarray]) -> None:
     """The bottleneck's queue and the engine's own, in kB, as the engine saw them per frame."""
     for column, colour, label in (
@@ -156,8 +166,8 @@ def _queues(ax, t_s: np.ndarray, f: dict[str, np.ndarray]) -> None:
         ("engine_queue_bytes", "#e67e22", "engine queue (pacer)"),
     ):
         if column in f:
-            ax.step(t_s, np.nan_to_num(f[column]) / 1000.0, where="post", color=colour, lw=1,
-                    label=label)  # fmt: skip
+            kilobytes = _numbers(f[column], column) / 1000.0
+            ax.step(t_s, kilobytes, where="post", color=colour, lw=1, label=label)
     ax.set_ylabel("queued kB")
     if "queue_bytes" in f or "engine_queue_bytes" in f:
         ax.legend(loc="upper left", fontsize=8, ncols=2)
