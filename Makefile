@@ -16,15 +16,16 @@ install: $(BIN)/uma
 demo: install
 	$(BIN)/uma run
 
+# The fast suite (at most two minutes); the 15 slowest tests are listed at the end.
 test: install
-	$(BIN)/python -m pytest -q -m "not slow"
+	$(BIN)/python -m pytest -q -m "not slow" --durations=15
 
-# The regression gate on the repository's baselines (about 15 s).
+# The regression gate on the repository's baselines: seven short scenarios (about 30 s).
 regress: install
 	$(BIN)/uma regress tests/baselines/suite.yaml
 
 test-all: install
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q --durations=15
 
 lint: install
 	$(BIN)/ruff check uma tests

@@ -31,3 +31,25 @@ def shared_data() -> Path:
     if not root.is_dir():
         pytest.skip(f"shared data not found at {root}")
     return root
+
+
+@pytest.fixture(scope="session")
+def astronaut_clip(tmp_path_factory) -> Path:
+    """Three frames as an H.264 clip (CRF 12), frame 1 the astronaut photograph, 0 and 2 black."""
+    import av
+    import cv2
+    import numpy as np
+    import skimage.data
+
+    path = tmp_path_factory.mktemp("clip") / "astro.mp4"
+    photo = cv2.cvtColor(skimage.data.astronaut(), cv2.COLOR_RGB2BGR)
+    with av.open(str(path), "w", format="mp4") as container:
+        stream = container.add_stream("libx264", rate=25)
+        stream.width, stream.height, stream.pix_fmt = 512, 512, "yuv420p"
+        stream.options = {"crf": "12", "preset": "ultrafast"}
+        for k, picture in enumerate([np.zeros_like(photo), photo, np.zeros_like(photo)]):
+            frame = av.VideoFrame.from_ndarray(picture, format="bgr24")
+            frame.pts = k
+            container.mux(stream.encode(frame))
+        container.mux(stream.encode(None))
+    return path

@@ -1,4 +1,4 @@
-"""`uma bench mbc`: the keys CONVENTIONS.md requires, and bad input as one line with exit 2."""
+"""`uma bench mbc`: the keys docs/benchmarks.md requires, and bad input as one line with exit 2."""
 
 from __future__ import annotations
 

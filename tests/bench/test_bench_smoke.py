@@ -1,4 +1,4 @@
-"""The benchmarks run and print the keys CONVENTIONS.md requires (tiny sizes; no timing asserted)."""
+"""The benchmarks run and print the keys docs/benchmarks.md requires (tiny sizes; no timing asserted)."""
 
 import json
 

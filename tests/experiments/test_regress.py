@@ -165,3 +165,41 @@ def test_regress_refuses_an_out_folder_holding_other_files_before_running(suite,
     assert main(["regress", str(suite / "suite.yaml"), "--out", str(tmp_path)]) == 2
     assert "holds files that are not results (notes.txt)" in capsys.readouterr().err
     assert (tmp_path / "tiny" / "notes.txt").read_text() == "mine"
+
+
+def test_dotted_metrics_and_only_gate_the_scenarios_they_name(tmp_path):
+    from uma.experiments.regress import compare, load_suite, metric_value
+
+    (tmp_path / "suite.yaml").write_text(
+        "baseline: b.yaml\nscenarios: [a.yaml]\nmetrics:\n"
+        "  psnr_db: {worse: down, absolute: 0.3}\n"
+        "  by_technology.GSM.freeze_ratio: {worse: up, absolute: 0.02, only: [sw]}\n"
+    )
+    suite = load_suite(tmp_path / "suite.yaml")
+    assert set(suite.metrics_of("plain")) == {"psnr_db"}
+    assert set(suite.metrics_of("sw")) == {"psnr_db", "by_technology.GSM.freeze_ratio"}
+    now = {
+        "plain": {"psnr_db": 30.0},
+        "sw": {"psnr_db": 30.0, "by_technology": {"GSM": {"freeze_ratio": 0.2}}},
+    }
+    assert metric_value(now["sw"], "by_technology.GSM.freeze_ratio") == 0.2
+    assert metric_value(now["sw"], "by_technology.GPRS.freeze_ratio") is None
+    baseline = {
+        "plain": {"psnr_db": 30.0},
+        "sw": {"psnr_db": 30.0, "by_technology.GSM.freeze_ratio": 0.1},
+    }
+    verdicts = {(c.scenario, c.metric): c.verdict for c in compare(suite, baseline, now)}
+    assert verdicts == {
+        ("plain", "psnr_db"): "ok",
+        ("sw", "psnr_db"): "ok",
+        ("sw", "by_technology.GSM.freeze_ratio"): "REGRESSED",
+    }
+
+
+def test_only_must_name_scenarios(tmp_path, capsys):
+    (tmp_path / "suite.yaml").write_text(
+        "baseline: b.yaml\nscenarios: [a.yaml]\nmetrics:\n"
+        "  psnr_db: {worse: down, absolute: 0.3, only: sw}\n"
+    )
+    assert main(["regress", str(tmp_path / "suite.yaml")]) == 2
+    assert "suite.yaml:4" in capsys.readouterr().err

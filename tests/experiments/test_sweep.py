@@ -4,35 +4,12 @@ results on a Dask LocalCluster (loopback) as on local processes."""
 import re
 
 import pytest
+from sweep_files import EXPERIMENT
 
 from uma.cli import main
 from uma.errors import ConfigError
 from uma.experiments import LocalExecutor, load_experiment, run_sweep
 from uma.experiments.table import read_table_csv
-
-BASE = """\
-name: base
-seed: 1
-source: {kind: pattern, width: 96, height: 64, fps: 25}
-route:
-  - {technology: 3G, duration_s: 1.0, trace: good.csv}
-  - {technology: GPRS, duration_s: 1.0}
-"""
-EXPERIMENT = """\
-name: grid
-base: base.yaml
-grid:
-  engine.policy: [throughput, oracle]
-  receiver.playout_delay_ms: [150, 400]
-"""
-
-
-@pytest.fixture
-def folder(tmp_path):
-    (tmp_path / "base.yaml").write_text(BASE)
-    (tmp_path / "good.csv").write_text("time_s,rate_kbps,technology\n0,400,3G\n")
-    (tmp_path / "exp.yaml").write_text(EXPERIMENT)
-    return tmp_path
 
 
 def test_grid_expands_with_repeats_and_distinct_hashes(folder):

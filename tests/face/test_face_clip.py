@@ -1,36 +1,17 @@
 """Describing a frame of a video, and the shipped clip points (akiyo, carphone)."""
 
-import av
 import cv2
 import numpy as np
 import pytest
-import skimage.data
 
 from uma.cli import main
 from uma.errors import FaceError
 from uma.face import ContentDescription, load_description
-from uma.face.clip import describe_clip, read_picture
+from uma.face.clip import describe_clip, picture_of, read_picture
 from uma.face.points import load_points
 from uma.paths import codecs_dir
 
 CLIPS = {"akiyo": ("akiyo.mp4", 0, (288, 352)), "carphone": ("carphone_qcif.mp4", 18, (144, 176))}
-
-
-@pytest.fixture(scope="module")
-def astronaut_clip(tmp_path_factory):
-    """Three frames of the astronaut photograph as an H.264 clip, frame 1 the photograph."""
-    path = tmp_path_factory.mktemp("clip") / "astro.mp4"
-    photo = cv2.cvtColor(skimage.data.astronaut(), cv2.COLOR_RGB2BGR)
-    with av.open(str(path), "w", format="mp4") as container:
-        stream = container.add_stream("libx264", rate=25)
-        stream.width, stream.height, stream.pix_fmt = 512, 512, "yuv420p"
-        stream.options = {"crf": "12", "preset": "ultrafast"}
-        for k, picture in enumerate([np.zeros_like(photo), photo, np.zeros_like(photo)]):
-            frame = av.VideoFrame.from_ndarray(picture, format="bgr24")
-            frame.pts = k
-            container.mux(stream.encode(frame))
-        container.mux(stream.encode(None))
-    return path
 
 
 def test_describe_a_video_frame(astronaut_clip, tmp_path, capsys):
@@ -116,9 +97,15 @@ def test_frame_on_a_still_is_refused(tmp_path, capsys):
 @pytest.mark.parametrize(
     "text, message",
     [
-        ("video: 3\npoints: {'3.5': [1, 2]}\n", "video: expected a path"),
-        ("video: a.mp4\nframe: -1\npoints: {'3.5': [1, 2]}\n", "frame: expected a whole number"),
-        ("frame: 2\npoints: {'3.5': [1, 2]}\n", "no video: names the clip"),
+        ("video: 3\npoints: {'3.5': [1, 2]}\n", r"p.yaml:1 \(video\): expected a path"),
+        (
+            "video: a.mp4\nframe: -1\npoints: {'3.5': [1, 2]}\n",
+            r"p.yaml:2 \(frame\): expected a whole number",
+        ),
+        (
+            "image: a.png\nframe: 2\npoints: {'3.5': [1, 2]}\n",
+            r":2 \(frame\): a frame is of a video",
+        ),
         ("video: a.mp4\nimage: b.png\npoints: {'3.5': [1, 2]}\n", "not both"),
     ],
 )
@@ -127,6 +114,15 @@ def test_bad_points_file_keys(tmp_path, text, message):
     path.write_text(text)
     with pytest.raises(FaceError, match=message):
         load_points(path)
+
+
+def test_frame_without_video_waits_for_the_command_line(tmp_path):
+    path = tmp_path / "p.yaml"
+    path.write_text("frame: 2\npoints: {'3.5': [1, 2]}\n")
+    points = load_points(path)
+    assert points.frame == 2 and points.video is None
+    with pytest.raises(FaceError, match="no video: names the clip"):
+        picture_of(points)
 
 
 def test_shipped_points_name_their_clips(shared_data):

@@ -123,7 +123,7 @@ def test_detector_finds_the_astronaut_and_not_a_flat_image():
 def test_read_points_errors(tmp_path):
     bad = tmp_path / "p.yaml"
     bad.write_text("points:\n  '3.5': [1, two]\n")
-    with pytest.raises(FaceError, match=r"point 3\.5: expected \[x, y\]"):
+    with pytest.raises(FaceError, match=r"p\.yaml:2 \(points\['3\.5'\]\): expected \[x, y\]"):
         read_points(bad)
     with pytest.raises(FaceError, match="no such"):
         read_points(tmp_path / "none.yaml")
@@ -204,4 +204,5 @@ def test_describe_cli_bad_model_and_unwritable_out(tmp_path, capsys):
     blocked = tmp_path / "file"
     blocked.write_text("")
     assert main(["describe", str(image), "--points", points, "--out", str(blocked / "d")]) == 2
-    assert "cannot write" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "existing file" in err and str(blocked) in err

@@ -142,3 +142,110 @@ def test_face_region_scores_see_only_the_face_box():
     assert math.isnan(nan_psnr) and math.isnan(nan_ssim)
     off = region_scores(reference, inside, box, with_psnr=False, with_ssim=False)
     assert all(math.isnan(v) for v in off)
+
+
+def _random_pair(rng, shape, noise):
+    ref = rng.integers(0, 256, shape, dtype=np.uint8)
+    test = np.clip(ref + rng.normal(0, noise, shape), 0, 255).astype(np.uint8)
+    return ref, test
+
+
+@pytest.mark.parametrize("shape", [(7, 7), (9, 31), (144, 176), (288, 352)])
+def test_ssim_matches_scikit_image_on_every_dtype(shape):
+    rng = np.random.default_rng(shape[0])
+    ref, test = _random_pair(rng, shape, 20)
+    exact = structural_similarity(ref, test, data_range=255)
+    assert ssim(ref, test) == pytest.approx(exact, abs=1e-6)
+    # other dtypes take the float64 filters
+    assert ssim(ref.astype(np.float32), test.astype(np.float32)) == pytest.approx(exact, abs=1e-9)
+    assert ssim(ref.astype(np.int16), test) == pytest.approx(exact, abs=1e-9)
+
+
+def test_frame_scores_give_the_values_of_the_separate_functions():
+    from uma.face import Box
+    from uma.metrics.quality import frame_scores, region_scores
+
+    rng = np.random.default_rng(5)
+    ref, test = _random_pair(rng, (72, 88), 15)
+    boxes = [Box(20, 10, 30, 40), Box(-5, -5, 20, 30), Box(70, 60, 40, 40), Box(3, 3, 6, 20)]
+    for box in boxes:
+        psnr, similarity, face_psnr, face_ssim = frame_scores(ref, test, box)
+        assert psnr == psnr_db(ref, test) and similarity == ssim(ref, test)
+        # the box's SSIM is the frame map over the box less its border: the crop's SSIM exactly
+        assert (face_psnr, face_ssim) == pytest.approx(region_scores(ref, test, box), nan_ok=True)
+    assert math.isnan(frame_scores(ref, test, boxes[3])[3])  # 6 px wide: no face SSIM
+    assert all(math.isnan(v) for v in frame_scores(ref, test, None)[2:])
+    assert all(math.isnan(v) for v in frame_scores(ref, test, Box(200, 200, 5, 5))[2:])
+    off = frame_scores(ref, test, boxes[0], with_psnr=False, with_ssim=False)
+    assert all(math.isnan(v) for v in off)
+
+
+def test_face_ssim_equals_scikit_image_on_the_crop():
+    from uma.face import Box
+    from uma.metrics.quality import frame_scores
+
+    rng = np.random.default_rng(6)
+    ref, test = _random_pair(rng, (144, 176), 25)
+    for box in (Box(40, 30, 60, 70), Box(0, 0, 50, 144), Box(150, 100, 26, 44)):
+        crop = (slice(box.y, box.y + box.height), slice(box.x, box.x + box.width))
+        exact = structural_similarity(ref[crop], test[crop], data_range=255)
+        assert frame_scores(ref, test, box)[3] == pytest.approx(exact, abs=1e-6)
+
+
+def test_scores_are_independent_of_threads_and_reused_buffers():
+    from concurrent.futures import ThreadPoolExecutor
+
+    from uma.face import Box
+    from uma.metrics.quality import frame_scores
+
+    rng = np.random.default_rng(7)
+    pairs = [_random_pair(rng, (144, 176), noise) for noise in (2, 10, 40, 80)] * 3
+    box = Box(30, 20, 80, 90)
+    serial = [frame_scores(r, t, box) for r, t in pairs]
+    with ThreadPoolExecutor(3) as pool:
+        threaded = list(pool.map(lambda p: frame_scores(p[0], p[1], box), pairs))
+    assert threaded == serial
+    assert len(set(serial)) == 4
+
+
+def test_ssim_agrees_with_scikit_image_on_real_coded_frames(shared_data):
+    from uma.bench.quality import quality_pairs
+
+    clip = shared_data / "faces" / "video" / "carphone_qcif.mp4"
+    pairs = quality_pairs(clip, per_rung=1, faces=False)
+    assert len(pairs) == 9  # one at each rung of the ladder
+    for _, ref, test, _box in pairs:
+        assert ssim(ref, test) == pytest.approx(
+            structural_similarity(ref, test, data_range=255), abs=1e-6
+        )
+
+
+@pytest.mark.slow
+def test_ssim_within_1e_4_of_scikit_image_on_200_real_pairs(shared_data):
+    from uma.bench.quality import _agreement, quality_pairs
+
+    folder = shared_data / "faces" / "video"
+    pairs = quality_pairs(folder / "akiyo.mp4", 12) + quality_pairs(
+        folder / "carphone_qcif.mp4", 12
+    )
+    agreement = _agreement(pairs)
+    assert agreement["pairs"] >= 200 and agreement["pairs_with_face"] >= 150
+    assert agreement["ssim_max_abs_diff"] < 1e-4
+    assert agreement["ssim_face_max_abs_diff"] < 1e-4
+    assert agreement["psnr_max_abs_diff_db"] == 0.0
+
+
+def test_buffers_of_old_shapes_are_dropped():
+    import uma.metrics.quality as quality
+
+    rng = np.random.default_rng(8)
+    ref, test = _random_pair(rng, (64, 64), 10)
+    expected = [
+        structural_similarity(ref[:h, :h], test[:h, :h], data_range=255) for h in range(8, 40)
+    ]
+    got = [ssim(ref[:h, :h], test[:h, :h]) for h in range(8, 40)]  # 32 shapes
+    assert got == pytest.approx(expected, abs=1e-6)
+    assert len(quality._buffers.shapes) == quality._SHAPES_KEPT
+    assert ssim(ref, test) == pytest.approx(
+        structural_similarity(ref, test, data_range=255), abs=1e-6
+    )

@@ -163,16 +163,20 @@ def test_description_delivery_under_a_tiny_capacity_delays_the_first_switch():
     assert np.all(codec[: int(run.description_acked_s * 25)] != "mbc")
 
 
-def test_selection_scheme_moves_the_tracking_to_the_sender():
+def test_selection_scheme_moves_the_tracking_to_the_sender(switched):
     # Adaptation: the engine tracks (and initialises on the switch); selection: the sender
     # tracks every frame and sends the parameters up, the engine only selects and re-codes.
+    # `switched` is the adaptation run (the default scheme).
     def run(scheme):
         switching = {"policy": "threshold", "min_dwell_ms": 1000.0}
         return run_scenario(scenario(switching=switching, mbc={"scheme": scheme}))
 
     from uma.sim.summary import run_metrics
 
-    adaptation, selection = run_metrics(run("adaptation")), run_metrics(run("selection"))
+    assert switched.scenario == scenario(
+        switching={"policy": "threshold", "min_dwell_ms": 1000.0}, mbc={"scheme": "adaptation"}
+    )
+    adaptation, selection = run_metrics(switched), run_metrics(run("selection"))
     assert adaptation["scheme"] == "adaptation" and selection["scheme"] == "selection"
     assert adaptation["kbps_uplink_mbc"] == 0 and adaptation["sender_mbc_ms_per_frame"] == 0
     # Every source frame's parameters go up: about 25 packets/s of 12 bytes and a few words.

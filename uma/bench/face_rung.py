@@ -71,26 +71,26 @@ def _scores(pictures, shown, boxes) -> dict[str, float]:
 
 def _lowest_rung(pictures, fps: float):
     """The lowest full-frame rung's display (decoded, upscaled, held) and its rate."""
-    from uma.engine.points import h264_points
-    from uma.sim.codecs import H264PointEncoder, H264UnitDecoder
+    from uma.engine.points import full_frame_points
+    from uma.sim.codecs import FullFramePointEncoder, FullFrameUnitDecoder
     from uma.sim.packets import EncodedUnit
     from uma.video import load_ladder, resize_yuv420
 
-    ladder = load_ladder()
-    point = h264_points(ladder, transcode_ms=0.0)[0]
+    ladder = load_ladder()  # H.264's: the face rung sits below the H.264 ladder it compares with
+    point = full_frame_points(ladder, codec=ladder.codec, transcode_ms=0.0)[0]
     height = pictures[0].shape[0] * 2 // 3
     width = pictures[0].shape[1]
-    encoder = H264PointEncoder(
+    encoder = FullFramePointEncoder(
         point, source_size=(width, height), source_fps=fps, settings=ladder.encoder
     )
-    decoder = H264UnitDecoder()
+    decoder = FullFrameUnitDecoder(codec=ladder.codec)
     keep = set(_scheduled(len(pictures), point.fps, fps))
     shown, bits, last = [], 0, None
     for index, picture in enumerate(pictures):
         if index in keep:
             out = encoder.encode(picture, intra=not bits)
             bits += 8 * len(out.data)
-            unit = EncodedUnit(index, index, "h264", 0, 0, 0, out.keyframe, out.data)
+            unit = EncodedUnit(index, index, ladder.codec, 0, 0, 0, out.keyframe, out.data)
             decoded = decoder.decode(unit).get(index)
             if decoded is not None:
                 last = resize_yuv420(decoded, width, height)
@@ -123,6 +123,7 @@ def code_clip(
     """Code `pictures` at one face-region setting and score the display."""
     from uma.config.scenario import FaceRegionConfig
     from uma.engine.points import OperatingPoint
+    from uma.sim.context import CodecContext
     from uma.sim.face_region import FaceRegionDecoder, FaceRegionEncoder
     from uma.sim.packets import EncodedUnit
     from uma.video import load_ladder
@@ -138,9 +139,9 @@ def code_clip(
         source_size=size,
         source_fps=fps,
         settings=load_ladder().encoder,
-        context={"face_region": config},
+        context=CodecContext(face_region=config),
     )
-    decoder = FaceRegionDecoder(context={"source_size": size, "background": background})
+    decoder = FaceRegionDecoder(context=CodecContext(source_size=size, background=background))
     keep = set(_scheduled(len(pictures), rung_fps, fps))
     shown, bits, last, failures = [], 0, background, 0
     for index, picture in enumerate(pictures):

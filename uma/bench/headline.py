@@ -2,16 +2,19 @@
 
 Units: rates in kbit/s, delays in ms, PSNR in dB, times in seconds, MDE in pixels.
 
-Each scenario runs with three engines on the same source and route (same seed):
+Each scenario runs with six engines on the same source and route (same seed):
 - `h264`: the H.264 ladder only (`engine.switching.policy: none`);
 - `uma`: switching between H.264 and MBC with the scenario's switching policy (the threshold
   policy when the scenario names none): it knows only what the engine measures;
 - `predictive`: the predictive policy, which also reads the route's coverage map (the
   scenario's technology segments) and switches `lookahead_ms` before a GPRS or GSM segment
-  (not in CONVENTIONS' list: an extra row);
+  (beyond the required engines: an extra row);
 - `oracle`: an upper bound that knows the trace: the oracle rate policy (the true capacity)
-  and the oracle switching policy (the lowest true capacity over the look-ahead window).
-All three play out adaptively (`receiver.playout: adaptive`, unless `playout` says otherwise):
+  and the oracle switching policy (the lowest true capacity over the look-ahead window);
+- `av1`: the AV1 ladder only (`engine.codec: av1`, SVT-AV1 at a real-time preset), and
+  `av1+mbc`: AV1 with the threshold switching policy, so the table says whether switching to
+  the model-based codec still pays against a modern codec at low rates.
+All play out adaptively (`receiver.playout: adaptive`, unless `playout` says otherwise):
 with a fixed 300 ms deadline GSM's 250 ms one-way delay alone would freeze every engine there,
 whatever it sends. `init_mde_px` is the median mean distance error of the MBC initialisations
 against the source's ground truth (the talking head has it; real video has none: null).
@@ -19,6 +22,7 @@ against the source's ground truth (the talking head has it; real video has none:
 
 from __future__ import annotations
 
+import functools
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -28,9 +32,19 @@ import numpy as np
 
 from uma.config.scenario import Scenario
 
-__all__ = ["HeadlineConfig", "ENGINES", "engine_scenario", "run_headline", "format_table"]
+__all__ = [
+    "HeadlineConfig",
+    "ENGINES",
+    "engine_scenario",
+    "pair_task",
+    "run_pair",
+    "run_headline",
+    "format_table",
+]
 
-ENGINES = ("h264", "uma", "predictive", "oracle")
+ENGINES = ("h264", "uma", "predictive", "oracle", "av1", "av1+mbc")
+# engine -> the full-frame codec it runs (the scenario's own for the others)
+_LADDER_CODEC = {"av1": "av1", "av1+mbc": "av1"}
 ROW_KEYS = (
     "freeze_ratio",
     "displayed_fps",
@@ -58,11 +72,14 @@ def engine_scenario(scenario: Scenario, engine: str, *, playout: str = "adaptive
         raise ValueError(f"engine: expected one of {', '.join(ENGINES)}, got {engine!r}")
     config = scenario.engine
     switching = config.switching
-    if engine == "h264":
+    if engine in _LADDER_CODEC:
+        # the codec's own ladder (codecs/<codec>.yaml), whatever the scenario named for H.264
+        config = config.model_copy(update={"codec": _LADDER_CODEC[engine], "ladder": None})
+    if engine in ("h264", "av1"):
         config = config.model_copy(
             update={"switching": switching.model_copy(update={"policy": "none"})}
         )
-    elif engine in ("uma", "predictive"):
+    elif engine in ("uma", "predictive", "av1+mbc"):
         policy = switching.policy if switching.policy not in ("none", "oracle") else "threshold"
         policy = "predictive" if engine == "predictive" else policy
         config = config.model_copy(
@@ -81,14 +98,22 @@ def engine_scenario(scenario: Scenario, engine: str, *, playout: str = "adaptive
     return scenario.model_copy(update={"engine": config, "receiver": receiver})
 
 
+@functools.lru_cache(maxsize=4)
+def _truth_source(source_json: str, seed: int):
+    """The source a run read, reopened once per process for its ground truth (engines share it)."""
+    from uma.config.scenario import SourceConfig
+    from uma.sim.sources import open_source
+
+    return open_source(SourceConfig.model_validate_json(source_json), seed=seed)
+
+
 def init_mde_px(result) -> float | None:
     """Median MDE of the run's MBC initialisations against the source's ground truth."""
     from uma.fit.mde import mde_px
-    from uma.sim.sources import open_source
 
     if not result.mbc_inits or result.description is None:
         return None
-    source = open_source(result.scenario.source, seed=result.scenario.seed)
+    source = _truth_source(result.scenario.source.model_dump_json(), result.scenario.seed)
     truth = getattr(source, "ground_truth", None)
     if truth is None:
         return None
@@ -101,14 +126,55 @@ def init_mde_px(result) -> float | None:
     return round(float(np.median(errors)), 3) if errors else None
 
 
+def switch_lag_s(result) -> float | None:
+    """Mean seconds from each handover into GPRS or GSM to the first model-codec frame sent.
+
+    Only handovers from another technology count (GPRS to GSM continues a stretch already
+    timed). A handover while the last frame sent was a model-codec frame counts 0; one after
+    which no model-codec frame is sent before the route leaves GPRS and GSM is left out. None
+    when no handover into them was followed by a model-codec frame.
+    """
+    from uma.codecs import model_names
+
+    log = result.log
+    capture_s = np.asarray(log["capture_ms"], dtype=float) / 1000.0
+    sent = np.asarray(log["sent"]).astype(bool)
+    on_model = np.isin(np.asarray(log["codec"]).astype(str), list(model_names()))
+    low = np.isin(np.asarray(log["technology"]).astype(str), LOW_TECHNOLOGIES)
+    lags = []
+    for event in result.events:
+        old, _, new = event.detail.partition("->")
+        if event.kind != "handover" or new.strip() not in LOW_TECHNOLOGIES:
+            continue
+        if old.strip() in LOW_TECHNOLOGIES:
+            continue
+        after = capture_s >= event.time_s
+        earlier = np.flatnonzero(~after & sent)
+        if earlier.size and on_model[earlier[-1]]:
+            lags.append(0.0)
+            continue
+        leaving = np.flatnonzero(after & ~low)
+        end_s = capture_s[leaving[0]] if leaving.size else np.inf
+        first = np.flatnonzero(after & (capture_s < end_s) & sent & on_model)
+        if first.size:
+            lags.append(float(capture_s[first[0]] - event.time_s))
+    return round(float(np.mean(lags)), 3) if lags else None
+
+
 def _row(result, metrics: dict[str, Any]) -> dict[str, Any]:
     row: dict[str, Any] = {key: metrics.get(key) for key in ROW_KEYS}
+    from uma.codecs import metric_key
+
+    # the full-frame ladder's rate, whichever codec it is (kbps_h264 stays H.264's own)
+    row["kbps_video"] = metrics.get(f"kbps_{metric_key(result.scenario.engine.codec)}")
+    row["codec"] = result.scenario.engine.codec
+    row["switch_lag_s"] = switch_lag_s(result)
     row["switches"] = metrics["codec_switches"]
     row["inits"] = metrics["inits"]
     row["init_mde_px"] = init_mde_px(result)
     row["description_delivered_s"] = metrics["description_delivered_s"]
     row["by_technology"] = metrics["by_technology"]
-    # Not in CONVENTIONS' list, but a reader of the table needs them.
+    # Not among the required keys, but a reader of the table needs them.
     row["rung_switches"] = metrics["switches"]
     row["init_failures"] = metrics["init_failures"]
     row["mbc_refused_reason"] = metrics["mbc_refused_reason"]
@@ -151,30 +217,71 @@ def _targets(rows: dict[str, dict[str, Any]], *, real: bool) -> dict[str, Any]:
     }
 
 
-def run_headline(config: HeadlineConfig, *, progress=None) -> dict[str, Any]:
-    """Every scenario with every engine; the JSON object CONVENTIONS.md names."""
+def pair_task(
+    scenario: Scenario, engine: str, config: HeadlineConfig, *, inline_metrics: bool = False
+) -> dict[str, Any]:
+    """The task for `run_pair`: plain data that pickles small and travels to any worker.
+
+    `inline_metrics` scores on the simulating thread (`metrics.workers: 0`), as a sweep's
+    points do when the parallelism is across runs; the scores do not depend on it.
+    """
+    variant = engine_scenario(scenario, engine, playout=config.playout)
+    out_dir = None if config.out_dir is None else config.out_dir / scenario.name / engine
+    data = variant.model_dump(mode="json")
+    if inline_metrics:
+        data["metrics"] = dict(data.get("metrics", {}), workers=0)
+    return {
+        "scenario_name": scenario.name,
+        "engine": engine,
+        "scenario": data,
+        "out_dir": None if out_dir is None else str(out_dir),
+    }
+
+
+def run_pair(task: dict[str, Any]) -> dict[str, Any]:
+    """Simulate one scenario-engine pair (in whatever process runs it); its table row."""
+    from uma.config.scenario import Scenario
     from uma.sim import run_scenario
     from uma.sim.summary import run_metrics, save_run
 
+    start = time.perf_counter()
+    result = run_scenario(Scenario.model_validate(task["scenario"]))
+    if task["out_dir"] is not None:
+        metrics = save_run(result, Path(task["out_dir"]))
+    else:
+        metrics = run_metrics(result)
+    row = _row(result, metrics)
+    row["wall_s"] = round(time.perf_counter() - start, 1)
+    return {"scenario_name": task["scenario_name"], "engine": task["engine"], "row": row}
+
+
+def run_headline(config: HeadlineConfig, *, progress=None, executor=None) -> dict[str, Any]:
+    """Every scenario with every engine; the JSON object of docs/benchmarks.md.
+
+    Pairs run one after another in this process, or on `executor` (`uma.experiments`'s
+    `make_executor`: local processes or a Dask cluster) in parallel; the rows are the same
+    either way, only `wall_s` differs.
+    """
+    parallel = executor is not None
+    tasks = [
+        pair_task(s, engine, config, inline_metrics=parallel)
+        for s in config.scenarios
+        for engine in ENGINES
+    ]
+    replies = (
+        executor.map_unordered(run_pair, tasks) if executor is not None else map(run_pair, tasks)
+    )
+    rows: dict[tuple[str, str], dict[str, Any]] = {}
+    for reply in replies:
+        rows[reply["scenario_name"], reply["engine"]] = reply["row"]
+        if progress is not None:
+            progress(f"{reply['scenario_name']} {reply['engine']}: {reply['row']['wall_s']} s")
     out: dict[str, Any] = {"playout": config.playout, "scenarios": {}, "targets": {}}
     for scenario in config.scenarios:
-        rows: dict[str, Any] = {}
-        for engine in ENGINES:
-            variant = engine_scenario(scenario, engine, playout=config.playout)
-            start = time.perf_counter()
-            result = run_scenario(variant)
-            if config.out_dir is not None:
-                metrics = save_run(result, config.out_dir / scenario.name / engine)
-            else:
-                metrics = run_metrics(result)
-            row = _row(result, metrics)
-            row["wall_s"] = round(time.perf_counter() - start, 1)
-            rows[engine] = row
-            if progress is not None:
-                progress(f"{scenario.name} {engine}: {row['wall_s']} s")
-        out["scenarios"][scenario.name] = rows
+        by_engine = {engine: rows[scenario.name, engine] for engine in ENGINES}
+        out["scenarios"][scenario.name] = by_engine
         real = scenario.source.kind != "talking-head"
-        out["targets"][scenario.name] = _targets(rows, real=real)
+        out["targets"][scenario.name] = _targets(by_engine, real=real)
     return out
 
 
@@ -186,21 +293,22 @@ def format_table(result: dict[str, Any]) -> str:
     """The readable table: one block per scenario, one line per engine."""
     lines = [f"uma bench headline (every engine plays out {result['playout']})"]
     head = (
-        f"  {'engine':<7}{'frozen':>7}{'fps':>6}{'PSNR':>6}{'SSIM':>7}{'face dB':>8}"
-        f"{'face SSIM':>10}{'p95 ms':>8}{'H.264':>7}{'MBC':>6}{'sw':>4}{'init':>5}"
-        f"{'MDE':>6}{'descr s':>8}"
+        f"  {'engine':<8}{'frozen':>7}{'fps':>6}{'PSNR':>6}{'SSIM':>7}{'face dB':>8}"
+        f"{'face SSIM':>10}{'p95 ms':>8}{'video':>7}{'MBC':>6}{'sw':>4}{'init':>5}"
+        f"{'MDE':>6}{'descr s':>8}{'lag s':>6}"
     )
     for name, rows in result["scenarios"].items():
         lines += ["", f"{name}", head]
         for engine, row in rows.items():
             lines.append(
-                f"  {engine:<7}{_fmt(row['freeze_ratio'], '7.3f')}"
+                f"  {engine:<8}{_fmt(row['freeze_ratio'], '7.3f')}"
                 f"{_fmt(row['displayed_fps'], '6.1f')}{_fmt(row['psnr_db'], '6.1f')}"
                 f"{_fmt(row['ssim'], '7.3f')}{_fmt(row['psnr_face_db'], '8.1f')}"
                 f"{_fmt(row['ssim_face'], '10.3f')}{_fmt(row['delay_p95_ms'], '8.0f')}"
-                f"{_fmt(row['kbps_h264'], '7.1f')}{_fmt(row['kbps_mbc'], '6.2f')}"
+                f"{_fmt(row['kbps_video'], '7.1f')}{_fmt(row['kbps_mbc'], '6.2f')}"
                 f"{row['switches']:>4}{row['inits']:>5}{_fmt(row['init_mde_px'], '6.2f')}"
                 f"{_fmt(row['description_delivered_s'], '8.1f')}"
+                f"{_fmt(row['switch_lag_s'], '6.1f')}"
             )
         techs = sorted({t for row in rows.values() for t in row["by_technology"]})
         lines.append("  frozen / face SSIM by technology:")
@@ -213,12 +321,13 @@ def format_table(result: dict[str, Any]) -> str:
                         f"{tech} {_fmt(cell['freeze_ratio'], '.2f')}/"
                         f"{_fmt(cell['ssim_face'], '.3f')}"
                     )
-            lines.append(f"    {engine:<7}" + "  ".join(cells))
+            lines.append(f"    {engine:<8}" + "  ".join(cells))
         targets = result["targets"].get(name, {})
         lines.append("  targets: " + ", ".join(f"{k} {v}" for k, v in targets.items()))
     lines.append(
         "\nfrozen: share of display instants frozen; fps: displayed frames/s; face: the "
-        "source's face box; sw: codec switches; init: MBC initialisations; MDE: their median "
+        "source's face box; video: kbit/s of the full-frame ladder (H.264, or AV1 in the av1 rows); "
+        "lag s: from a handover into GPRS/GSM to the first model-codec frame; sw: codec switches; init: MBC initialisations; MDE: their median "
         "error against ground truth (px); descr s: when the content description arrived."
     )
     return "\n".join(lines)

@@ -167,7 +167,7 @@ def _summary(rows: list[dict[str, Any]], name: str) -> dict[str, Any]:
 
 
 def run_init_bench(config: InitBenchConfig, *, progress=None) -> dict[str, Any]:
-    """Build the cases, fit each with every method, and summarise as CONVENTIONS.md asks."""
+    """Build the cases, fit each with every method, and summarise with the keys of docs/benchmarks.md."""
     from uma.face.load import load_model
     from uma.fit.mde import mde_px
     from uma.fit.saabs import SaabsConfig

@@ -164,7 +164,7 @@ def _warm_up(scenario: Scenario, source: _ListSource) -> None:
 
 
 def run_sim_bench(config: SimBenchConfig) -> dict[str, Any]:
-    """Time the simulation and its bare codec and metric work; the JSON of CONVENTIONS.md."""
+    """Time the simulation and its bare codec and metric work; keys in docs/benchmarks.md."""
     from uma.sim import run_scenario
 
     scenario = _prepare(config)

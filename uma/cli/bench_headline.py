@@ -14,12 +14,14 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     parser = sub.add_parser(
         "headline",
-        help="what switching to the model-based codec buys: H.264 only vs switching vs oracle",
+        help="what switching to the model-based codec buys, against H.264 and AV1 alone",
         description="Run the default commute (synthetic talking head) and the real one (measured "
-        "traces, akiyo looped) with three engines each: h264 (the H.264 ladder only), uma "
-        "(switching to the model-based codec) and oracle (knows the trace), and print frozen "
-        "share, displayed fps, PSNR and SSIM over the frame and the face, delay p95, kbit/s per "
-        "codec, switches, initialisations and description delivery, with the issue's targets.",
+        "traces, akiyo looped) with six engines each: h264 (the H.264 ladder only), uma "
+        "(switching to the model-based codec), predictive (switching with the coverage map), "
+        "oracle (knows the trace), av1 (the AV1 ladder only) and av1+mbc (AV1 with switching), "
+        "and print frozen share, displayed fps, PSNR and SSIM over the frame and the face, delay "
+        "p95, kbit/s per codec, switches, initialisations, description delivery and the lag "
+        "from a handover into GPRS or GSM to the model codec, with the targets.",
     )
     parser.add_argument(
         "--scenario",
@@ -40,6 +42,18 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="every engine's playout: adaptive (default) or each scenario's own",
     )
     parser.add_argument("--out", metavar="DIR", help="save each run's results under DIR")
+    parser.add_argument(
+        "--workers",
+        type=int,
+        help="run the scenario-engine pairs on this many local worker processes "
+        "(default: one after another in this process)",
+    )
+    parser.add_argument(
+        "--scheduler", metavar="ADDRESS", help="run the pairs on a Dask cluster, tcp://host:port"
+    )
+    parser.add_argument(
+        "--timeout", type=float, default=10.0, metavar="S", help="seconds to reach the scheduler"
+    )
     add_common_arguments(parser)
     parser.set_defaults(func=handle)
 
@@ -56,6 +70,12 @@ def handle(args: argparse.Namespace) -> int:
 
     if args.duration_s is not None and not args.duration_s > 0:
         raise ConfigError(f"--duration-s: expected a positive number, got {args.duration_s}")
+    if args.workers is not None and args.workers < 1:
+        raise ConfigError(f"--workers: expected a positive integer, got {args.workers}")
+    if args.workers is not None and args.scheduler:
+        raise ConfigError("--workers and --scheduler: give one (a cluster has its own workers)")
+    if not args.timeout > 0:
+        raise ConfigError(f"--timeout: expected a positive number of seconds, got {args.timeout}")
     if args.seed < 0:
         raise ConfigError(f"--seed: expected a non-negative integer, got {args.seed}")
     names = SCENARIOS[:1] if args.skip_real else SCENARIOS
@@ -79,6 +99,17 @@ def handle(args: argparse.Namespace) -> int:
             print(line, file=sys.stderr, flush=True)
 
     config = HeadlineConfig(scenarios=tuple(scenarios), playout=args.playout, out_dir=out_dir)
-    result = run_headline(config, progress=progress)
+    executor = None
+    if args.workers is not None or args.scheduler:
+        from uma.experiments import make_executor
+
+        executor = make_executor(
+            workers=args.workers, scheduler=args.scheduler, timeout_s=args.timeout
+        )
+    try:
+        result = run_headline(config, progress=progress, executor=executor)
+    finally:
+        if executor is not None:
+            executor.close()
     emit(result, format_table(result), as_json=args.json)
     return 0

@@ -43,7 +43,7 @@ def handle(args: argparse.Namespace) -> int:
     if bool(args.video) != bool(args.face):
         raise ConfigError("--video and --face: expected both (a clip and its description)")
     if args.video:
-        from uma.face.describe import load_description
+        from uma.face import load_description
         from uma.mbc.checks import check_description
 
         video = Path(args.video)

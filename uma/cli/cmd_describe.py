@@ -54,15 +54,21 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def handle(args: argparse.Namespace) -> int:
-    from uma.errors import FaceError
+    from uma.atomic import prepare_out_dir
+    from uma.errors import OutputError
 
+    prepare_out_dir(args.out)
     try:
         return _describe(args)
     except OSError as err:
-        raise FaceError(f"{err.filename or args.out}: cannot write ({err.strerror})") from None
+        if isinstance(err, OutputError):
+            raise
+        where = err.filename or args.out
+        raise OutputError(f"{where}: cannot write ({err.strerror or err})") from None
 
 
 def _describe(args: argparse.Namespace) -> int:
+    import sys
     from pathlib import Path
 
     import cv2
@@ -70,35 +76,43 @@ def _describe(args: argparse.Namespace) -> int:
 
     from uma.atomic import atomic_write_bytes
     from uma.errors import FaceError
-    from uma.face import describe, detect_face, load_model
+    from uma.face import describe, load_model
     from uma.face.clip import picture_of, read_picture
+    from uma.face.detect import Box, detect_faces, locate_points
     from uma.face.points import load_points
 
     points_file = load_points(args.points, image=args.image, face=args.face)
     points = points_file.points
     if args.image is not None:
         image_path = Path(args.image)
-        frame = args.frame
-        if frame is None and points_file.video is not None and _same(image_path, points_file.video):
-            frame = points_file.frame
-        image = read_picture(image_path, frame=frame)
+        # The file's frame: is of its video:, or of the one the command line names (no video:).
+        own = points_file.video is None or _same(image_path, points_file.video)
+        file_frame = points_file.frame if own else None
+        image = read_picture(image_path, frame=args.frame, video_frame=file_frame)
     else:
         source = points_file.video or points_file.image
+        if source is None and points_file.frame is not None:
+            raise FaceError(
+                f"{args.points}: frame: {points_file.frame} given but no video: names the clip: "
+                "give VIDEO"
+            )
         if source is None:
             raise FaceError(f"{args.points}: names no picture: give IMAGE or VIDEO")
         image_path = Path(str(source).removeprefix("skimage:"))
         image = picture_of(points_file, frame=args.frame)
     model = load_model(args.model) if args.model else None
-    box = detect_face(cv2.cvtColor(image, cv2.COLOR_BGR2GRAY))
-    if not box:
-        raise FaceError(f"{image_path}: {box.reason}")
+    gray = cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
+    faces = detect_faces(gray)
+    if not faces:
+        raise FaceError(f"{image_path}: {faces.reason}")
+    annotated = Box(*points_file.box) if points_file.box is not None else None
+    placed = locate_points(gray, points, frontal=faces, annotated=annotated)
+    if not placed:
+        raise FaceError(f"{args.points}: {placed.reason} (picture {image_path})")
+    box, warning = placed
     result = describe(image, points, model=model)
     if not result:
         raise FaceError(f"{args.points}: {result.reason}")
-    centre = np.mean(list(points.values()), axis=0)
-    on_face = (
-        abs(centre[0] - box.centre[0]) < box.width and abs(centre[1] - box.centre[1]) < box.height
-    )
     out = Path(args.out)
     description_path = out / f"{image_path.stem}.face"
     size_bytes = result.save(description_path)
@@ -138,11 +152,8 @@ def _describe(args: argparse.Namespace) -> int:
     print(
         f"{png_path}: fitted wireframe (green), clicked points (red), detected face (blue){scale}"
     )
-    if not on_face:
-        print(
-            f"note: the points lie away from the face the detector found at "
-            f"{box.x},{box.y} {box.width}x{box.height}"
-        )
+    if warning is not None:
+        print(f"uma: warning: {args.points}: {warning}", file=sys.stderr)
     return 0
 
 

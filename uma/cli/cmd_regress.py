@@ -112,7 +112,8 @@ def handle(args: argparse.Namespace) -> int:
                 print(f"(previous baseline incomplete: {err})")
         atomic_write_text(suite.baseline_path, baseline_yaml(suite, now))
         print(
-            f"baseline {suite.baseline_path} written ({len(now)} scenarios, {len(suite.metrics)} metrics each)"
+            f"baseline {suite.baseline_path} written ({len(now)} scenarios, "
+            f"{sum(len(suite.metrics_of(name)) for name in now)} metrics)"
         )
         return 0
     checks = compare(suite, baseline, now)

@@ -55,12 +55,22 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def handle_synth(args: argparse.Namespace) -> int:
-    from uma.errors import VideoError
+    from pathlib import Path
 
+    from uma.atomic import prepare_out_dir
+    from uma.errors import OutputError, UmaError
+
+    out = Path(args.out)
+    if out.is_dir():
+        raise OutputError(f"--out: expected a clip file name, got the folder {str(out)!r}")
+    prepare_out_dir(out.parent, what="--out")
     try:
         return _synth(args)
+    except UmaError:
+        raise
     except OSError as err:
-        raise VideoError(f"{err.filename or args.out}: cannot write ({err.strerror})") from None
+        where = err.filename or args.out
+        raise OutputError(f"{where}: cannot write ({err.strerror or err})") from None
 
 
 def _synth(args: argparse.Namespace) -> int:
@@ -74,6 +84,7 @@ def _synth(args: argparse.Namespace) -> int:
     from uma.atomic import atomic_open, atomic_write_text
     from uma.errors import ConfigError
     from uma.face import TalkingHeadSource, read_fap
+    from uma.face.fap import MAX_FPS, MIN_FPS
 
     sequence = read_fap(args.fap) if args.fap else None
     if sequence is not None:
@@ -92,8 +103,10 @@ def _synth(args: argparse.Namespace) -> int:
         args.frames = args.frames if args.frames is not None else len(sequence)
     args.frames = 250 if args.frames is None else args.frames
     args.fps = 25.0 if args.fps is None else args.fps
-    if args.frames <= 0 or args.fps <= 0 or args.seed < 0:
-        raise ConfigError("--frames, --fps and --seed: expected positive numbers (seed >= 0)")
+    if args.frames <= 0 or args.seed < 0:
+        raise ConfigError("--frames and --seed: expected positive numbers (seed >= 0)")
+    if not MIN_FPS <= args.fps <= MAX_FPS:  # also refuses NaN
+        raise ConfigError(f"--fps: expected {MIN_FPS:g}-{MAX_FPS:g} frames/s, got {args.fps:g}")
     out = Path(args.out)
     width, height = args.size
     source = TalkingHeadSource(

@@ -94,8 +94,16 @@ def load_yaml(path: str | Path) -> tuple[Any, KeyLines]:
         mark = err.problem_mark
         line = f":{mark.line + 1}" if mark is not None else ""
         raise ConfigError(f"{path}{line}: invalid YAML: {err.problem}") from None
-    except yaml.YAMLError as err:
-        raise ConfigError(f"{path}: invalid YAML: {err}") from None
+    except yaml.YAMLError as err:  # a ReaderError: a character YAML does not allow
+        position = getattr(err, "position", None)
+        line = f":{text[:position].count(chr(10)) + 1}" if isinstance(position, int) else ""
+        character = getattr(err, "character", None)
+        what = (
+            f"expected text, got character #x{character:04x} ({err.reason})"
+            if isinstance(character, int)
+            else " ".join(str(err).split())
+        )
+        raise ConfigError(f"{path}{line}: invalid YAML: {what}") from None
     lines: dict[tuple, int] = {}
     if node is not None:
         _walk(node, (), lines, path)

@@ -21,7 +21,6 @@ from uma.codecs import REGISTRY, Role, names
 __all__ = [
     "OperatingPoint",
     "full_frame_points",
-    "h264_points",
     "role_indices",
     "codec_indices",
     "rate_indices",
@@ -76,11 +75,6 @@ def full_frame_points(ladder, *, codec: str, transcode_ms: float) -> tuple[Opera
         )
         for rung in ladder.rungs
     )
-
-
-def h264_points(ladder, *, transcode_ms: float) -> tuple[OperatingPoint, ...]:
-    """`full_frame_points` of the first full-frame codec of the registry (H.264)."""
-    return full_frame_points(ladder, codec=names(Role.FULL_FRAME)[0], transcode_ms=transcode_ms)
 
 
 def codec_indices(points: tuple[OperatingPoint, ...], codec: str) -> tuple[int, ...]:

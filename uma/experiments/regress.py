@@ -12,6 +12,11 @@ metrics:
   freeze_ratio: {worse: up, absolute: 0.02}
 ```
 
+A metric is a key of `metrics.json`, or a dotted path into its nested objects
+(`bits_sent.vp8`, `by_technology.GSM.freeze_ratio`). A tolerance with `only: [NAME, ...]` gates
+those scenarios alone (a switching scenario's model-codec rate, a VP8 run's bits), so one suite
+holds scenarios whose metrics differ.
+
 The baseline is YAML, scenario name -> metric -> value (null where the metric has none), written
 by `uma regress SUITE --update`. A metric the results lack, or null where the baseline has a
 number, is a regression. Units are those of the metric's name.
@@ -26,7 +31,16 @@ from typing import Any
 
 from uma.errors import ConfigError
 
-__all__ = ["Tolerance", "Suite", "Check", "load_suite", "load_baseline", "compare", "format_checks"]
+__all__ = [
+    "Tolerance",
+    "Suite",
+    "Check",
+    "load_suite",
+    "load_baseline",
+    "compare",
+    "format_checks",
+    "metric_value",
+]
 
 _SUITE_KEYS = ("baseline", "scenarios", "metrics", "description")
 
@@ -38,6 +52,10 @@ class Tolerance:
     worse: str
     relative: float | None = None
     absolute: float | None = None
+    only: tuple[str, ...] | None = None  # scenario names it gates; None: every scenario
+
+    def gates(self, scenario: str) -> bool:
+        return self.only is None or scenario in self.only
 
     def allowed(self, baseline: float) -> float:
         if self.relative is not None:
@@ -57,6 +75,24 @@ class Suite:
     baseline_path: Path
     scenarios: tuple[Path, ...]
     metrics: dict[str, Tolerance]
+
+    def metrics_of(self, scenario: str) -> dict[str, Tolerance]:
+        """The metrics this suite gates for `scenario`."""
+        return {name: tol for name, tol in self.metrics.items() if tol.gates(scenario)}
+
+
+def metric_value(metrics: dict[str, Any] | None, name: str) -> Any:
+    """`metrics[name]`, or the value at a dotted path (`by_technology.GSM.freeze_ratio`); None if absent."""
+    if not metrics:
+        return None
+    if name in metrics:
+        return metrics[name]
+    value: Any = metrics
+    for part in name.split("."):
+        if not isinstance(value, dict) or part not in value:
+            return None
+        value = value[part]
+    return value
 
 
 @dataclass(frozen=True)
@@ -112,10 +148,16 @@ def load_suite(path: str | Path) -> Suite:
     tolerances = {}
     for name, spec in metrics.items():
         where = lines.where(("metrics", name))
-        if not isinstance(spec, dict) or set(spec) - {"worse", "relative", "absolute"}:
+        if not isinstance(spec, dict) or set(spec) - {"worse", "relative", "absolute", "only"}:
             raise ConfigError(
-                f"{where}: expected {{worse: up|down, relative: X or absolute: X}}, got {spec!r}"
+                f"{where}: expected {{worse: up|down, relative: X or absolute: X"
+                f"[, only: [scenario, ...]]}}, got {spec!r}"
             )
+        only = spec.get("only")
+        if only is not None and (
+            not isinstance(only, list) or not only or not all(isinstance(n, str) for n in only)
+        ):
+            raise ConfigError(f"{where} only: expected a list of scenario names, got {only!r}")
         if spec.get("worse") not in ("up", "down"):
             raise ConfigError(f"{where} worse: expected up or down, got {spec.get('worse')!r}")
         given = [k for k in ("relative", "absolute") if k in spec]
@@ -123,7 +165,12 @@ def load_suite(path: str | Path) -> Suite:
             raise ConfigError(
                 f"{where}: expected exactly one of relative or absolute, a number >= 0"
             )
-        tolerances[str(name)] = Tolerance(spec["worse"], spec.get("relative"), spec.get("absolute"))
+        tolerances[str(name)] = Tolerance(
+            spec["worse"],
+            spec.get("relative"),
+            spec.get("absolute"),
+            None if only is None else tuple(only),
+        )
     return Suite(
         path=path,
         baseline_path=(folder / baseline).resolve(),
@@ -189,13 +236,13 @@ def compare(
                 f"{suite.baseline_path}: no baseline for scenario {scenario!r} "
                 f"(write one on purpose with --update)"
             )
-        for metric, tol in suite.metrics.items():
+        for metric, tol in suite.metrics_of(scenario).items():
             if metric not in base:
                 raise ConfigError(
                     f"{suite.baseline_path} ({scenario}.{metric}): no baseline value "
                     f"(write one on purpose with --update)"
                 )
-            value = (metrics or {}).get(metric)
+            value = metric_value(metrics, metric)
             checks.append(_check(scenario, metric, tol, base[metric], value))
     return checks
 
@@ -226,7 +273,7 @@ def baseline_yaml(suite: Suite, now: dict[str, dict[str, Any]]) -> str:
     ]
     for scenario, metrics in now.items():
         lines.append(f"{scenario}:")
-        for metric in suite.metrics:
-            value = metrics.get(metric)
+        for metric in suite.metrics_of(scenario):
+            value = metric_value(metrics, metric)
             lines.append(f"  {metric}: {'null' if value is None else repr(float(value))}")
     return "\n".join(lines) + "\n"

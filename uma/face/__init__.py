@@ -2,9 +2,10 @@
 description, and a talking-head source with ground truth. OpenCV is imported where needed."""
 
 from uma.face.clip import describe_clip, picture_of, read_picture, shipped_points
-from uma.face.describe import ContentDescription, describe, load_description, read_points
-from uma.face.detect import Box, detect_face
-from uma.face.fap import FapSequence, read_fap, write_fap
+from uma.face.describe import ContentDescription, describe, read_points
+from uma.face.description_file import load_description
+from uma.face.detect import Box, detect_face, detect_faces, face_of_points
+from uma.face.fap import FapSequence, fap_limit, read_fap, write_fap
 from uma.face.fap_map import (
     FapUnits,
     fap_sequence,
@@ -25,13 +26,17 @@ from uma.face.geometry import (
 from uma.face.landmarks import IBUG68_TO_MPEG4, read_dlib_xml, read_pts, to_mpeg4
 from uma.face.load import load_model
 from uma.face.model import FaceModel, save_model
-from uma.face.points import PointsFile, load_points
+from uma.face.points import MPEG4_POINTS, PointsFile, load_points
 from uma.face.region import FaceBoxes, points_box
 from uma.face.render import Raster, RenderResult, rasterize, render, sample_bilinear, warp_points
 from uma.face.talking_head import Motion, TalkingHeadSource
 from uma.face.wfm import read_wfm
 
 __all__ = [
+    "detect_faces",
+    "face_of_points",
+    "fap_limit",
+    "MPEG4_POINTS",
     "FaceModel",
     "load_model",
     "save_model",

@@ -15,6 +15,7 @@ import numpy as np
 
 from uma.errors import FaceError, VideoError
 from uma.face.describe import ContentDescription, describe
+from uma.face.image_bytes import decode_image, what_the_bytes_look_like
 from uma.face.model import FaceModel
 from uma.face.points import SKIMAGE_PREFIX, PointsFile, load_points
 
@@ -35,9 +36,12 @@ def shipped_points(name: str) -> Path:
     return codecs_dir() / "face" / SHIPPED_CLIPS[name]
 
 
-def read_picture(path: str | Path, *, frame: int | None = None) -> np.ndarray:
+def read_picture(
+    path: str | Path, *, frame: int | None = None, video_frame: int | None = None
+) -> np.ndarray:
     """A BGR picture: the still image at `path` (anything OpenCV reads), or frame `frame` of
-    the video at `path` (anything PyAV decodes).
+    the video at `path` (anything PyAV decodes). `video_frame` is the frame to take when `path`
+    is a video and `frame` is None (a points file's `frame:`); a still ignores it.
 
     A still is tried first; what OpenCV cannot read goes to PyAV (a file named like a video,
     `.mp4` and the like, goes to PyAV at once, so a long clip is not read into memory). `frame`
@@ -51,6 +55,7 @@ def read_picture(path: str | Path, *, frame: int | None = None) -> np.ndarray:
         return _skimage(str(path), frame)
     path = Path(path)
     if path.suffix.lower() in VIDEO_SUFFIXES and path.is_file():
+        frame = frame if frame is not None else video_frame
         if frame is None:
             raise FaceError(
                 f"{path}: is a video: say which frame (--frame N, or frame: in the points)"
@@ -64,11 +69,19 @@ def read_picture(path: str | Path, *, frame: int | None = None) -> np.ndarray:
         raise FaceError(f"{path}: is a folder, not an image or video file") from None
     except OSError as err:
         raise FaceError(f"{path}: cannot read ({err.strerror})") from None
-    image = cv2.imdecode(data, cv2.IMREAD_COLOR) if data.size else None
+    image = decode_image(data, cv2.IMREAD_COLOR) if data.size else None
     if image is not None:
         if frame is not None:
             raise FaceError(f"{path}: a still image has no frame {frame}: --frame is for videos")
         return image
+    looks_like = what_the_bytes_look_like(data.tobytes()[:512])
+    if looks_like.endswith(" image"):
+        # PyAV opens a damaged JPEG or PNG as a one-frame "video"; it is a picture that failed.
+        raise FaceError(
+            f"{path}: expected an image OpenCV can decode, got {looks_like} that is truncated or "
+            "damaged"
+        )
+    frame = frame if frame is not None else video_frame
     if frame is None:
         try:
             read_frame(path, 0)
@@ -138,6 +151,11 @@ def picture_of(points: PointsFile, *, frame: int | None = None) -> np.ndarray:
         return read_picture(points.video, frame=frame if frame is not None else points.frame)
     if points.image is not None:
         return read_picture(points.image, frame=frame)
+    if points.frame is not None:
+        raise FaceError(
+            f"{points.path}: frame: {points.frame} given but no video: names the clip "
+            "(name it in the file, or give VIDEO)"
+        )
     raise FaceError(f"{points.path}: names no picture (video: or image:)")
 
 
@@ -152,11 +170,22 @@ def describe_clip(
     writes it: e.g. `describe_clip(shipped_points("akiyo"))`. With `crop=False` the texture is
     the whole frame; `ridge_px` as in `describe`.
 
-    Raises `FaceError` (or `VideoError`) naming the file when the picture cannot be read or the
-    points do not fit the model.
+    Raises `FaceError` (or `VideoError`) naming the file when the picture cannot be read, no
+    face the detector finds holds the points, or the points do not fit the model.
     """
+    import cv2
+
+    from uma.face.detect import Box, locate_points
+
     points = points_file if isinstance(points_file, PointsFile) else load_points(points_file)
     picture = picture_of(points)
+    # As `uma describe`: points that lie on no face the detector finds are not this picture's.
+    annotated = Box(*points.box) if points.box is not None else None
+    placed = locate_points(
+        cv2.cvtColor(picture, cv2.COLOR_BGR2GRAY), points.points, annotated=annotated
+    )
+    if not placed:
+        raise FaceError(f"{points.path}: {placed.reason}")
     result = describe(picture, points.points, model=model, crop=crop, ridge_px=ridge_px)
     if not result:
         raise FaceError(f"{points.path}: {result.reason}")

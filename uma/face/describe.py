@@ -10,7 +10,6 @@ action units (the receiver animates; it never needs the shape units again).
 
 from __future__ import annotations
 
-import io
 import json
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -22,9 +21,11 @@ from uma.errors import FaceError
 from uma.face.fit_points import PointFit, fit_points
 from uma.face.geometry import project
 from uma.face.model import FaceModel
+from uma.face.npz import write_npz
+from uma.face.points import read_points
 from uma.failure import Failure
 
-__all__ = ["ContentDescription", "describe", "load_description", "read_points"]
+__all__ = ["ContentDescription", "describe", "read_points"]
 
 MARGIN = 0.15  # of the face box, around the texture crop
 JPEG_QUALITY = 90
@@ -81,7 +82,7 @@ class ContentDescription:
             "fit_rms_px": self.fit_rms_px,
             "origin_px": list(self.origin_px),
         }
-        return _npz(
+        return write_npz(
             meta=np.frombuffer(json.dumps(meta, sort_keys=True).encode(), dtype=np.uint8),
             vertices=self.model.vertices.astype(np.float32),
             triangles=self.model.triangles.astype(np.uint16),
@@ -98,82 +99,6 @@ class ContentDescription:
         data = self.to_bytes()
         atomic_write_bytes(path, data)
         return len(data)
-
-
-def _npz(**arrays: np.ndarray) -> bytes:
-    """A deflated .npz that `np.load` reads, byte-identical for identical arrays (np.savez
-    stamps each member with the current time)."""
-    import zipfile
-
-    buffer = io.BytesIO()
-    with zipfile.ZipFile(buffer, "w", compression=zipfile.ZIP_DEFLATED) as archive:
-        for name, array in arrays.items():
-            member = io.BytesIO()
-            np.lib.format.write_array(member, np.asarray(array), allow_pickle=False)
-            info = zipfile.ZipInfo(f"{name}.npy", date_time=(1980, 1, 1, 0, 0, 0))
-            info.compress_type = zipfile.ZIP_DEFLATED
-            archive.writestr(info, member.getvalue())
-    return buffer.getvalue()
-
-
-def load_description(path: str | Path) -> ContentDescription:
-    """Read a description written by `ContentDescription.save`."""
-    import cv2
-
-    path = Path(path)
-    try:
-        with np.load(path, allow_pickle=False) as data:
-            meta = json.loads(bytes(data["meta"]).decode())
-            texture = cv2.imdecode(data["texture_jpeg"], cv2.IMREAD_UNCHANGED)
-            vertices = data["vertices"].astype(np.float64)
-            model = FaceModel(
-                name=meta["name"],
-                vertices=vertices,
-                triangles=data["triangles"].astype(np.int32),
-                shape_units=np.zeros((0,) + vertices.shape),
-                shape_unit_names=(),
-                action_units=data["action_units"].astype(np.float64),
-                action_unit_names=tuple(meta["action_unit_names"]),
-                feature_points=meta["feature_points"],
-            )
-            return ContentDescription(
-                model=model,
-                texture=texture,
-                params=data["params"],
-                shape=data["shape"],
-                points={k: tuple(v) for k, v in meta["points"].items()},
-                fit_rms_px=float(meta["fit_rms_px"]),
-                origin_px=tuple(meta.get("origin_px", (0.0, 0.0))),
-            )
-    except FileNotFoundError:
-        raise FaceError(f"{path}: no such content description") from None
-    except (OSError, ValueError, KeyError) as err:
-        raise FaceError(f"{path}: not a uma content description ({err})") from None
-
-
-def read_points(path: str | Path) -> dict[str, tuple[float, float]]:
-    """Feature points from YAML or JSON: `{name: [x, y]}`, at the top level or under `points:`."""
-    import yaml
-
-    path = Path(path)
-    try:
-        data = yaml.safe_load(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise FaceError(f"{path}: no such feature-point file") from None
-    except (OSError, UnicodeDecodeError, yaml.YAMLError) as err:
-        raise FaceError(f"{path}: not a YAML/JSON feature-point file ({err})") from None
-    if isinstance(data, dict) and isinstance(data.get("points"), dict):
-        data = data["points"]
-    if not isinstance(data, dict) or not data:
-        raise FaceError(f"{path}: expected a mapping of feature point names to [x, y]")
-    points = {}
-    for name, value in data.items():
-        ok = isinstance(value, list | tuple) and len(value) == 2
-        ok = ok and all(isinstance(v, int | float) and not isinstance(v, bool) for v in value)
-        if not ok or not all(np.isfinite(value)):
-            raise FaceError(f"{path}: point {name}: expected [x, y] in pixels, got {value!r}")
-        points[str(name)] = (float(value[0]), float(value[1]))
-    return points
 
 
 MAX_RMS_FRAC = 0.06  # of scale_px (~6 mm on a face): worse than careless clicking

@@ -23,7 +23,21 @@ import numpy as np
 
 from uma.errors import FaceError
 
-__all__ = ["N_FAPS", "FAP_NAMES", "FapSequence", "read_fap", "parse_fap", "write_fap", "format_fap"]
+__all__ = [
+    "N_FAPS",
+    "FAP_NAMES",
+    "FAP_UNITS",
+    "MAX_DISTANCE_FAPU",
+    "MAX_ANGLE_AU",
+    "MIN_FPS",
+    "MAX_FPS",
+    "fap_limit",
+    "FapSequence",
+    "read_fap",
+    "parse_fap",
+    "write_fap",
+    "format_fap",
+]
 
 N_FAPS = 68
 
@@ -105,6 +119,51 @@ FAP_NAMES: dict[int, str] = dict(
 )
 
 
+# ISO/IEC 14496-2 Annex C: the unit of each FAP (FAPs 1 and 2, viseme and expression, have none).
+FAP_UNITS: dict[int, str] = {
+    **{k: "MNS" for k in (3, 4, 5, 8, 9, 10, 11, 12, 13, 14, 16, 17, 18, 44, 46)},
+    **{k: "MW" for k in (6, 7, 15, 43, 45, 53, 54)},
+    **{k: "IRISD" for k in (19, 20, 21, 22, 29, 30)},
+    **{k: "AU" for k in (23, 24, 25, 26, 47, 48, 49, 50)},
+    **{k: "ES" for k in (27, 28, 37, 38, 39, 40)},
+    **{k: "ENS" for k in (31, 32, 33, 34, 35, 36, 41, 42, 61, 62, 63, 64, 65, 66, 67, 68)},
+    **{k: "MNS" for k in (51, 52, 55, 56, 57, 58, 59, 60)},
+    1: "",
+    2: "",
+}
+# What a face can do, generously: no feature point moves by more than four times the neutral
+# distance its unit measures (a jaw opened four mouth-nose separations), no angle exceeds half a
+# turn. The shared XfaceEd files stay below 900 distance units and 0.09 rad. Far larger values
+# are not expressions but damage, and they overflow the renderer's polygons.
+MAX_DISTANCE_FAPU = 4 * 1024
+MAX_ANGLE_AU = 314159  # pi rad in units of 1e-5 rad
+# Frame rates a .fap file may give: from one frame per 100 s to a fast camera's 1000 frames/s.
+MIN_FPS, MAX_FPS = 0.01, 1000.0
+MAX_FAP_BYTES = 64 * 1024 * 1024  # an hour at 25 frames/s with every FAP set is about 50 MB
+
+
+def fap_limit(number: int) -> int:
+    """The largest |value| FAP `number` may take (see `MAX_DISTANCE_FAPU`, `MAX_ANGLE_AU`)."""
+    return MAX_ANGLE_AU if FAP_UNITS.get(number) == "AU" else MAX_DISTANCE_FAPU
+
+
+def _value_problem(number: int, value: int) -> str | None:
+    """Why `value` is beyond what a face can do for FAP `number`, or None."""
+    limit = fap_limit(number)
+    if abs(value) <= limit:
+        return None
+    unit = FAP_UNITS.get(number) or "unit"
+    reason = "half a turn" if unit == "AU" else "four times the neutral distance"
+    return (
+        f"FAP {number} ({FAP_NAMES[number]}): expected at most {limit} {unit} in magnitude "
+        f"({reason}), got {value}"
+    )
+
+
+def _fps_ok(fps: float) -> bool:
+    return bool(np.isfinite(fps) and MIN_FPS <= fps <= MAX_FPS)
+
+
 @dataclass(frozen=True)
 class FapSequence:
     """A `.fap` file: per frame, FAP number (1-68) -> value (integer FAPUs)."""
@@ -120,12 +179,19 @@ class FapSequence:
         numbers = tuple(int(n) for n in self.numbers) or tuple(range(len(frames)))
         if len(numbers) != len(frames):
             raise FaceError(f"{self.name}: {len(frames)} frames but {len(numbers)} frame numbers")
-        if not (np.isfinite(self.fps) and self.fps > 0):
-            raise FaceError(f"{self.name}: expected a positive frame rate, got {self.fps}")
-        for frame in frames:
+        if not _fps_ok(self.fps):
+            raise FaceError(
+                f"{self.name}: expected a frame rate of {MIN_FPS:g}-{MAX_FPS:g} frames/s, "
+                f"got {self.fps}"
+            )
+        for index, frame in enumerate(frames):
             bad = [k for k in frame if not 1 <= k <= N_FAPS]
             if bad:
                 raise FaceError(f"{self.name}: FAP {bad[0]} is not among 1-{N_FAPS}")
+            for number, value in frame.items():
+                problem = _value_problem(number, value)
+                if problem is not None:
+                    raise FaceError(f"{self.name}: frame {index}: {problem}")
         if not self.name.strip() or any(c in self.name for c in "\r\n"):
             raise FaceError(f"expected a one-line, non-empty name, got {self.name!r}")
         if not self.version or any(c.isspace() for c in self.version):
@@ -154,13 +220,18 @@ def parse_fap(text: str, *, where: str = "<fap>") -> FapSequence:
         if len(fields) < 4:
             raise ValueError
         fps, count = float(fields[-2]), int(fields[-1])
-        if not (np.isfinite(fps) and fps > 0) or count < 0:
+        if count < 0:
             raise ValueError
     except ValueError:
         raise FaceError(
-            f"{where}:{number}: expected the header 'version name fps frames' (fps > 0, "
-            f"frames >= 0), got {header!r}"
+            f"{where}:{number}: expected the header 'version name fps frames' (frames >= 0), "
+            f"got {_short(header)}"
         ) from None
+    if not _fps_ok(fps):
+        raise FaceError(
+            f"{where}:{number}: expected a frame rate of {MIN_FPS:g}-{MAX_FPS:g} frames/s in "
+            f"the header, got {fields[-2]}"
+        )
     version, name = fields[0], " ".join(fields[1:-2])
     body = rows[1:]
     if len(body) % 2:
@@ -192,6 +263,10 @@ def parse_fap(text: str, *, where: str = "<fap>") -> FapSequence:
                 f"{where}:{value_no}: expected the frame number and {len(on)} values (the mask "
                 f"on line {mask_no} has {len(on)} flags set), got {len(values)} numbers"
             )
+        for fap, value in zip(on, values[1:], strict=True):
+            problem = _value_problem(fap, value)
+            if problem is not None:
+                raise FaceError(f"{where}:{value_no}: {problem}")
         numbers.append(values[0])
         frames.append(dict(zip(on, values[1:], strict=True)))
     try:
@@ -212,18 +287,14 @@ def _short(line: str, limit: int = 40) -> str:
 
 def read_fap(path: str | Path) -> FapSequence:
     """Read a `.fap` file (see the module docstring for the layout)."""
+    from uma.face.capped import read_capped
+
     path = Path(path)
+    data = read_capped(path, what=".fap file", limit=MAX_FAP_BYTES)
     try:
-        text = path.read_text(encoding="utf-8", errors="strict")
-    except FileNotFoundError:
-        raise FaceError(f"{path}: no such .fap file") from None
+        text = data.decode("utf-8")
     except UnicodeDecodeError:
-        try:
-            text = path.read_text(encoding="latin-1")  # names written on Windows
-        except OSError as err:
-            raise FaceError(f"{path}: cannot read ({err.strerror})") from None
-    except OSError as err:
-        raise FaceError(f"{path}: cannot read ({err.strerror})") from None
+        text = data.decode("latin-1")  # names written on Windows
     return parse_fap(text, where=str(path))
 
 

@@ -52,6 +52,7 @@ __all__ = [
 ]
 
 N_LANDMARKS = 68
+MAX_LANDMARK_BYTES = 256 * 1024 * 1024  # dlib's 300-W training XML is about 40 MB
 
 # MPEG-4 feature point -> the iBUG-68 landmarks (0-based) whose mean it is.
 IBUG68_TO_MPEG4: dict[str, tuple[int, ...]] = {
@@ -146,6 +147,11 @@ def parse_pts(text: str, *, where: str = "<pts>", one_based: bool = True) -> np.
             raise ValueError
     except ValueError:
         raise FaceError(f"{where}:{number}: expected 'n_points: N' (N > 0), got {line!r}") from None
+    if count > len(numbered):
+        raise FaceError(
+            f"{where}:{number}: n_points: {count} points announced, but the file has only "
+            f"{len(numbered)} lines"
+        )
     number, line = take("'{'")
     if line != "{":
         raise FaceError(f"{where}:{number}: expected '{{', got {line!r}")
@@ -176,13 +182,16 @@ def parse_pts(text: str, *, where: str = "<pts>", one_based: bool = True) -> np.
 
 def read_pts(path: str | Path, *, one_based: bool = True) -> np.ndarray:
     """(N, 2) points of a `.pts` file, 0-based (see `parse_pts`)."""
+    from uma.face.capped import read_capped
+
     path = Path(path)
+    data = read_capped(path, what="landmark file", limit=MAX_LANDMARK_BYTES)
     try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise FaceError(f"{path}: no such landmark file") from None
-    except (OSError, UnicodeDecodeError) as err:
-        raise FaceError(f"{path}: not a readable .pts landmark file ({err})") from None
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as err:
+        raise FaceError(
+            f"{path}: expected a .pts landmark file (text), got binary data (byte {err.start})"
+        ) from None
     return parse_pts(text, where=str(path), one_based=one_based)
 
 
@@ -191,16 +200,17 @@ def read_dlib_xml(path: str | Path) -> list[LandmarkFace]:
     `<image file=...><box top= left= width= height=><part name="00" x= y=/>...`."""
     import xml.etree.ElementTree as ElementTree
 
+    from uma.face.capped import read_capped
+
     path = Path(path)
+    data = read_capped(path, what="landmark file", limit=MAX_LANDMARK_BYTES)
     try:
-        root = ElementTree.parse(path).getroot()
-    except FileNotFoundError:
-        raise FaceError(f"{path}: no such landmark file") from None
+        root = ElementTree.fromstring(data)
     except ElementTree.ParseError as err:
         line = err.position[0] if err.position else "?"
         raise FaceError(f"{path}:{line}: not well-formed XML ({err})") from None
-    except OSError as err:
-        raise FaceError(f"{path}: cannot read ({err.strerror})") from None
+    except (LookupError, ValueError) as err:  # an encoding Python does not know, and the like
+        raise FaceError(f"{path}: expected dlib landmark XML, got unreadable XML ({err})") from None
     faces = []
     for image in root.iter("image"):
         name = image.get("file")
@@ -238,8 +248,9 @@ def read_dlib_xml(path: str | Path) -> list[LandmarkFace]:
 
 def landmark_points(
     path: str | Path, *, image: str | Path | None = None, face: int | None = None
-) -> tuple[dict[str, tuple[float, float]], Path | None]:
-    """MPEG-4 points from a landmark file, and the image they belong to (None for `.pts`).
+) -> tuple[dict[str, tuple[float, float]], Path | None, tuple[int, int, int, int] | None]:
+    """MPEG-4 points from a landmark file, the image they belong to and the annotated face box
+    (left, top, width, height; both None for `.pts`).
 
     `.pts`: the file's points. dlib XML: the faces of `image` (matched by path relative to
     the XML file, or else by file name); `face` picks one in file order, else the largest box.
@@ -251,7 +262,7 @@ def landmark_points(
             raise FaceError(
                 f"{path}: expected the 68-point iBUG layout, got {landmarks.shape[0]} points"
             )
-        return to_mpeg4(landmarks), None
+        return to_mpeg4(landmarks), None, None
     faces = read_dlib_xml(path)
     names = sorted({f.image for f in faces})
     if image is None:
@@ -278,7 +289,7 @@ def landmark_points(
         picked = chosen[face]
     else:
         picked = max(chosen, key=lambda f: f.box[2] * f.box[3])
-    return to_mpeg4(picked.landmarks), path.parent / picked.image
+    return to_mpeg4(picked.landmarks), path.parent / picked.image, picked.box
 
 
 def _same_file(a: Path, b: Path) -> bool:

@@ -142,9 +142,13 @@ def _units_from_yaml(items, n: int, where: str) -> tuple[tuple[str, ...], np.nda
         try:
             unit = np.zeros((n, 3))
             for index, delta in item["deltas"].items():
+                if int(index) < 0:
+                    raise IndexError(f"vertex {index}")
                 unit[int(index)] = [float(v) for v in delta]
             names.append(str(item["name"]))
-        except (KeyError, TypeError, ValueError, IndexError) as err:
+            if not np.all(np.isfinite(unit)):
+                raise ValueError("a delta is not finite")
+        except (KeyError, TypeError, ValueError, IndexError, AttributeError) as err:
             raise FaceError(
                 f"{where}[{k}]: expected name and deltas {{vertex: [dx, dy, dz]}} ({err})"
             ) from None
@@ -154,25 +158,23 @@ def _units_from_yaml(items, n: int, where: str) -> tuple[tuple[str, ...], np.nda
 
 def read_model_yaml(path: str | Path) -> FaceModel:
     """Read a face model in uma's YAML."""
-    import yaml
+    from uma.face.yaml_text import read_yaml
 
     path = Path(path)
-    try:
-        data = yaml.safe_load(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise FaceError(f"{path}: no such face model file") from None
-    except (OSError, UnicodeDecodeError, yaml.YAMLError) as err:
-        raise FaceError(f"{path}: not a readable face model ({err})") from None
+    data, _ = read_yaml(path, what="face model file")
     if not isinstance(data, dict):
         raise FaceError(f"{path}: expected a mapping with vertices, triangles, units")
     try:
         vertices = np.array(data["vertices"], dtype=np.float64)
         triangles = np.array(data["triangles"], dtype=np.int32)
         points = {str(k): int(v) for k, v in data.get("feature_points", {}).items()}
-    except (KeyError, TypeError, ValueError) as err:
+    except (KeyError, TypeError, ValueError, AttributeError) as err:
         raise FaceError(
-            f"{path}: expected vertices and triangles as lists of triples ({err})"
+            f"{path}: expected vertices and triangles as lists of triples and feature_points "
+            f"as {{name: vertex}} ({err})"
         ) from None
+    if not np.all(np.isfinite(vertices)):
+        raise FaceError(f"{path}: vertices: expected finite numbers, got NaN or infinity")
     n = vertices.shape[0] if vertices.ndim == 2 else 0
     shape_names, shape_units = _units_from_yaml(
         data.get("shape_units", []), n, f"{path}: shape_units"

@@ -213,31 +213,40 @@ class Cost:
 
     def __call__(self, params: np.ndarray) -> np.ndarray:
         """Costs of candidates (B, P) -> (B,), or of one (P,) -> a 0-d array."""
-        from uma.fit.kernels import project_batch, scores
-
         params = np.asarray(params, dtype=np.float64)
         single = params.ndim == 1
-        batch = np.ascontiguousarray(np.atleast_2d(params))
+        batch = params[None] if single else params
+        if not batch.flags.c_contiguous:
+            batch = np.ascontiguousarray(batch)
         if batch.shape[-1] != self.n_params:
             raise ValueError(f"expected {self.n_params} parameters, got {batch.shape[-1]}")
         self.evaluations += batch.shape[0]
-        costs = np.full(batch.shape[0], 2.0)
-        finite = np.all(np.isfinite(batch), axis=1)
-        if finite.any():
-            chosen = batch if finite.all() else np.ascontiguousarray(batch[finite])
-            points = project_batch(self._vertices, self._units, chosen)
-            layout = self._layout
-            score = scores(
-                self.image,
-                layout.pixels,
-                layout.inverse,
-                layout.runs,
-                self._values,
-                points,
-                self._triangles,
-                self.illumination,
-            )
-            if not np.all(np.isfinite(score)):
-                score = np.where(np.isfinite(score), score, -1.0)
-            costs[finite] = 1.0 - score
+        # SAABs calls this once per annealing step: the usual all-finite batch takes one check.
+        if np.isfinite(batch).all():
+            costs = 1.0 - self._scores(batch)
+        else:
+            costs = np.full(batch.shape[0], 2.0)
+            finite = np.isfinite(batch).all(axis=1)
+            if finite.any():
+                costs[finite] = 1.0 - self._scores(np.ascontiguousarray(batch[finite]))
         return costs[0] if single else costs
+
+    def _scores(self, batch: np.ndarray) -> np.ndarray:
+        """Scores of a contiguous batch of finite candidates; a non-finite score counts as -1."""
+        from uma.fit.kernels import project_batch, scores
+
+        points = project_batch(self._vertices, self._units, batch)
+        layout = self._layout
+        score = scores(
+            self.image,
+            layout.pixels,
+            layout.inverse,
+            layout.runs,
+            self._values,
+            points,
+            self._triangles,
+            self.illumination,
+        )
+        if not np.isfinite(score).all():
+            score = np.where(np.isfinite(score), score, -1.0)
+        return score

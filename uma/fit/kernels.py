@@ -74,14 +74,17 @@ def _bilinear(image, x, y):
 
 
 @njit(cache=True, fastmath=True, inline="always")
-def _bilinear_inside(image, x, y):
-    """`_bilinear` where x in [0, width - 1) and y in [0, height - 1): no clamping."""
+def _bilinear_flat(flat, width, x, y):
+    """`_bilinear` where x in [0, width - 1) and y in [0, height - 1), on the image's row-major
+    pixels: no clamping, and one unsigned index spares the four 2-D index computations and
+    numba's negative-index wrap-around checks."""
     x0 = int(x)
     y0 = int(y)
     fx = x - x0
     fy = y - y0
-    top = image[y0, x0] * (1.0 - fx) + image[y0, x0 + 1] * fx
-    bottom = image[y0 + 1, x0] * (1.0 - fx) + image[y0 + 1, x0 + 1] * fx
+    i = np.uint64(y0 * width + x0)
+    top = flat[i] * (1.0 - fx) + flat[i + np.uint64(1)] * fx
+    bottom = flat[i + np.uint64(width)] * (1.0 - fx) + flat[i + np.uint64(width + 1)] * fx
     return top * (1.0 - fy) + bottom * fy
 
 
@@ -163,6 +166,7 @@ def scores(image, pixels, inverse, runs, template, points, triangles, patch_weig
     visible = np.empty(n_tri, dtype=np.bool_)
     warp = np.empty((2, 3), dtype=np.float64)
     height, width = image.shape
+    flat = image.ravel()  # a view: the costs' images are C-contiguous
     for b in range(batch):
         _front_facing(points, triangles, b, visible)
         n = 0.0
@@ -189,7 +193,7 @@ def scores(image, pixels, inverse, runs, template, points, triangles, patch_weig
                 u, v = pixels[k, 0], pixels[k, 1]
                 x = a00 * u + a01 * v + a02
                 y = a10 * u + a11 * v + a12
-                s = _bilinear_inside(image, x, y) if inside else _bilinear(image, x, y)
+                s = _bilinear_flat(flat, width, x, y) if inside else _bilinear(image, x, y)
                 t = template[k]
                 p_s += s
                 p_t += t

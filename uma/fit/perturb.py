@@ -69,5 +69,16 @@ class Perturbation:
         """`tries` proposals around `current` (tries, P)."""
         z = rng.standard_normal((tries, self.factor.shape[0]))
         out = np.repeat(current[None], tries, axis=0)
-        out[:, self.active] += step_px * (z @ self.factor.T)
+        out[:, self._columns] += step_px * (z @ self.factor.T)
         return out
+
+    @property
+    def _columns(self):
+        """The active parameters as a slice when they are one run (cheaper than a mask)."""
+        columns = self.__dict__.get("_columns_cache")
+        if columns is None:
+            index = np.flatnonzero(self.active)
+            contiguous = index.size and index[-1] - index[0] + 1 == index.size
+            columns = slice(int(index[0]), int(index[-1]) + 1) if contiguous else self.active
+            object.__setattr__(self, "_columns_cache", columns)
+        return columns

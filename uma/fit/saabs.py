@@ -225,7 +225,7 @@ def anneal(
         step_px = first_step_px * schedule.step_scale(temperature)
         proposals = box.clip(perturbation(rng, current, schedule.tries, step_px))
         costs = cost(proposals)
-        j = int(np.argmin(costs))
+        j = int(costs.argmin())
         if metropolis_accept(float(costs[j]) - current_cost, temperature, float(rng.random())):
             current, current_cost = proposals[j], float(costs[j])
         if costs[j] < best_cost - schedule.tolerance:

@@ -25,7 +25,8 @@ class SearchBox:
     face_width_px: float
 
     def clip(self, params: np.ndarray) -> np.ndarray:
-        return np.clip(params, self.low, self.high)
+        # np.clip's values (low <= high), without its Python wrapper: SAABs clips every step
+        return np.minimum(np.maximum(params, self.low), self.high)
 
     def contains(self, params: np.ndarray) -> bool:
         return bool(np.all(params >= self.low - 1e-9) and np.all(params <= self.high + 1e-9))

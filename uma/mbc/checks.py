@@ -24,7 +24,10 @@ def check_description(description: ContentDescription, *, where: str = "descript
             f"{N_POSE + model.n_actions} (6 pose + {model.n_actions} action units)"
         )
     if not np.all(np.isfinite(params)) or not params[2] > 0:
-        raise FaceError(f"{where}: the pose is not finite with a positive scale: {params[:6]}")
+        raise FaceError(
+            f"{where}: params: expected a finite pose with a positive scale_px, got "
+            f"{[round(float(v), 3) for v in params[:6]]}"
+        )
     texture = description.texture
     if texture is None or texture.ndim not in (2, 3) or min(texture.shape[:2]) < 16:
         raise FaceError(f"{where}: the texture is missing or smaller than 16x16")

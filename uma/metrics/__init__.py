@@ -6,6 +6,7 @@ Units are in the names of each module's functions and columns.
 from uma.metrics.quality import (
     PSNR_CAP_DB,
     SSIM_DB_CAP,
+    frame_scores,
     keep_freed_memory,
     psnr_db,
     region_scores,
@@ -16,6 +17,7 @@ from uma.metrics.quality import (
 __all__ = [
     "psnr_db",
     "region_scores",
+    "frame_scores",
     "ssim",
     "ssim_db",
     "keep_freed_memory",

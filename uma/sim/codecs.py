@@ -42,8 +42,6 @@ __all__ = [
     "Coded",
     "FullFramePointEncoder",
     "FullFrameUnitDecoder",
-    "H264PointEncoder",
-    "H264UnitDecoder",
     "encoder_factory",
     "decoder_factory",
     "video_class",
@@ -107,10 +105,6 @@ def video_class(codec: str, role: str):
         raise LookupError(f"codec {codec!r}: uma.video has no {role} {name!r}")
     return found
 
-
-# Names kept for the code that makes H.264 coders directly (benchmarks).
-H264PointEncoder = FullFramePointEncoder
-H264UnitDecoder = FullFrameUnitDecoder
 
 # The coders of the roles that are not full-frame ladders (one codec each); a full-frame codec
 # needs none here: its registry entry names its `uma.video` classes.

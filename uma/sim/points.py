@@ -71,7 +71,7 @@ def model_description(scenario: Scenario, source) -> tuple[object | None, str]:
     section = spec(names(Role.MODEL)[0]).config_section
     path = getattr(scenario.engine, section).description
     if path is not None:
-        if path.endswith((".yaml", ".yml")):
+        if path.lower().endswith((".yaml", ".yml", ".json")):  # a points file naming its picture
             from uma.face.clip import describe_clip
 
             return describe_clip(path), ""

@@ -5,10 +5,10 @@ picture decoded at a lower rung is upscaled first (bilinear), as a receiver's di
 Before the first picture arrives the display is mid-grey. Face-region scores are the same
 metrics over the source frame's face box only (`uma.face.region`); NaN without a box.
 
-SSIM costs more than the whole codec chain (scikit-image, ~4-5 ms per CIF plane), and its
-filters release the GIL, so scoring runs on a small thread pool beside the simulation; the
-scores land in the frame log when `finish()` is called. Results do not depend on the pool: each
-score is a pure function of its two planes.
+The frame and its face box are scored in one pass (`uma.metrics.quality.frame_scores`: one
+SSIM map for both). OpenCV's filters release the GIL, so scoring can run on a small thread
+pool beside the simulation; the scores land in the frame log when `finish()` is called.
+Results do not depend on the pool: each score is a pure function of its two planes.
 """
 
 from __future__ import annotations
@@ -55,15 +55,13 @@ class QualityMeter:
         return luma
 
     def _score(self, reference: np.ndarray, test: np.ndarray, box) -> tuple[float, ...]:
-        from uma.metrics.quality import psnr_db, region_scores, ssim
+        from uma.metrics.quality import frame_scores
 
         start = time.perf_counter()
-        psnr = psnr_db(reference, test) if self.config.psnr else float("nan")
-        similarity = ssim(reference, test) if self.config.ssim else float("nan")
-        face_psnr, face_ssim = region_scores(
+        scores = frame_scores(
             reference, test, box, with_psnr=self.config.psnr, with_ssim=self.config.ssim
         )
-        return psnr, similarity, face_psnr, face_ssim, time.perf_counter() - start
+        return (*scores, time.perf_counter() - start)
 
     def submit(
         self,

@@ -13,7 +13,7 @@ from uma.metrics.freezes import freeze_stats
 from uma.metrics.results import events_csv, write_results
 from uma.sim.world import RunResult
 
-__all__ = ["run_metrics", "save_run", "format_summary"]
+__all__ = ["run_metrics", "save_run", "format_summary", "shown_seconds_by_codec"]
 
 
 def run_metrics(result: RunResult) -> dict[str, Any]:
@@ -35,6 +35,8 @@ def run_metrics(result: RunResult) -> dict[str, Any]:
     body["by_technology"] = by_technology(result.log, display_technologies(result))
     body["feedback_lost"] = result.feedback_lost
     body |= switching_metrics(result)
+    if result.scenario.engine.switching.policy != "none":
+        body["shown_s_by_codec"] = shown_seconds_by_codec(result)
     return head | body | playout_metrics(result)
 
 
@@ -118,6 +120,42 @@ def save_run(result: RunResult, out_dir: str | Path) -> dict[str, Any]:
     return metrics
 
 
+def _codec_lines(metrics: dict[str, Any]) -> list[str]:
+    """What each codec sent and how long it was on screen; per technology, freezes and the face."""
+    from uma.codecs import metric_key, names, spec
+
+    shown = metrics.get("shown_s_by_codec") or {}
+    cells = []
+    for name in names():
+        kbps = metrics.get(f"kbps_{metric_key(name)}")
+        if not kbps and name not in shown:
+            continue
+        cells.append(
+            f"{spec(name).label} {kbps or 0:g} kbit/s, on screen {shown.get(name, 0.0):g} s"
+        )
+    lines = [f"  codecs    {'; '.join(cells)}"] if cells else []
+    for tech, row in sorted((metrics.get("by_technology") or {}).items()):
+        face = [
+            f"{label} {row[key]:g}{unit}"
+            for key, label, unit in (("psnr_face_db", "face", " dB"), ("ssim_face", "SSIM", ""))
+            if row.get(key) is not None
+        ]
+        frozen = row.get("freeze_ratio")
+        text = "frozen n/a" if frozen is None else f"frozen {frozen:g}"
+        lines.append(f"  {tech:<9} " + ", ".join([text, *face]))
+    return lines
+
+
+def shown_seconds_by_codec(result: RunResult) -> dict[str, float]:
+    """Seconds of display instants that showed each codec's pictures (one instant a frame)."""
+    codecs = np.asarray(result.log["shown_codec"]).astype(str)
+    frame_s = 1.0 / result.fps
+    return {
+        name: round(float(np.count_nonzero(codecs == name)) * frame_s, 3)
+        for name in sorted(set(codecs.tolist()) - {""})
+    }
+
+
 def format_summary(metrics: dict[str, Any], out_dir: str | Path) -> str:
     """A few lines a person reads after `uma run`."""
 
@@ -125,6 +163,7 @@ def format_summary(metrics: dict[str, Any], out_dir: str | Path) -> str:
         value = metrics.get(key)
         return "n/a" if value is None else f"{value:g}{unit}"
 
+    switching = metrics.get("switching", "none") != "none"
     return "\n".join(
         [
             f"scenario {metrics['scenario']} (seed {metrics['seed']}): {metrics['frames']} frames"
@@ -139,7 +178,14 @@ def format_summary(metrics: dict[str, Any], out_dir: str | Path) -> str:
             f"{show('total_freezes_duration_s', ' s')} in all; {show('displayed_fps')} frames/s "
             f"shown, mean playout delay {show('playout_delay_mean_ms', ' ms')}",
             f"  engine    {metrics['switches']} rung switches, {metrics['handovers']} handovers, "
-            f"{metrics['keyframe_requests']} keyframe requests",
+            f"{metrics['keyframe_requests']} keyframe requests"
+            + (
+                f", {metrics.get('codec_switches', 0)} codec switches, "
+                f"{metrics.get('inits', 0)} model-codec initialisations"
+                if switching
+                else ""
+            ),
+            *_codec_lines(metrics),
             f"  results   {out_dir}",
         ]
     )
