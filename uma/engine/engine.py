@@ -9,7 +9,10 @@ initialisation, after its modelled compute time), `on_coded` (the encoder re-ini
 failed) and `on_unit_sent`. Its parts: the ladder (`uma.engine.ladder`), the bits in flight
 (`uma.engine.inflight`), the switching decision (`uma.engine.switching`) over the model
 codec's sub-machine (`uma.engine.model`) and the description's delivery
-(`uma.engine.description`), and the backlog and padding rules (`uma.engine.pacing`).
+(`uma.engine.description`), the backlog and padding rules (`uma.engine.pacing`), and when
+configured the pacer with its own queue (`uma.engine.pacer`: the world queues units with
+`on_unit_queued` and sends what `on_pace` lets out) and handover awareness
+(`uma.engine.handover`: the estimate takes the reported technology's prior capacity).
 
 A failure of a region codec (no face found) moves to the lowest full-frame rung and leaves the
 region rungs off the ladder for its section's `retry_ms`; a failure of the model codec moves to
