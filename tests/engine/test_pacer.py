@@ -141,3 +141,11 @@ def test_a_silent_feedback_path_holds_everything_and_judges_deadlines_still():
     assert pacer.release(0.6, 1000.0, network_delay_s=0.0, hold=True).dropped_frames == (0,)
     pacer.push(_unit(1, 1, 5.0, keyframe=True), VIDEO)
     assert len(pacer.release(0.7, 1000.0, network_delay_s=0.0).sent) == 1
+
+
+def test_a_late_keyframe_is_dropped_while_the_pacer_holds():
+    pacer = Pacer(burst_ms=40.0, padding_wait_ms=100.0)
+    pacer.push(_unit(0, 0, 0.5, packets=2, keyframe=True), VIDEO)
+    assert pacer.release(0.0, 1000.0, network_delay_s=0.0, hold=True).dropped_frames == ()
+    release = pacer.release(0.6, 1000.0, network_delay_s=0.0, hold=True)
+    assert release.dropped_frames == (0,) and release.needs_keyframe

@@ -9,9 +9,11 @@ burst allowance, and a frame still waiting when it could no longer be shown in t
 capture time plus `deadline_ms`, less the queueing delay the receiver last reported) is
 dropped here, with the frames that depend on it, so the link carries only what can still be
 used; the engine then forces a keyframe. A unit whose first packet left is sent whole (a
-half-sent unit would break the receiver's chain). A keyframe is never dropped for being late
+half-sent unit would break the receiver's chain). A keyframe is not dropped for being late
 (however slow the link, something must get through, or the estimate could never see it),
-only when a newer keyframe is queued behind it: it is superseded.
+only when a newer keyframe is queued behind it (it is superseded), or while the pacer holds
+(in an outage nothing is measured anyway, and a keyframe held through it would arrive seconds
+late).
 
 Three classes, served in order: `PRIORITY` (the model codec's parameters: a few kbit/s the
 switch chose because nothing larger fits, never dropped; when one comes, waiting full-frame
@@ -98,7 +100,7 @@ class Pacer:
             self.tokens_bits = min(burst_bits, self.tokens_bits + (now_s - self.last_s) * rate_bps)
         self.last_s = now_s
         dropped: list[int] = []
-        while late := self._drop_late(now_s, rate_bps, network_delay_s):
+        while late := self._drop_late(now_s, rate_bps, network_delay_s, keyframes=hold):
             dropped += late
         video = self.queues[VIDEO]
         needs_keyframe = bool(dropped) and not (video and video[0].keyframe)
@@ -130,7 +132,9 @@ class Pacer:
         self.started_unit = packet.unit if queue and queue[0].unit == packet.unit else -2
         return packet
 
-    def _drop_late(self, now_s: float, rate_bps: float, network_delay_s: float) -> list[int]:
+    def _drop_late(
+        self, now_s: float, rate_bps: float, network_delay_s: float, *, keyframes: bool
+    ) -> list[int]:
         padding = self.queues[PADDING]
         while padding and padding[0].deadline_s + self.padding_wait_s < now_s:
             self.queued_bits -= padding.popleft().size_bits
@@ -138,7 +142,7 @@ class Pacer:
         if not video:
             return []
         head = video[0]
-        if head.unit == self.started_unit or head.keyframe:
+        if head.unit == self.started_unit or (head.keyframe and not keyframes):
             return []
         unit_bits = sum(p.size_bits for p in video if p.unit == head.unit)
         ahead_bits = sum(p.size_bits for p in self.queues[PRIORITY])
