@@ -33,7 +33,7 @@ def png_size(path):
 
 def test_run_report_draws_the_timeline(run_dir):
     width, height = png_size(run_dir / "timeline.png")
-    assert (width, height) == (1100, 750)
+    assert (width, height) == (1100, 900)  # four panels: the queues beside the rates
 
 
 def test_video_shows_source_beside_the_display_for_every_instant(run_dir, capsys):

@@ -124,3 +124,20 @@ def test_padding_packets_are_counted_but_not_assembled():
     assert report.packets_received == len(sizes) and report.received_bits == 8 * 3000
     assert report.packets_lost == 0 and not receiver.assembling
     assert padding_sizes_bits(8 * 30, payload_bytes=1200) == []  # not even a header's worth
+
+
+def test_reports_carry_the_access_technology_the_receiver_is_on():
+    now = [0.0]
+    on = ["3G"]
+    receiver = ReceiverState(
+        log=FrameLog(4), decode=lambda unit: {}, request_keyframe=lambda r: None,
+        now=lambda: now[0], technology=lambda: on[0],
+    )  # fmt: skip
+    assert receiver.make_report(0.1).technology == "3G"
+    on[0] = "GPRS"
+    assert receiver.make_report(0.1).technology == "GPRS"
+    silent = ReceiverState(
+        log=FrameLog(4), decode=lambda unit: {}, request_keyframe=lambda r: None,
+        now=lambda: now[0],
+    )  # fmt: skip
+    assert silent.make_report(0.1).technology == ""

@@ -13,12 +13,15 @@ from pydantic import AllowInfNan, Field, Strict, field_validator, model_validato
 
 from uma.codecs import full_frame_names
 from uma.config.codecs import FaceRegionConfig, MbcConfig
-from uma.config.types import Fraction, NonNeg, NonNegInt, PosInt, PosNum, Section, Str
+from uma.config.technologies import LABELS
+from uma.config.types import Bool, Fraction, NonNeg, NonNegInt, PosInt, PosNum, Section, Str
 
 __all__ = [
     "EngineConfig",
     "EstimatorConfig",
     "SwitchingConfig",
+    "PacerConfig",
+    "HandoverConfig",
     "POLICY_NAMES",
     "ESTIMATOR_KINDS",
     "SWITCHING_NAMES",
@@ -55,6 +58,12 @@ class EstimatorConfig(Section):
     # Decrease once per window (not per queue-drain time) while the received rate is below
     # this fraction of the estimate; 0 turns it off.
     collapse_below: Fraction = 0.25
+    # The estimate never grows above this multiple of the received rate.
+    increase_cap: Annotated[float, Strict(), AllowInfNan(False), Field(ge=1)] = 3.0
+    # Delay trend (0: off): the slope of the reports' queueing delay over this window; above
+    # `trend_high_ms_per_s` the queue is building and the estimate backs off.
+    trend_window_s: NonNeg = 0.0
+    trend_high_ms_per_s: PosNum = 50.0
     # Which estimator: `engine.estimator: webrtc` is short for `engine.estimator: {kind: webrtc}`.
     kind: EstimatorKind = "uma"
 
@@ -66,6 +75,47 @@ class EstimatorConfig(Section):
                 raise ValueError(f"expected one of {', '.join(ESTIMATOR_KINDS)}")
             return {"kind": data}
         return data
+
+
+class PacerConfig(Section):
+    """The engine's pacer and its queue (`uma.engine.pacer`); off: units go straight to the
+    downlink.
+
+    Packets leave at `rate_factor` x the estimate (the oracle's true capacity), with
+    `burst_ms` of that rate as the burst allowance; a frame that would leave later than its
+    capture time + `deadline_ms` (less the reported queueing delay) is dropped in the engine,
+    and a keyframe follows; padding waits at most `padding_wait_ms`; with `hold_after_ms`,
+    nothing leaves while no report came for that long.
+    """
+
+    enabled: Bool = False
+    # Salsify's frame sizing: hold a frame when what waits plus its share of the rate would
+    # not leave within `fit_frames` frame intervals (0: off).
+    fit_frames: NonNeg = 0.0
+    rate_factor: PosNum = 1.0
+    burst_ms: PosNum = 40.0
+    deadline_ms: PosNum = 1000.0
+    padding_wait_ms: NonNeg = 100.0
+    # No report for this long (an outage, a handover gap): nothing leaves the pacer, so the
+    # old link's rate is not pushed into the new one's queue (0: off).
+    hold_after_ms: NonNeg = 0.0
+
+
+class HandoverConfig(Section):
+    """Handover awareness (`uma.engine.handover`): on a change of the technology the receiver
+    reports, the estimate becomes that technology's prior capacity at once (its rate model's
+    mean, or `priors_kbps[technology]`). Off for a single-technology route."""
+
+    enabled: Bool = False
+    priors_kbps: dict[Str, PosNum] = Field(default_factory=dict)
+
+    @field_validator("priors_kbps")
+    @classmethod
+    def _technologies(cls, value: dict[str, float]) -> dict[str, float]:
+        for name in value:
+            if name not in LABELS:
+                raise ValueError(f"expected technologies among {', '.join(LABELS)}, got {name!r}")
+        return value
 
 
 class SwitchingConfig(Section):
@@ -122,6 +172,8 @@ class EngineConfig(Section):
     switching: SwitchingConfig = Field(default_factory=SwitchingConfig)
     mbc: MbcConfig = Field(default_factory=MbcConfig)
     face_region: FaceRegionConfig = Field(default_factory=FaceRegionConfig)
+    pacer: PacerConfig = Field(default_factory=PacerConfig)
+    handover: HandoverConfig = Field(default_factory=HandoverConfig)
     # Tuning (see `uma.engine.engine`): reports missing for this many intervals mean an outage;
     # no more than this much sending time in flight; unacknowledged packets presumed lost after
     # this long; while backlogged, a probe frame this often.

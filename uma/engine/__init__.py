@@ -5,11 +5,19 @@ from uma.engine.decisions import (
     EngineEvent,
     EngineOutcome,
     FrameDecision,
+    PaceDecision,
     UnitSent,
 )
 from uma.engine.engine import UmaEngine
-from uma.engine.estimator import EstimatorState, initial_estimate, update_estimate
+from uma.engine.estimator import (
+    EstimatorState,
+    delay_trend_ms_per_s,
+    initial_estimate,
+    update_estimate,
+)
+from uma.engine.handover import Handover, handover_estimate
 from uma.engine.model import TRANSITIONS, ModelEvent, ModelState
+from uma.engine.pacer import PacedPacket, Pacer, PacerRelease
 from uma.engine.parts import DescriptionPlan
 from uma.engine.policy import POLICIES, PolicyView, fixed_policy, oracle_policy, throughput_policy
 from uma.engine.reports import KeyframeRequest, ReceiverReport
@@ -20,6 +28,13 @@ __all__ = [
     "EngineEvent",
     "EngineOutcome",
     "UnitSent",
+    "PaceDecision",
+    "Pacer",
+    "PacedPacket",
+    "PacerRelease",
+    "Handover",
+    "handover_estimate",
+    "delay_trend_ms_per_s",
     "DescriptionChunk",
     "DescriptionPlan",
     "ModelState",

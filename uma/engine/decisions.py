@@ -13,7 +13,14 @@ from dataclasses import dataclass
 
 from uma.engine.points import OperatingPoint
 
-__all__ = ["FrameDecision", "EngineEvent", "DescriptionChunk", "UnitSent", "EngineOutcome"]
+__all__ = [
+    "FrameDecision",
+    "EngineEvent",
+    "DescriptionChunk",
+    "UnitSent",
+    "PaceDecision",
+    "EngineOutcome",
+]
 
 
 @dataclass(frozen=True)
@@ -44,7 +51,8 @@ class FrameDecision:
     freeze). `initialise`: the index of the model codec's point to start an initialisation
     of on this frame's decoded picture (then call `on_init_done`), or None. `description`:
     the content description's packets to send now, before the frame (each already counted in
-    flight). `estimate_kbps`: the bandwidth estimate the decision was taken on.
+    flight). `estimate_kbps`: the bandwidth estimate the decision was taken on;
+    `queued_bits`: what waited in the engine's own queue (the pacer's) then.
     """
 
     frame: int
@@ -57,6 +65,7 @@ class FrameDecision:
     initialise: int | None = None
     description: tuple[DescriptionChunk, ...] = ()
     estimate_kbps: float = 0.0
+    queued_bits: int = 0
 
     @property
     def codec(self) -> str:
@@ -71,6 +80,15 @@ class UnitSent:
 
     first_seq: int
     padding_bits: float | None = None
+
+
+@dataclass(frozen=True)
+class PaceDecision:
+    """What the pacer lets out now: the world's packets in order, each with its sequence
+    number, and when to ask again (inf: when something new is queued)."""
+
+    sent: tuple[tuple[object, int], ...]
+    next_s: float
 
 
 @dataclass(frozen=True)

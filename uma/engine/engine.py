@@ -9,7 +9,10 @@ initialisation, after its modelled compute time), `on_coded` (the encoder re-ini
 failed) and `on_unit_sent`. Its parts: the ladder (`uma.engine.ladder`), the bits in flight
 (`uma.engine.inflight`), the switching decision (`uma.engine.switching`) over the model
 codec's sub-machine (`uma.engine.model`) and the description's delivery
-(`uma.engine.description`), and the backlog and padding rules (`uma.engine.pacing`).
+(`uma.engine.description`), the backlog and padding rules (`uma.engine.pacing`), and when
+configured the pacer with its own queue (`uma.engine.pacer`: the world queues units with
+`on_unit_queued` and sends what `on_pace` lets out) and handover awareness
+(`uma.engine.handover`: the estimate takes the reported technology's prior capacity).
 
 A failure of a region codec (no face found) moves to the lowest full-frame rung and leaves the
 region rungs off the ladder for its section's `retry_ms`; a failure of the model codec moves to
@@ -22,11 +25,19 @@ from dataclasses import replace
 
 from uma.codecs import Role, spec
 from uma.config.scenario import EngineConfig, FeedbackConfig
-from uma.engine.decisions import EngineEvent, EngineOutcome, FrameDecision, UnitSent
+from uma.engine.decisions import (
+    EngineEvent,
+    EngineOutcome,
+    FrameDecision,
+    PaceDecision,
+    UnitSent,
+)
 from uma.engine.estimator import EstimatorState, initial_estimate, stale_decrease
 from uma.engine.estimators import ESTIMATORS
+from uma.engine.handover import Handover, handover_estimate
 from uma.engine.inflight import InFlight, Keyframes
-from uma.engine.pacing import backlogged, padding_bits
+from uma.engine.pacer import PADDING, PRIORITY, VIDEO, PacedPacket, Pacer
+from uma.engine.pacing import backlogged, frame_fits, padding_bits
 from uma.engine.parts import DescriptionPlan, build_parts
 from uma.engine.points import OperatingPoint
 from uma.engine.policy import POLICIES, PolicyView
@@ -48,6 +59,7 @@ class UmaEngine:
         model_unavailable: str = "",
         coverage: tuple[tuple[float, str], ...] = (),
         description: DescriptionPlan | None = None,
+        technology_priors_kbps: dict[str, float] | None = None,
     ) -> None:
         self.config, self.feedback, self.points = config, feedback, points
         self.policy = POLICIES[config.policy]
@@ -67,6 +79,14 @@ class UmaEngine:
         self.codec_since_s = self.last_switch_s = 0.0
         self.last_sent_s = float("-inf")
         self.keyframes = Keyframes(feedback.keyframe_min_interval_ms / 1000.0)
+        pacer = config.pacer
+        self.pacer = (
+            Pacer(burst_ms=pacer.burst_ms, padding_wait_ms=pacer.padding_wait_ms)
+            if pacer.enabled
+            else None
+        )
+        self.next_unit = 0
+        self.handover = Handover(technology_priors_kbps or {}) if config.handover.enabled else None
 
     def _emit(self, now_s: float, kind: str, detail: str) -> None:
         self.events.append(EngineEvent(now_s, kind, detail))
@@ -82,6 +102,14 @@ class UmaEngine:
             outstanding_bits=self.outstanding_bits,
             config=self.config.estimator,
         )
+        prior_kbps = None if self.handover is None else self.handover.on_report(report.technology)
+        if prior_kbps is not None:
+            config = self.config.estimator
+            self.estimator = handover_estimate(
+                self.estimator, prior_kbps, now_s=now_s, min_kbps=config.min_kbps,
+                max_kbps=config.max_kbps,
+            )  # fmt: skip
+            self._emit(now_s, "handover_prior", f"{report.technology} {prior_kbps:.1f} kbps")
 
     def on_keyframe_request(self, request: KeyframeRequest, now_s: float) -> None:
         self.keyframes.request()
@@ -131,6 +159,69 @@ class UmaEngine:
         pad = padding_bits(self, self.points[rung], interval_s, sent_bits=sum(sizes_bits))
         return UnitSent(first_seq, pad)
 
+    def on_unit_queued(
+        self, packets: list[tuple[object, int]], *, rung: int, frames: tuple[int, ...],
+        keyframe: bool, now_s: float,
+    ) -> UnitSent:  # fmt: skip
+        """With the pacer on: a coded unit of point `rung` carrying `frames`, as the world's
+        packets and their sizes, waits in the engine's queue (`on_pace` lets it out, numbered
+        then). Its `first_seq` is -1; the padding due is queued with `on_padding_queued`."""
+        assert self.pacer is not None, "on_unit_queued needs engine.pacer.enabled"
+        unit, self.next_unit = self.next_unit, self.next_unit + 1
+        point = self.points[rung]
+        deadline_s = frames[-1] / self.ladder.source_fps + self.config.pacer.deadline_ms / 1000.0
+        paced = [
+            PacedPacket(payload, size, unit, frames[-1], deadline_s, keyframe)
+            for payload, size in packets
+        ]
+        model = spec(point.codec).role is Role.MODEL
+        dropped = self.pacer.push(paced, PRIORITY if model else VIDEO)
+        self._dropped(dropped, now_s, "model codec first")
+        interval_s = len(frames) / min(point.fps, self.ladder.source_fps)
+        sent_bits = sum(size for _, size in packets)
+        return UnitSent(-1, padding_bits(self, point, interval_s, sent_bits=sent_bits))
+
+    def on_padding_queued(self, packets: list[tuple[object, int]], now_s: float) -> None:
+        """Padding packets wait in the pacer's lowest class."""
+        assert self.pacer is not None, "on_padding_queued needs engine.pacer.enabled"
+        paced = [PacedPacket(payload, size, -1, -1, now_s) for payload, size in packets]
+        self.pacer.push(paced, PADDING)
+
+    def on_pace(self, now_s: float, *, capacity_kbps: float | None = None) -> PaceDecision:
+        """The packets the pacer lets out at `now_s` (each numbered), and when to ask again;
+        the oracle paces at the true capacity `capacity_kbps`."""
+        assert self.pacer is not None, "on_pace needs engine.pacer.enabled"
+        seen_kbps = self.estimate_kbps if capacity_kbps is None else capacity_kbps
+        hold_s = self.config.pacer.hold_after_ms / 1000.0
+        # Never slower than the point in use sends: a lowest rung above the estimate would
+        # otherwise only queue here until its frames are dropped, and nothing be measured.
+        rate_kbps = max(seen_kbps * self.config.pacer.rate_factor, self.points[self.rung].rate_kbps)
+        release = self.pacer.release(
+            now_s,
+            rate_kbps,
+            network_delay_s=self.estimator.queue_delay_ms / 1000.0,
+            hold=hold_s > 0 and now_s - self.inflight.last_report_s > hold_s,
+        )
+        self._dropped(release.dropped_frames, now_s, "too late to be shown")
+        if release.needs_keyframe:
+            self.keyframes.request()
+        sizes = [packet.size_bits for packet in release.sent]
+        first_seq = self.inflight.on_sent(sizes)
+        sent = tuple((packet.payload, first_seq + i) for i, packet in enumerate(release.sent))
+        return PaceDecision(sent, release.next_s)
+
+    def _dropped(self, frames: tuple[int, ...], now_s: float, why: str) -> None:
+        if frames:
+            self.counts["pacer_dropped_frames"] = self.counts.get("pacer_dropped_frames", 0) + len(
+                frames
+            )
+            self._emit(now_s, "pacer_drop", f"frames {frames[0]}-{frames[-1]}: {why}")
+
+    @property
+    def queued_bits(self) -> int:
+        """Bits waiting in the engine's own queue (0 without the pacer)."""
+        return 0 if self.pacer is None else self.pacer.queued_bits
+
     @property
     def outstanding_bits(self) -> int:
         return self.inflight.outstanding_bits
@@ -177,12 +268,22 @@ class UmaEngine:
         decision = FrameDecision(
             frame, self.rung, scheduled=True, send=False, force_idr=False, point=point,
             initialise=initialise, description=chunks, estimate_kbps=self.estimate_kbps,
+            queued_bits=self.queued_bits,
         )  # fmt: skip
         if not self.ladder.scheduled(frame, self.rung):
             return replace(decision, scheduled=False, reason="fps")
         probe_due = now_s - self.last_sent_s >= self.config.probe_interval_ms / 1000.0
         seen_kbps = self.estimate_kbps if capacity_kbps is None else capacity_kbps
-        held = backlogged(self.config, point, now_s, self.inflight, seen_kbps)
+        held = backlogged(
+            self.config, point, now_s, self.inflight, seen_kbps, queued_bits=self.queued_bits
+        )
+        fit = self.config.pacer.fit_frames
+        if fit > 0 and self.pacer is not None and not held:
+            held = not frame_fits(
+                point, queued_bits=self.queued_bits, slack_frames=fit,
+                rate_kbps=seen_kbps * self.config.pacer.rate_factor,
+                fps=min(point.fps, self.ladder.source_fps),
+            )  # fmt: skip
         if held and not switched and not probe_due:
             return replace(decision, reason="backlog")
         self.switched_between = False

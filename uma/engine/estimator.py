@@ -13,6 +13,13 @@ by a fixed fraction per second (like Google Congestion Control's increase), but 
 times the received rate, so an application-limited stream cannot talk the estimate up without
 evidence. Reports with nothing received while data is in flight mean an outage: the estimate
 decays towards the floor.
+
+With `trend_window_s` above 0 it also reads the trend of the queueing delay the reports carry
+(as WebRTC's trendline estimator reads the one-way delay gradient): the least-squares slope of
+the reports' queueing delays over that window. A queue growing faster than
+`trend_high_ms_per_s` is over-use before it stands (a decrease, once per window, even below
+`queue_high_ms`); the estimate grows only while the delay is not rising, and never above
+`increase_cap` x the received rate (it can grow no faster than it can measure).
 """
 
 from __future__ import annotations
@@ -28,6 +35,7 @@ __all__ = [
     "update_estimate",
     "stale_decrease",
     "windowed_received",
+    "delay_trend_ms_per_s",
 ]
 
 
@@ -40,6 +48,9 @@ class EstimatorState:
     received_kbps: float = 0.0
     # (interval_s, received_bits, packets_received, packets_lost) of recent reports, newest last
     window: tuple[tuple[float, int, int, int], ...] = ()
+    # (sent_s, queue_delay_ms) of recent reports that received something, newest last
+    delays: tuple[tuple[float, float], ...] = ()
+    trend_ms_per_s: float = 0.0
 
 
 def initial_estimate(config: EstimatorConfig) -> EstimatorState:
@@ -61,6 +72,19 @@ def windowed_received(state: EstimatorState, report: ReceiverReport, window_s: f
     rate_kbps = bits / total_s / 1000.0 if total_s > 0 else 0.0
     loss = lost / (received + lost) if received + lost else 0.0
     return window, rate_kbps, loss
+
+
+def delay_trend_ms_per_s(delays: tuple[tuple[float, float], ...]) -> float:
+    """The least-squares slope of (time_s, delay_ms) samples; 0 with fewer than three."""
+    if len(delays) < 3:
+        return 0.0
+    times = [t for t, _ in delays]
+    values = [d for _, d in delays]
+    mean_t, mean_d = sum(times) / len(times), sum(values) / len(values)
+    spread = sum((t - mean_t) ** 2 for t in times)
+    if spread <= 0.0:
+        return 0.0
+    return sum((t - mean_t) * (d - mean_d) for t, d in delays) / spread
 
 
 def _bounded(estimate_kbps: float, config: EstimatorConfig) -> float:
@@ -96,11 +120,24 @@ def update_estimate(
     estimate = state.estimate_kbps
     last_decrease_s = state.last_decrease_s
 
+    delays, trend = state.delays, state.trend_ms_per_s
+    if config.trend_window_s > 0 and report.queue_delay_ms is not None:
+        delays = tuple(
+            item for item in delays if item[0] > report.sent_s - config.trend_window_s
+        ) + ((report.sent_s, report.queue_delay_ms),)
+        trend = delay_trend_ms_per_s(delays)
+    rising = config.trend_window_s > 0 and trend > config.trend_high_ms_per_s
+
     if report.packets_received == 0:
         if outstanding_bits > 0:
             # Nothing arrives although data is in flight: an outage or a deep fade.
             estimate *= config.decrease_factor ** (report.interval_s / config.window_s)
         queue_ms = state.queue_delay_ms
+    elif rising and queue_ms <= config.queue_high_ms and loss <= config.loss_high:
+        # The queue is building: back off now, before it stands.
+        if now_s - last_decrease_s >= config.window_s:
+            estimate = min(estimate, received_kbps) * config.decrease_factor
+            last_decrease_s = now_s
     elif loss > config.loss_high or queue_ms > config.queue_high_ms:
         drain_s = max(config.window_s, queue_ms / 1000.0)
         if received_kbps < config.collapse_below * estimate:
@@ -111,9 +148,9 @@ def update_estimate(
         if now_s - last_decrease_s >= drain_s:
             estimate = min(estimate, received_kbps) * config.decrease_factor
             last_decrease_s = now_s
-    elif queue_ms < config.queue_low_ms:
+    elif queue_ms < config.queue_low_ms and not (config.trend_window_s > 0 and trend > 0):
         grown = estimate * (1.0 + config.increase_per_s * report.interval_s)
-        estimate = min(grown, max(3.0 * received_kbps, estimate))
+        estimate = min(grown, max(config.increase_cap * received_kbps, estimate))
 
     estimate = _bounded(estimate, config)
     return replace(
@@ -124,4 +161,6 @@ def update_estimate(
         loss_fraction=loss,
         received_kbps=received_kbps,
         window=window,
+        delays=delays,
+        trend_ms_per_s=trend,
     )

@@ -10,6 +10,9 @@ kbit/s are below any link the switch chooses it for) is held only while no repor
 section's `outage_hold_ms`: in an outage its frames would arrive tens of seconds late, while a
 handover gap's are still in time.
 
+With `engine.frame_fit` on (and the pacer), a frame is also held when it would not drain
+before the next frame (`frame_fits`).
+
 Two reasons to pad. With WebRTC's estimator (`engine.estimator: webrtc`): a WebRTC sender
 encodes at its target rate, uma's ladder sends at most a rung's rate, and WebRTC's estimator
 never rises above 1.5 x what it receives, so without padding it could never climb to the next
@@ -27,19 +30,41 @@ from uma.codecs import Role, spec
 from uma.engine.inflight import InFlight
 from uma.engine.points import OperatingPoint
 
-__all__ = ["backlogged", "padding_bits"]
+__all__ = ["backlogged", "padding_bits", "frame_fits"]
 
 
 def backlogged(
-    config, point: OperatingPoint, now_s: float, inflight: InFlight, seen_kbps: float
+    config,
+    point: OperatingPoint,
+    now_s: float,
+    inflight: InFlight,
+    seen_kbps: float,
+    *,
+    queued_bits: int = 0,
 ) -> bool:
     """Whether a frame at `point` should be held at `now_s` (`config` an `EngineConfig`;
-    `seen_kbps` the rate the engine judges the downlink by)."""
+    `seen_kbps` the rate the engine judges the downlink by; `queued_bits` wait in the
+    engine's own queue, the pacer's)."""
     codec = spec(point.codec)
     if not codec.skip_for_backlog:
         hold_ms = getattr(config, codec.config_section).outage_hold_ms
         return now_s - inflight.last_report_s > hold_ms / 1000.0
-    return inflight.outstanding_bits > seen_kbps * config.max_backlog_ms
+    return inflight.outstanding_bits + queued_bits > seen_kbps * config.max_backlog_ms
+
+
+def frame_fits(
+    point: OperatingPoint, *, queued_bits: int, rate_kbps: float, fps: float, slack_frames: float
+) -> bool:
+    """Whether a frame at `point` fits what the link drains before the next one (Salsify's
+    rule): what still waits in the engine's queue plus this frame's share of the point's rate
+    must leave at `rate_kbps` within `slack_frames` frame intervals of `fps`. A frame that
+    does not fit is not coded (a skip), so nothing queues behind a burst; a codec that may
+    not be skipped for backlog always fits."""
+    if not spec(point.codec).skip_for_backlog:
+        return True
+    interval_s = 1.0 / fps
+    frame_bits = point.rate_kbps * 1000.0 * interval_s
+    return queued_bits + frame_bits <= rate_kbps * 1000.0 * interval_s * slack_frames
 
 
 def padding_bits(

@@ -18,6 +18,7 @@ class ReceiverReport:
     smallest one-way delay seen in the recent past: it grows when a queue builds at the
     bottleneck. It is None when no packet arrived in the interval. `remb_kbps` is the receiver's
     WebRTC bandwidth estimate (a REMB), None when the scenario does not use it or it has none yet.
+    `technology` is the access technology the receiver is on ("" when it does not say).
     """
 
     sent_s: float
@@ -29,6 +30,7 @@ class ReceiverReport:
     queue_delay_ms: float | None
     remb_kbps: float | None = None
     description_complete: bool = False  # the receiver holds the whole content description
+    technology: str = ""
 
     @property
     def received_kbps(self) -> float:

@@ -25,6 +25,10 @@ COLUMNS: dict[str, tuple[str, float]] = {
     "technology": ("U8", ""),
     "capacity_kbps": ("f8", np.nan),
     "estimate_kbps": ("f8", np.nan),
+    # Bytes waiting when the engine decided on the frame: in the bottleneck's queue, and in
+    # the engine's own (its pacer; 0 without one).
+    "queue_bytes": ("i8", 0),
+    "engine_queue_bytes": ("i8", 0),
     "codec": (CODEC_DTYPE, ""),
     "rung": ("i8", -1),
     "width": ("i8", -1),

@@ -3,7 +3,9 @@
 Units: time in seconds on the x axis; rates in kbit/s (log scale); PSNR in dB. Three panels
 share the time axis: (1) the trace's capacity over coloured technology bands, the engine's
 estimate and the bit rate sent per codec (1 s windows); (2) displayed PSNR with frozen display
-instants marked; (3) the rung, with rung switches, handovers and keyframe requests.
+instants marked; (3) the bytes waiting in the bottleneck's queue and in the engine's own (its
+pacer), when the run logged them; (4) the rung, with rung switches, handovers and keyframe
+requests.
 Drawn with matplotlib's object API on the Agg canvas (no global pyplot state, no display).
 """
 
@@ -74,8 +76,8 @@ def _figure(run: RunFiles):
     f = run.frames
     t_s = f["capture_ms"] / 1000.0
     shown_s = f["display_ms"] / 1000.0
-    fig = Figure(figsize=(11, 7.5), dpi=100, layout="constrained")
-    rates, quality, rungs = fig.subplots(3, 1, sharex=True, height_ratios=[3, 2, 1.2])
+    fig = Figure(figsize=(11, 9), dpi=100, layout="constrained")
+    rates, quality, queues, rungs = fig.subplots(4, 1, sharex=True, height_ratios=[3, 2, 1.2, 1.2])
     name = run.metrics.get("scenario", run.folder.name)
     fig.suptitle(
         f"{name}: freeze {run.metrics.get('freeze_ratio')}, PSNR {run.metrics.get('psnr_db')} dB, "
@@ -83,7 +85,7 @@ def _figure(run: RunFiles):
         fontsize=10,
     )
     technology = f.get("technology", np.array([""] * t_s.size))
-    for ax in (rates, quality, rungs):
+    for ax in (rates, quality, queues, rungs):
         _bands(ax, t_s, technology)
 
     capacity = np.maximum(np.nan_to_num(f.get("capacity_kbps", np.zeros_like(t_s))), 0.1)
@@ -114,6 +116,8 @@ def _figure(run: RunFiles):
     )  # fmt: skip
     quality.legend(loc="lower left", fontsize=8, ncols=2)
 
+    _queues(queues, t_s, f)
+
     if "rung" in f:
         rungs.step(t_s, f["rung"], where="post", color="#1f5fbf", lw=1)
     styles = {
@@ -143,6 +147,30 @@ def _figure(run: RunFiles):
     )  # fmt: skip
     rates.set_xlim(0, max(float(t_s[-1]) if t_s.size else 1.0, 1e-3))
     return fig
+
+
+def _numbers(values: np.ndarray, column: str) -> np.ndarray:
+    """A frames.csv column the reader kept as text, as numbers (empty: 0)."""
+    from uma.errors import ConfigError
+
+    try:
+        return np.array([float(v) if v != "" else 0.0 for v in values])
+    except ValueError:
+        raise ConfigError(f"frames.csv ({column}): expected numbers") from None
+
+
+def _queues(ax, t_s: np.ndarray, f: dict[str, np.ndarray]) -> None:
+    """The bottleneck's queue and the engine's own, in kB, as the engine saw them per frame."""
+    for column, colour, label in (
+        ("queue_bytes", "#333333", "bottleneck queue"),
+        ("engine_queue_bytes", "#e67e22", "engine queue (pacer)"),
+    ):
+        if column in f:
+            kilobytes = _numbers(f[column], column) / 1000.0
+            ax.step(t_s, kilobytes, where="post", color=colour, lw=1, label=label)
+    ax.set_ylabel("queued kB")
+    if "queue_bytes" in f or "engine_queue_bytes" in f:
+        ax.legend(loc="upper left", fontsize=8, ncols=2)
 
 
 def draw_timeline(results_dir: str | Path, out_png: str | Path | None = None) -> Path:

@@ -12,6 +12,9 @@ keep flowing on the rate ladder until it is done.
 
 from __future__ import annotations
 
+import math
+from dataclasses import replace
+
 import numpy as np
 import simpy
 
@@ -30,6 +33,7 @@ __all__ = [
     "sender_process",
     "engine_process",
     "init_process",
+    "pacer_process",
     "report_process",
     "display_process",
 ]
@@ -75,6 +79,8 @@ def engine_process(env: simpy.Environment, world: World):
         log["technology"][index] = world.capacity.technology_at(env.now)
         log["capacity_kbps"][index] = capacity_kbps
         log["estimate_kbps"][index] = decision.estimate_kbps
+        log["queue_bytes"][index] = world.downlink.queued_bytes
+        log["engine_queue_bytes"][index] = decision.queued_bits // 8
         log["rung"][index] = decision.rung
         log["scheduled"][index] = int(decision.scheduled)
         if decision.initialise is not None:
@@ -141,20 +147,56 @@ def _send(world: World, out, rung: int, index: int) -> None:
     )
     world.next_unit_seq += 1
     sizes = packet_sizes_bits(unit, payload_bytes=payload_bytes)
-    sent = world.engine.on_unit_sent(sizes, rung=rung, frames=len(frames))
-    for packet in packetize(
-        unit, first_seq=sent.first_seq, payload_bytes=payload_bytes, sent_s=world.env.now
-    ):
-        world.downlink.offer(packet)
+    paced = world.scenario.engine.pacer.enabled
+    if paced:
+        # Numbered and stamped when the pacer lets them out.
+        packets = packetize(unit, first_seq=-1, payload_bytes=payload_bytes, sent_s=world.env.now)
+        sent = world.engine.on_unit_queued(
+            [(packet, packet.size_bits) for packet in packets],
+            rung=rung,
+            frames=frames,
+            keyframe=unit.keyframe,
+            now_s=world.env.now,
+        )
+    else:
+        sent = world.engine.on_unit_sent(sizes, rung=rung, frames=len(frames))
+        for packet in packetize(
+            unit, first_seq=sent.first_seq, payload_bytes=payload_bytes, sent_s=world.env.now
+        ):
+            world.downlink.offer(packet)
     if sent.padding_bits is not None:
         padding = padding_sizes_bits(sent.padding_bits, payload_bytes=payload_bytes)
-        if padding:
+        if padding and paced:
+            packets = padding_packets(padding, first_seq=-1, sent_s=world.env.now)
+            world.engine.on_padding_queued(
+                [(packet, packet.size_bits) for packet in packets], world.env.now
+            )
+        elif padding:
             first_seq = world.engine.on_packets_sent(padding)
             for packet in padding_packets(padding, first_seq=first_seq, sent_s=world.env.now):
                 world.downlink.offer(packet)
             world.padding_bits += sum(padding)
     world.log["keyframe"][frames[0]] = int(unit.keyframe)
     world.log["size_bits"][frames[-1]] = 8 * len(unit.data)
+    if paced:
+        world.kick_pacer()
+
+
+def pacer_process(env: simpy.Environment, world: World):
+    """Let out what the engine's pacer releases, when it says, or when something is queued."""
+    oracle = world.scenario.engine.policy == "oracle"
+    while True:
+        decision = world.engine.on_pace(
+            env.now, capacity_kbps=world.capacity.rate_kbps_at(env.now) if oracle else None
+        )
+        for packet, seq in decision.sent:
+            world.downlink.offer(replace(packet, seq=seq, sent_s=env.now))
+        world.pacer_kick = env.event()
+        if math.isinf(decision.next_s):
+            yield world.pacer_kick
+        else:
+            yield world.pacer_kick | env.timeout(decision.next_s - env.now)
+        world.pacer_kick = None
 
 
 def init_process(env: simpy.Environment, world: World, picture: np.ndarray, rung: int, frame: int):

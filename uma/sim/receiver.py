@@ -64,6 +64,8 @@ class ReceiverState:
     # can be rendered from then on).
     description_chunks: set = field(default_factory=set)
     description_done_s: float | None = None
+    # The access technology the receiver is on now (its reports carry it); None: not told.
+    technology: Callable[[], str] | None = None
 
     def on_packet(self, packet: Packet) -> None:
         now_s = self.now()
@@ -159,6 +161,7 @@ class ReceiverState:
             queue_delay_ms=queue_ms,
             remb_kbps=self.bwe.estimate_kbps if self.bwe is not None else None,
             description_complete=self.description_done_s is not None,
+            technology=self.technology() if self.technology is not None else "",
         )
         self.bits = self.packets = self.lost = 0
         self.owd_sum_s = 0.0

@@ -65,6 +65,12 @@ class World:
     face_boxes: list = field(default_factory=list)  # per source frame read: `uma.face.Box` | None
     model_compute_s: float = 0.0
     description_sent_bits: int = 0
+    pacer_kick: simpy.Event | None = None  # wakes `pacer_process` when a unit is queued
+
+    def kick_pacer(self) -> None:
+        """Something was queued in the engine's pacer: let it look now."""
+        if self.pacer_kick is not None and not self.pacer_kick.triggered:
+            self.pacer_kick.succeed()
 
     def init_compute_s(self, evaluations: int) -> float:
         """Modelled seconds of one model-codec initialisation that cost `evaluations`."""

@@ -24,7 +24,13 @@ from uma.sim.links import Downlink, FixedLink, LinkProps, downlink_process
 from uma.sim.packets import HEADER_BYTES
 from uma.sim.playout import make_playout
 from uma.sim.points import load_run_ladder, model_plan, operating_points
-from uma.sim.processes import display_process, engine_process, report_process, sender_process
+from uma.sim.processes import (
+    display_process,
+    engine_process,
+    pacer_process,
+    report_process,
+    sender_process,
+)
 from uma.sim.quality import QualityMeter
 from uma.sim.receiver import ReceiverState
 from uma.sim.result import RunResult, collect_result
@@ -150,6 +156,7 @@ def run_scenario(
             chunks=-(-plan.description_bytes // payload_bytes),
             chunk_bits=8 * (payload_bytes + HEADER_BYTES),
         ),
+        technology_priors_kbps=technology_priors_kbps(scenario),
     )
     props = _link_props(scenario)
     world_ref: list[World] = []
@@ -162,6 +169,7 @@ def run_scenario(
         now=lambda: env.now,
         keyframe_retry_s=scenario.receiver.keyframe_retry_ms / 1000.0,
         base_delay_window_s=scenario.receiver.base_delay_window_s,
+        technology=lambda: capacity.technology_at(env.now),
     )
     downlink = Downlink(
         env=env,
@@ -213,6 +221,8 @@ def run_scenario(
     env.process(engine_process(env, world))
     env.process(downlink_process(env, downlink))
     env.process(report_process(env, world))
+    if scenario.engine.pacer.enabled:
+        env.process(pacer_process(env, world))
     display = env.process(display_process(env, world))
     env.run(until=display)
     for index, (psnr, similarity, face_psnr, face_ssim) in quality.finish().items():
@@ -234,6 +244,16 @@ def run_scenario(
         description_bytes=plan.description_bytes,
         duration_s=end_s,
     )
+
+
+def technology_priors_kbps(scenario: Scenario) -> dict[str, float]:
+    """Each technology's prior capacity for the engine's handover awareness: its rate
+    model's mean, unless `engine.handover.priors_kbps` names it."""
+    from uma.config.technologies import LABELS
+    from uma.traces import technology_defaults
+
+    priors = {label: technology_defaults(label).rate.mean_kbps for label in LABELS}
+    return priors | dict(scenario.engine.handover.priors_kbps)
 
 
 def _time_s(event: EngineEvent) -> float:
