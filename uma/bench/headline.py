@@ -140,24 +140,27 @@ def switch_lag_s(result) -> float | None:
     capture_s = np.asarray(log["capture_ms"], dtype=float) / 1000.0
     sent = np.asarray(log["sent"]).astype(bool)
     on_model = np.isin(np.asarray(log["codec"]).astype(str), list(model_names()))
-    low = np.isin(np.asarray(log["technology"]).astype(str), LOW_TECHNOLOGIES)
-    lags = []
+    handovers = []
     for event in result.events:
         old, _, new = event.detail.partition("->")
-        if event.kind != "handover" or new.strip() not in LOW_TECHNOLOGIES:
-            continue
-        if old.strip() in LOW_TECHNOLOGIES:
-            continue
-        after = capture_s >= event.time_s
+        if event.kind == "handover":
+            handovers.append((event.time_s, old.strip(), new.strip()))
+    lags = []
+    for k, (time_s, old, new) in enumerate(handovers):
+        if new not in LOW_TECHNOLOGIES or old in LOW_TECHNOLOGIES:
+            continue  # GPRS -> GSM continues a stretch already timed
+        # the stretch ends at the next handover out of GPRS and GSM (frames' own technology
+        # labels are unreliable within the handover gap)
+        ends = [t for t, _, n in handovers[k + 1 :] if n not in LOW_TECHNOLOGIES]
+        end_s = ends[0] if ends else np.inf
+        after = capture_s >= time_s
         earlier = np.flatnonzero(~after & sent)
         if earlier.size and on_model[earlier[-1]]:
             lags.append(0.0)
             continue
-        leaving = np.flatnonzero(after & ~low)
-        end_s = capture_s[leaving[0]] if leaving.size else np.inf
         first = np.flatnonzero(after & (capture_s < end_s) & sent & on_model)
         if first.size:
-            lags.append(float(capture_s[first[0]] - event.time_s))
+            lags.append(float(capture_s[first[0]] - time_s))
     return round(float(np.mean(lags)), 3) if lags else None
 
 
