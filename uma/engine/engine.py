@@ -25,6 +25,7 @@ from dataclasses import replace
 
 from uma.codecs import Role, spec
 from uma.config.scenario import EngineConfig, FeedbackConfig
+from uma.engine import paced
 from uma.engine.decisions import (
     EngineEvent,
     EngineOutcome,
@@ -34,9 +35,7 @@ from uma.engine.decisions import (
 )
 from uma.engine.estimator import EstimatorState, initial_estimate, stale_decrease
 from uma.engine.estimators import ESTIMATORS
-from uma.engine.handover import Handover, handover_estimate
 from uma.engine.inflight import InFlight, Keyframes
-from uma.engine.pacer import PADDING, PRIORITY, VIDEO, PacedPacket, Pacer
 from uma.engine.pacing import backlogged, frame_fits, padding_bits
 from uma.engine.parts import DescriptionPlan, build_parts
 from uma.engine.points import OperatingPoint
@@ -79,19 +78,12 @@ class UmaEngine:
         self.codec_since_s = self.last_switch_s = 0.0
         self.last_sent_s = float("-inf")
         self.keyframes = Keyframes(feedback.keyframe_min_interval_ms / 1000.0)
-        pacer = config.pacer
-        self.pacer = (
-            Pacer(burst_ms=pacer.burst_ms, padding_wait_ms=pacer.padding_wait_ms)
-            if pacer.enabled
-            else None
-        )
+        self.pacer, self.handover = paced.build(config, technology_priors_kbps)
         self.next_unit = 0
-        self.handover = Handover(technology_priors_kbps or {}) if config.handover.enabled else None
 
     def _emit(self, now_s: float, kind: str, detail: str) -> None:
         self.events.append(EngineEvent(now_s, kind, detail))
 
-    # --- events in -------------------------------------------------------------------------
     def on_report(self, report: ReceiverReport, now_s: float) -> None:
         self.inflight.on_report(report.highest_seq, now_s)
         self.description.on_report(report.description_complete, now_s)
@@ -102,14 +94,8 @@ class UmaEngine:
             outstanding_bits=self.outstanding_bits,
             config=self.config.estimator,
         )
-        prior_kbps = None if self.handover is None else self.handover.on_report(report.technology)
-        if prior_kbps is not None:
-            config = self.config.estimator
-            self.estimator = handover_estimate(
-                self.estimator, prior_kbps, now_s=now_s, min_kbps=config.min_kbps,
-                max_kbps=config.max_kbps,
-            )  # fmt: skip
-            self._emit(now_s, "handover_prior", f"{report.technology} {prior_kbps:.1f} kbps")
+        if self.handover is not None:
+            paced.take_handover_prior(self, report.technology, now_s)
 
     def on_keyframe_request(self, request: KeyframeRequest, now_s: float) -> None:
         self.keyframes.request()
@@ -163,59 +149,19 @@ class UmaEngine:
         self, packets: list[tuple[object, int]], *, rung: int, frames: tuple[int, ...],
         keyframe: bool, now_s: float,
     ) -> UnitSent:  # fmt: skip
-        """With the pacer on: a coded unit of point `rung` carrying `frames`, as the world's
-        packets and their sizes, waits in the engine's queue (`on_pace` lets it out, numbered
-        then). Its `first_seq` is -1; the padding due is queued with `on_padding_queued`."""
-        assert self.pacer is not None, "on_unit_queued needs engine.pacer.enabled"
-        unit, self.next_unit = self.next_unit, self.next_unit + 1
-        point = self.points[rung]
-        deadline_s = frames[-1] / self.ladder.source_fps + self.config.pacer.deadline_ms / 1000.0
-        paced = [
-            PacedPacket(payload, size, unit, frames[-1], deadline_s, keyframe)
-            for payload, size in packets
-        ]
-        model = spec(point.codec).role is Role.MODEL
-        dropped = self.pacer.push(paced, PRIORITY if model else VIDEO)
-        self._dropped(dropped, now_s, "model codec first")
-        interval_s = len(frames) / min(point.fps, self.ladder.source_fps)
-        sent_bits = sum(size for _, size in packets)
-        return UnitSent(-1, padding_bits(self, point, interval_s, sent_bits=sent_bits))
+        """With the pacer on: a coded unit of point `rung` carrying `frames` waits in the
+        engine's queue (`on_pace` lets it out, numbered then); see `uma.engine.paced`."""
+        return paced.unit_queued(self, packets, rung=rung, frames=frames, keyframe=keyframe,
+                                 now_s=now_s)  # fmt: skip
 
     def on_padding_queued(self, packets: list[tuple[object, int]], now_s: float) -> None:
         """Padding packets wait in the pacer's lowest class."""
-        assert self.pacer is not None, "on_padding_queued needs engine.pacer.enabled"
-        paced = [PacedPacket(payload, size, -1, -1, now_s) for payload, size in packets]
-        self.pacer.push(paced, PADDING)
+        paced.padding_queued(self, packets, now_s)
 
     def on_pace(self, now_s: float, *, capacity_kbps: float | None = None) -> PaceDecision:
         """The packets the pacer lets out at `now_s` (each numbered), and when to ask again;
         the oracle paces at the true capacity `capacity_kbps`."""
-        assert self.pacer is not None, "on_pace needs engine.pacer.enabled"
-        seen_kbps = self.estimate_kbps if capacity_kbps is None else capacity_kbps
-        hold_s = self.config.pacer.hold_after_ms / 1000.0
-        # Never slower than the point in use sends: a lowest rung above the estimate would
-        # otherwise only queue here until its frames are dropped, and nothing be measured.
-        rate_kbps = max(seen_kbps * self.config.pacer.rate_factor, self.points[self.rung].rate_kbps)
-        release = self.pacer.release(
-            now_s,
-            rate_kbps,
-            network_delay_s=self.estimator.queue_delay_ms / 1000.0,
-            hold=hold_s > 0 and now_s - self.inflight.last_report_s > hold_s,
-        )
-        self._dropped(release.dropped_frames, now_s, "too late to be shown")
-        if release.needs_keyframe:
-            self.keyframes.request()
-        sizes = [packet.size_bits for packet in release.sent]
-        first_seq = self.inflight.on_sent(sizes)
-        sent = tuple((packet.payload, first_seq + i) for i, packet in enumerate(release.sent))
-        return PaceDecision(sent, release.next_s)
-
-    def _dropped(self, frames: tuple[int, ...], now_s: float, why: str) -> None:
-        if frames:
-            self.counts["pacer_dropped_frames"] = self.counts.get("pacer_dropped_frames", 0) + len(
-                frames
-            )
-            self._emit(now_s, "pacer_drop", f"frames {frames[0]}-{frames[-1]}: {why}")
+        return paced.pace(self, now_s, capacity_kbps=capacity_kbps)
 
     @property
     def queued_bits(self) -> int:
@@ -248,12 +194,12 @@ class UmaEngine:
         """Decide for source frame `frame`, arriving from the sender at `now_s`. The oracle
         policies are given the true capacity now (`capacity_kbps`) and its lowest over
         `switching.oracle_lookahead_ms` ahead (`capacity_ahead_kbps`)."""
-        self._check_stale(now_s)
+        _check_stale(self, now_s)
         self.inflight.presume_lost(now_s, self.config.presume_lost_ms / 1000.0)
         budget_kbps = self.config.safety * (
             capacity_kbps if self.config.policy == "oracle" else self.estimate_kbps
         )
-        wanted, initialise = self._choose(now_s, capacity_kbps, budget_kbps, capacity_ahead_kbps)
+        wanted, initialise = _choose(self, now_s, capacity_kbps, budget_kbps, capacity_ahead_kbps)
         switched = wanted != self.rung or self.switched_between
         if wanted != self.rung:
             self._switch_to(wanted, now_s, "rung_switch")
@@ -274,16 +220,7 @@ class UmaEngine:
             return replace(decision, scheduled=False, reason="fps")
         probe_due = now_s - self.last_sent_s >= self.config.probe_interval_ms / 1000.0
         seen_kbps = self.estimate_kbps if capacity_kbps is None else capacity_kbps
-        held = backlogged(
-            self.config, point, now_s, self.inflight, seen_kbps, queued_bits=self.queued_bits
-        )
-        fit = self.config.pacer.fit_frames
-        if fit > 0 and self.pacer is not None and not held:
-            held = not frame_fits(
-                point, queued_bits=self.queued_bits, slack_frames=fit,
-                rate_kbps=seen_kbps * self.config.pacer.rate_factor,
-                fps=min(point.fps, self.ladder.source_fps),
-            )  # fmt: skip
+        held = _held(self, point, now_s, seen_kbps)
         if held and not switched and not probe_due:
             return replace(decision, reason="backlog")
         self.switched_between = False
@@ -308,28 +245,6 @@ class UmaEngine:
             self._switch_to(lowest, now_s, "fallback")
             self.switched_between = True  # the next frame sent starts the new stream
 
-    def _choose(self, now_s, capacity_kbps, budget_kbps, capacity_ahead_kbps):
-        """The point to be on, and the model point to start initialising now (or None)."""
-        view = _policy_view(self, now_s, capacity_kbps)
-        if self.config.switching.policy == "none":
-            return self.policy(view), None
-        ahead = None if capacity_ahead_kbps is None else self.config.safety * capacity_ahead_kbps
-        return self.switcher.choose(
-            view,
-            self.policy,
-            since_s=self.codec_since_s,
-            budget_kbps=budget_kbps,
-            budget_ahead_kbps=ahead,
-        )
-
-    def _check_stale(self, now_s: float) -> None:
-        """Reports missing for `stale_reports` intervals: lower the estimate, once an interval."""
-        interval_s = self.feedback.interval_ms / 1000.0
-        if self.inflight.stale_due(now_s, interval_s, self.config.stale_reports):
-            self.estimator = stale_decrease(
-                self.estimator, now_s=now_s, config=self.config.estimator
-            )
-
 
 def _region(codec: str) -> bool:
     return spec(codec).role is Role.REGION
@@ -349,3 +264,40 @@ def _policy_view(engine: UmaEngine, now_s: float, capacity_kbps: float | None) -
         fixed_rung=engine.config.fixed_rung,
         ladder=engine.ladder.allowed(now_s),
     )
+
+
+def _choose(self: UmaEngine, now_s, capacity_kbps, budget_kbps, capacity_ahead_kbps):
+    """The point to be on, and the model point to start initialising now (or None)."""
+    view = _policy_view(self, now_s, capacity_kbps)
+    if self.config.switching.policy == "none":
+        return self.policy(view), None
+    ahead = None if capacity_ahead_kbps is None else self.config.safety * capacity_ahead_kbps
+    return self.switcher.choose(
+        view,
+        self.policy,
+        since_s=self.codec_since_s,
+        budget_kbps=budget_kbps,
+        budget_ahead_kbps=ahead,
+    )
+
+
+def _check_stale(self: UmaEngine, now_s: float) -> None:
+    """Reports missing for `stale_reports` intervals: lower the estimate, once an interval."""
+    interval_s = self.feedback.interval_ms / 1000.0
+    if self.inflight.stale_due(now_s, interval_s, self.config.stale_reports):
+        self.estimator = stale_decrease(self.estimator, now_s=now_s, config=self.config.estimator)
+
+
+def _held(self: UmaEngine, point, now_s: float, seen_kbps: float) -> bool:
+    """Hold this frame: too much in flight, or (frame sizing on) it would not drain in time."""
+    held = backlogged(
+        self.config, point, now_s, self.inflight, seen_kbps, queued_bits=self.queued_bits
+    )
+    fit = self.config.pacer.fit_frames
+    if fit > 0 and self.pacer is not None and not held:
+        held = not frame_fits(
+            point, queued_bits=self.queued_bits, slack_frames=fit,
+            rate_kbps=seen_kbps * self.config.pacer.rate_factor,
+            fps=min(point.fps, self.ladder.source_fps),
+        )  # fmt: skip
+    return held
