@@ -249,8 +249,9 @@ def test_killing_a_sweeps_parent_leaves_no_worker_running():
                 os.kill(pid, signal.SIGKILL)
 
 
-# Slow: when SIGTERM lands while the workers are still starting (as it does after other tests
-# have run in the same process) the sweep takes 17-25 s to exit; alone it takes under a second.
+# Slow: after other tests have written files, the sweep takes 17-25 s to exit here, under a
+# second alone. A faulthandler dump 4 s after the signal showed the main thread in
+# `atomic_files`' fsync of the table, waiting for the machine's dirty pages to reach the disk.
 # The fast checks of the same behaviour: the held-signals unit test (test_executor_signals.py)
 # and the SIGKILL test above.
 @pytest.mark.slow
