@@ -29,9 +29,11 @@ from typing import Any
 
 import numpy as np
 
+from uma.bench.mbc_refresh import DEFAULT_REFRESH
+
 __all__ = ["ClipSpec", "run_mbc_bench", "format_table", "default_clips", "DISPLAYS"]
 
-DISPLAYS = (
+BASE_DISPLAYS = (
     "unquantised",
     "quantised",
     "frozen",
@@ -40,6 +42,7 @@ DISPLAYS = (
     "other_reference",
     "description_face",
 )
+DISPLAYS = BASE_DISPLAYS + tuple(DEFAULT_REFRESH)
 REGIONS = ("face", "frame", "model")
 SCALED_FPS = 25.0
 
@@ -56,7 +59,7 @@ class ClipSpec:
     where: str = ""
 
 
-def talking_head_clip(frames: int, *, seed: int = 0) -> ClipSpec:
+def talking_head_clip(frames: int, *, seed: int = 0, start: int = 0) -> ClipSpec:
     import cv2
 
     from uma.face.talking_head import TalkingHeadSource
@@ -64,36 +67,38 @@ def talking_head_clip(frames: int, *, seed: int = 0) -> ClipSpec:
     source = TalkingHeadSource(352, 288, seed=seed)
     noise = np.random.default_rng(seed)
     yuv = [
-        cv2.cvtColor(source.render_bgr(i, rng=noise), cv2.COLOR_BGR2YUV_I420) for i in range(frames)
+        cv2.cvtColor(source.render_bgr(i, rng=noise), cv2.COLOR_BGR2YUV_I420)
+        for i in range(start, start + frames)
     ]
-    return ClipSpec(
-        "talking-head", yuv, source.fps, source.description, source.params_at, "talking head"
-    )
+    truth = source.params_at if not start else (lambda i: source.params_at(i + start))
+    return ClipSpec("talking-head", yuv, source.fps, source.description, truth, "talking head")
 
 
-def file_clip(video: Path, description, frames: int, *, name: str | None = None) -> ClipSpec:
+def file_clip(
+    video: Path, description, frames: int, *, name: str | None = None, start: int = 0
+) -> ClipSpec:
+    """`frames` frames of `video` from frame `start`."""
     from uma.video import VideoFileSource
 
-    source = VideoFileSource(video, max_frames=frames)
-    return ClipSpec(
-        name or video.stem, list(source.frames()), source.fps, description, None, str(video)
-    )
+    source = VideoFileSource(video, max_frames=start + frames)
+    pictures = list(source.frames())[start:]
+    return ClipSpec(name or video.stem, pictures, source.fps, description, None, str(video))
 
 
-def default_clips(frames: int, *, seed: int = 0) -> list[ClipSpec]:
+def default_clips(frames: int, *, seed: int = 0, start: int = 0) -> list[ClipSpec]:
     """The talking head, then akiyo and carphone with the shipped clicked points (skipped
-    when ../shared/data is absent)."""
+    when ../shared/data is absent), `frames` frames from frame `start` (tuning uses 150)."""
     from uma.face.clip import describe_clip, load_points
     from uma.paths import codecs_dir
 
-    clips = [talking_head_clip(frames, seed=seed)]
+    clips = [talking_head_clip(frames, seed=seed, start=start)]
     for name in ("akiyo", "carphone"):
         points_file = codecs_dir() / "face" / f"{name}.yaml"
         points = load_points(points_file)
         video = Path(points.video) if points.video is not None else None
         if video is None or not video.is_file():
             continue
-        clips.append(file_clip(video, describe_clip(points), frames, name=name))
+        clips.append(file_clip(video, describe_clip(points), frames, name=name, start=start))
     return clips
 
 
@@ -144,8 +149,12 @@ def run_clip(
     reference: str = "picture",
     keep_frame: int | None = None,
     kept: dict | None = None,
+    refresh: dict | None = None,
 ) -> dict:
-    """Code one clip and score it; see the module docstring."""
+    """Code one clip and score it; see the module docstring. `refresh` names the
+    `mbc_refresh_*` displays (`uma.bench.mbc_refresh.RefreshSpec` by name; default
+    `DEFAULT_REFRESH`)."""
+    from uma.bench.mbc_refresh import refresh_display
     from uma.bench.mbc_scores import RegionSums, face_box, h264_display
     from uma.errors import VideoError
     from uma.face.geometry import project
@@ -200,7 +209,14 @@ def run_clip(
             decoded[frame], decode_ms[frame] = values, share
     h264 = {name: h264_display(clip.frames, clip.fps, rung) for name, rung in
             (("h264_lowest", 0), ("h264_second", 1))}  # fmt: skip
-    displays = DISPLAYS
+    # The refresh spends the rung's rate minus the plain stream's, both at the clip's own rate.
+    refresh = DEFAULT_REFRESH if refresh is None else refresh
+    mbc_clip_kbps = sum(p.size_bytes for p in packets) * 8 / (len(lumas) / clip.fps) / 1000.0
+    refreshed = {
+        name: refresh_display(clip, results, units, stream_config, mbc_clip_kbps, spec)
+        for name, spec in refresh.items()
+    }
+    displays = BASE_DISPLAYS + tuple(refresh)
     sums = {d: RegionSums() for d in displays}
     rendered = ("unquantised", "quantised", "other_reference", "description_face")
     shown = {d: clip.frames[0] for d in rendered}
@@ -228,7 +244,8 @@ def run_clip(
         if index == 0:
             continue
         pictures = dict(shown, frozen=clip.frames[0],
-                        **{name: h264[name][0][index] for name in h264})  # fmt: skip
+                        **{name: h264[name][0][index] for name in h264},
+                        **{name: refreshed[name][0][index] for name in refreshed})  # fmt: skip
         for name in displays:
             sums[name].add(clip.frames[index], pictures[name], box, model_mask)
         if kept is not None and index == keep_frame:
@@ -240,6 +257,7 @@ def run_clip(
     rates = {"unquantised": None, "quantised": rate_kbps, "frozen": 0.0,
              "other_reference": rate_kbps, "description_face": rate_kbps}  # fmt: skip
     rates.update({name: h264[name][1] for name in h264})
+    rates.update({name: refreshed[name][1] for name in refreshed})
     scored = {name: sums[name].means(rates[name]) for name in displays}
     reinits = [r for r in results[1:] if r.reinitialised]
     face_psnr = {d: scored[d]["face"]["psnr_db"] for d in ("unquantised", "quantised")}
@@ -273,6 +291,7 @@ def run_clip(
         "mde_p95_px": round(float(np.percentile(mde, 95)), 4) if mde else None,
         "h264_lowest": {"rung": h264["h264_lowest"][2]},
         "h264_second": {"rung": h264["h264_second"][2]},
+        "refresh": {name: refreshed[name][2] for name in refreshed},
         **{region: {d: scored[d][region] for d in displays} for region in REGIONS},
     }
 
@@ -295,7 +314,9 @@ def run_mbc_bench(
         out["clips"][clip.name] = result
         if kept:
             tails = {
-                d: f"{result['face'][d]['kbps']:.1f} kbit/s" for d in ("quantised", "h264_lowest")
+                d: f"{result['face'][d]['kbps']:.1f} kbit/s"
+                for d in ("quantised", "mbc_refresh_lowest", "h264_lowest")
+                if d in result["face"]
             }
             rows.append((f"{clip.name} #{middle}", kept, tails))
     if picture is not None and rows:
@@ -332,7 +353,7 @@ def format_table(result: dict[str, Any]) -> str:
         + "".join(f"{r + ' PSNR':>11}{'SSIM':>7}{'CbCr':>6}" for r in REGIONS),
     ]
     for name, c in result["clips"].items():
-        for d in DISPLAYS:
+        for d in c["face"]:
             label = d if not d.startswith("h264") else f"{d} {c[d]['rung'].split()[0]}"
             kbps = c["face"][d].get("kbps")
             cells = "".join(
