@@ -39,6 +39,8 @@ BASE_DISPLAYS = (
     "frozen",
     "h264_lowest",
     "h264_second",
+    "h264_lowest_delayed",
+    "h264_second_delayed",
     "other_reference",
     "description_face",
 )
@@ -207,8 +209,9 @@ def run_clip(
         share = (time.perf_counter() - begin) * 1000.0 / max(len(out.frames), 1)
         for frame, values in out.frames:
             decoded[frame], decode_ms[frame] = values, share
-    h264 = {name: h264_display(clip.frames, clip.fps, rung) for name, rung in
-            (("h264_lowest", 0), ("h264_second", 1))}  # fmt: skip
+    h264 = {name: h264_display(clip.frames, clip.fps, rung, delayed=late) for name, rung, late in
+            (("h264_lowest", 0, False), ("h264_second", 1, False),
+             ("h264_lowest_delayed", 0, True), ("h264_second_delayed", 1, True))}  # fmt: skip
     # The refresh spends the rung's rate minus the plain stream's, both at the clip's own rate.
     refresh = DEFAULT_REFRESH if refresh is None else refresh
     mbc_clip_kbps = sum(p.size_bytes for p in packets) * 8 / (len(lumas) / clip.fps) / 1000.0
@@ -349,17 +352,18 @@ def format_table(result: dict[str, Any]) -> str:
         )
     lines += [
         "",
-        f"  {'clip':<14}{'display':<17}{'kbit/s':>7}  "
+        f"  {'clip':<14}{'display':<25}{'kbit/s':>7}  "
         + "".join(f"{r + ' PSNR':>11}{'SSIM':>7}{'CbCr':>6}" for r in REGIONS),
     ]
     for name, c in result["clips"].items():
         for d in c["face"]:
-            label = d if not d.startswith("h264") else f"{d} {c[d]['rung'].split()[0]}"
+            rung = c.get(d.removesuffix("_delayed"), {}).get("rung")
+            label = d if not rung else f"{d} {rung.split()[0]}"
             kbps = c["face"][d].get("kbps")
             cells = "".join(
                 f"{c[r][d]['psnr_db']:>11.2f}{c[r][d]['ssim']:>7.3f}"
                 f"{c[r][d]['chroma_psnr_db']:>6.1f}"
                 for r in REGIONS
             )
-            lines.append(f"  {name:<14}{label:<17}{num(kbps, '.2f'):>7}  {cells}")
+            lines.append(f"  {name:<14}{label:<25}{num(kbps, '.2f'):>7}  {cells}")
     return "\n".join(lines)
