@@ -49,11 +49,17 @@ class RefreshSpec:
 
 # Chosen on akiyo's and carphone's frames 150-299 (docs/mbc.md), quoted on frames 0-149.
 DEFAULT_REFRESH = {
-    "mbc_refresh_lowest": RefreshSpec(0, 5.0),
-    "mbc_refresh_second": RefreshSpec(1, 5.0),
+    "mbc_refresh_lowest": RefreshSpec(0, 5.0, region="face", face_scale=0.5),
+    "mbc_refresh_second": RefreshSpec(1, 25 / 3, region="face", face_scale=0.5),
 }
 _POSITION_BITS = 32  # a face box's position, two 16-bit numbers a unit
 _FEATHER_PX = 8
+
+
+def _size_label(spec: RefreshSpec) -> str:
+    if spec.region == "face":
+        return f"{spec.face_scale:g} x box of {spec.face_margin:g} x the model's extent"
+    return "x".join(str(v) for v in spec.size) if spec.size else "rung"
 
 
 def _even(value: float) -> int:
@@ -233,7 +239,7 @@ def refresh_display(
     info = {
         "refresh_fps": spec.refresh_fps,
         "region": spec.region,
-        "refresh_size": "x".join(str(v) for v in spec.size) if spec.size else "rung",
+        "refresh_size": _size_label(spec),
         "description_face": spec.description_face,
         "budget_kbps": round(max(budget_kbps, 0.0), 3),
         "params_kbps": round(params_kbps, 3),
