@@ -34,7 +34,10 @@ class RefreshSpec:
     as a fraction `face_scale` of the box (`face_margin` times the model's extent on the first
     tracked frame, a multiple of 16 pixels); whether the face's own triangles come from the
     description's picture (`SceneRenderer.set_face_source`); extra latency; libx264's VBV
-    buffer in refresh frame intervals (None: the ladder's)."""
+    buffer in refresh frame intervals (None: the ladder's); `choose`: the encoder adopts a
+    refresh picture only where it is nearer its frame than the encoder's mirror of the
+    receiver's rendering there (a flag of one bit a unit, counted), so a worse picture never
+    replaces a better reference."""
 
     rung_index: int
     refresh_fps: float
@@ -45,6 +48,7 @@ class RefreshSpec:
     region: str = "frame"
     face_margin: float = 1.6
     face_scale: float = 1.0
+    choose: bool = True
 
 
 # Chosen on akiyo's and carphone's frames 150-299 (docs/mbc.md), quoted on frames 0-149.
@@ -200,15 +204,34 @@ def refresh_display(
             picture = _paste(target.render(params, light)[0], patch, x0, y0)
         target.set_reference(picture, params)
 
+    def nearer(k, index, params):
+        """Whether unit k's picture is nearer frame `index`'s luma than the mirror's rendering
+        (over the face box for a face refresh)."""
+        luma = frames[index][:height]
+        rendering = mirror.render(params, measure_light(mirror, luma, params))[0][:height]
+        if spec.region == "face":
+            (x0, y0), patch = pictures[k]
+            box_h = patch.shape[0] * 2 // 3
+            box = (slice(y0, y0 + box_h), slice(x0, x0 + patch.shape[1]))
+            candidate, rendering, luma = patch[:box_h], rendering[box], luma[box]
+        else:
+            candidate = pictures[k][:height]
+        truth = luma.astype(np.float32)
+        return float(np.mean((candidate - truth) ** 2)) < float(np.mean((rendering - truth) ** 2))
+
     # The encoder's mirror: a unit serves once it has arrived and its frame's pose is decoded.
-    mirror, current, switches, packets = renderer(), -1, {}, []
+    unit_at = {unit.frame: k for k, unit in enumerate(units)}
+    mirror, current, switches, packets, adopted = renderer(), -1, {}, [], set()
     encoder = ParameterEncoder(face_units, stream_config)
     decoder = ParameterDecoder(face_units, stream_config)
     decoded: dict[int, np.ndarray] = {}
     for index, result in enumerate(results):
+        k = unit_at.get(index)
+        if k in pictures and (not spec.choose or nearer(k, index, result.params)):
+            adopted.add(k)  # decided on the unit's own frame, before it can arrive
         k = int(schedule.serving[index])
-        while k > current and (k not in pictures or units[k].frame not in decoded):
-            k -= 1  # not decoded (yet): the newest usable one before it
+        while k > current and (k not in adopted or units[k].frame not in decoded):
+            k -= 1  # not adopted, or not decoded (yet): the newest usable one before it
         if k > current:
             switches[index] = (k, decoded[units[k].frame])
             switch(mirror, k, *face_units.split(decoded[units[k].frame]))
@@ -233,7 +256,8 @@ def refresh_display(
         shown.append(last)
     seconds = len(frames) / clip.fps
     params_kbps = sum(p.size_bytes for p in packets) * 8 / seconds / 1000.0
-    refresh_kbps = sum(u.size_bits for u in units) / seconds / 1000.0
+    flag_bits = len(units) if spec.choose else 0
+    refresh_kbps = (sum(u.size_bits for u in units) + flag_bits) / seconds / 1000.0
     served = [k for k, _ in switches.values()]
     delays = [i - units[k].frame for i, (k, _) in switches.items()]
     info = {
@@ -245,6 +269,7 @@ def refresh_display(
         "params_kbps": round(params_kbps, 3),
         "refresh_kbps": round(refresh_kbps, 3),
         "units": len(units),
+        "adopted": len(adopted),
         "served": len(served),
         "delay_frames_median": float(np.median(delays)) if delays else None,
         "delay_frames_max": int(max(delays)) if delays else None,
