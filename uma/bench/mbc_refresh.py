@@ -170,6 +170,7 @@ def refresh_display(
     """Every frame's display (YUV 4:2:0), the total rate (kbit/s) and what the refresh did;
     `results` the tracker's per frame, `mbc_kbps` the plain stream's payload at the clip's
     rate. With nothing left of the rung's rate it is the plain MBC (no refresh unit)."""
+    from uma.errors import ConfigError
     from uma.mbc.decoder import ParameterDecoder
     from uma.mbc.light import measure_light
     from uma.mbc.refresh import schedule_refresh
@@ -178,7 +179,7 @@ def refresh_display(
     from uma.video import load_ladder
 
     if spec.region not in ("frame", "face"):
-        raise ValueError(f"refresh region: expected 'frame' or 'face', got {spec.region!r}")
+        raise ConfigError(f"refresh region: expected 'frame' or 'face', got {spec.region!r}")
     frames = clip.frames
     height, width = frames[0].shape[0] * 2 // 3, frames[0].shape[1]
     budget_kbps = load_ladder().rungs[spec.rung_index].rate_kbps - mbc_kbps
