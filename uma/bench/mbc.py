@@ -47,6 +47,7 @@ BASE_DISPLAYS = (
 DISPLAYS = BASE_DISPLAYS + tuple(DEFAULT_REFRESH)
 REGIONS = ("face", "frame", "model")
 SCALED_FPS = 25.0
+RING_CHOICE_FRAMES = 25  # the first second: the sender's look at the call before it settles
 
 
 @dataclass(frozen=True, eq=False)
@@ -131,12 +132,25 @@ def _track(clip: ClipSpec, lumas: list[np.ndarray], seed: int, tracker_config):
     return results, times
 
 
-def _renderer(clip: ClipSpec, reference: str, first, size):
+def _choose_ring(clip: ClipSpec, results) -> float:
+    """The head ring the sender picks on the call's first `RING_CHOICE_FRAMES` frames (from
+    frame 0 at its tracked pose, as the receiver renders), used for the whole clip."""
+    from uma.mbc.scene_render import HEAD_RING_OUTLINES, choose_head_ring
+
+    tracked = [i for i in range(1, min(RING_CHOICE_FRAMES + 1, len(results))) if results[i]]
+    if not results[0] or not tracked:
+        return HEAD_RING_OUTLINES
+    pictures = [clip.frames[i] for i in tracked]
+    poses = [results[i].params for i in tracked]
+    return choose_head_ring(clip.description, clip.frames[0], results[0].params, pictures, poses)
+
+
+def _renderer(clip: ClipSpec, reference: str, first, size, head_ring: float | None = None):
     """The receiver's renderer: from the last full picture (frame 0, at the pose tracked on
     it) or from the description's own picture."""
     from uma.mbc.scene_render import SceneRenderer
 
-    renderer = SceneRenderer(clip.description, size)
+    renderer = SceneRenderer(clip.description, size, head_ring_outlines=head_ring)
     if reference == "picture" and first:
         renderer.set_reference(clip.frames[0], first.params)
     return renderer
@@ -181,11 +195,12 @@ def run_clip(
     # The encoder's mirror of the receiver: its light is measured against what it will show.
     units = FaceUnits.of(description.model, description.params, light=True)
     encoder = ParameterEncoder(units, stream_config)
-    mirror = _renderer(clip, reference, results[0], (width, height))
+    ring = _choose_ring(clip, results)
+    mirror = _renderer(clip, reference, results[0], (width, height), ring)
     other = _renderer(clip, "description" if reference == "picture" else "picture",
-                      results[0], (width, height))  # fmt: skip
+                      results[0], (width, height), ring)  # fmt: skip
     # The simulation's choice: the scene from the picture, the face from the description.
-    mixed = _renderer(clip, "picture", results[0], (width, height))
+    mixed = _renderer(clip, "picture", results[0], (width, height), ring)
     mixed.set_face_source(True)
     lights, other_lights, mixed_lights, light_ms, packets = {}, {}, {}, [], []
     for index, result in enumerate(results):
@@ -199,7 +214,7 @@ def run_clip(
     packets += encoder.flush()
     # The receiver: decode every packet in order, render each frame at the newest parameters.
     decoder = ParameterDecoder(units, stream_config)
-    receiver = _renderer(clip, reference, results[0], (width, height))
+    receiver = _renderer(clip, reference, results[0], (width, height), ring)
     decoded: dict[int, np.ndarray] = {}
     decode_ms: dict[int, float] = {}
     for packet in packets:
@@ -216,7 +231,9 @@ def run_clip(
     refresh = DEFAULT_REFRESH if refresh is None else refresh
     mbc_clip_kbps = sum(p.size_bytes for p in packets) * 8 / (len(lumas) / clip.fps) / 1000.0
     refreshed = {
-        name: refresh_display(clip, results, units, stream_config, mbc_clip_kbps, spec)
+        name: refresh_display(
+            clip, results, units, stream_config, mbc_clip_kbps, spec, head_ring=ring
+        )
         for name, spec in refresh.items()
     }
     displays = BASE_DISPLAYS + tuple(refresh)
@@ -269,6 +286,7 @@ def run_clip(
         "size": f"{width}x{height}",
         "fps": round(clip.fps, 3),
         "reference": reference,
+        "head_ring_outlines": ring,
         "rate_kbps": round(rate_kbps, 3),
         "wire_kbps": round(wire_bytes * 8 / seconds / 1000.0, 3),
         "packets": len(packets),

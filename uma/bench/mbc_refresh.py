@@ -165,11 +165,19 @@ def _code_refresh(clip, results, spec, budget_kbps, size):
 
 
 def refresh_display(
-    clip, results, face_units, stream_config, mbc_kbps: float, spec: RefreshSpec
+    clip,
+    results,
+    face_units,
+    stream_config,
+    mbc_kbps: float,
+    spec: RefreshSpec,
+    *,
+    head_ring: float | None = None,
 ) -> tuple[list[np.ndarray], float, dict]:
     """Every frame's display (YUV 4:2:0), the total rate (kbit/s) and what the refresh did;
     `results` the tracker's per frame, `mbc_kbps` the plain stream's payload at the clip's
-    rate. With nothing left of the rung's rate it is the plain MBC (no refresh unit)."""
+    rate, `head_ring` the receiver's (`SceneRenderer`). With nothing left of the rung's rate
+    it is the plain MBC (no refresh unit)."""
     from uma.errors import ConfigError
     from uma.mbc.decoder import ParameterDecoder
     from uma.mbc.light import measure_light
@@ -191,7 +199,7 @@ def refresh_display(
     )
 
     def renderer():
-        out = SceneRenderer(clip.description, (width, height))
+        out = SceneRenderer(clip.description, (width, height), head_ring_outlines=head_ring)
         if results[0]:
             out.set_reference(frames[0], results[0].params)
         out.set_face_source(spec.description_face)
