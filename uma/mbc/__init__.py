@@ -15,7 +15,7 @@ from uma.mbc.errors import PacketError, SceneError
 from uma.mbc.packets import IP_UDP_RTP_BYTES, Packet, parse_packet
 from uma.mbc.quant import Quantiser, QuantiserConfig
 from uma.mbc.refresh import RefreshSchedule, RefreshUnit, refresh_frames, schedule_refresh
-from uma.mbc.scene_render import SceneRenderer, description_reference
+from uma.mbc.scene_render import SceneRenderer, choose_head_ring, description_reference
 from uma.mbc.stream import ParameterEncoder, StreamConfig
 from uma.mbc.units import FaceUnits
 
@@ -44,6 +44,7 @@ __all__ = [
     "SceneRenderer",
     "SceneError",
     "description_reference",
+    "choose_head_ring",
     "RefreshUnit",
     "RefreshSchedule",
     "refresh_frames",
