@@ -82,7 +82,8 @@ def test_head_ring_size_is_a_choice_and_the_talking_head_keeps_its_rigid_hair(st
     picks the head ring that carries hair and ears (1.4 outlines), not the tight one."""
     import cv2
 
-    from uma.mbc.scene_render import HEAD_RING_CHOICES, choose_head_ring
+    from uma.mbc.light import choose_head_ring
+    from uma.mbc.scene_render import HEAD_RING_CHOICES
 
     tight = SceneRenderer(still_head.description, (352, 288), head_ring_outlines=1.05)
     wide = SceneRenderer(still_head.description, (352, 288))

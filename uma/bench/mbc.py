@@ -135,7 +135,8 @@ def _track(clip: ClipSpec, lumas: list[np.ndarray], seed: int, tracker_config):
 def _choose_ring(clip: ClipSpec, results) -> float:
     """The head ring the sender picks on the call's first `RING_CHOICE_FRAMES` frames (from
     frame 0 at its tracked pose, as the receiver renders), used for the whole clip."""
-    from uma.mbc.scene_render import HEAD_RING_OUTLINES, choose_head_ring
+    from uma.mbc.light import choose_head_ring
+    from uma.mbc.scene_render import HEAD_RING_OUTLINES
 
     tracked = [i for i in range(1, min(RING_CHOICE_FRAMES + 1, len(results))) if results[i]]
     if not results[0] or not tracked:

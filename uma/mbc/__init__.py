@@ -12,10 +12,11 @@ from uma.mbc.coding import AdaptiveModels, CoderConfig, decode_sets, encode_sets
 from uma.mbc.decoder import Decoded, DecodeEvent, FaceRenderer, ParameterDecoder
 from uma.mbc.encoder import FaceTracker, TrackerConfig, TrackFailure, TrackResult
 from uma.mbc.errors import PacketError, SceneError
+from uma.mbc.light import choose_head_ring
 from uma.mbc.packets import IP_UDP_RTP_BYTES, Packet, parse_packet
 from uma.mbc.quant import Quantiser, QuantiserConfig
 from uma.mbc.refresh import RefreshSchedule, RefreshUnit, refresh_frames, schedule_refresh
-from uma.mbc.scene_render import SceneRenderer, choose_head_ring, description_reference
+from uma.mbc.scene_render import SceneRenderer, description_reference
 from uma.mbc.stream import ParameterEncoder, StreamConfig
 from uma.mbc.units import FaceUnits
 

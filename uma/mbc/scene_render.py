@@ -25,7 +25,6 @@ from uma.mbc.errors import SceneError
 __all__ = [
     "SceneRenderer",
     "description_reference",
-    "choose_head_ring",
     "LIGHT_GAIN_RANGE",
     "LIGHT_OFFSET_RANGE",
     "HEAD_RING_CHOICES",
@@ -38,10 +37,10 @@ __all__ = [
 # unchanged (+0.1 / +0.2 dB); 2.5 radii gives 0.58 / 0.90.
 FAR_RING_HEAD_RADII: float | None = 1.6
 HEAD_RING_OUTLINES = 1.4  # the head ring's radius in face-outline radii (hair, ears, neck)
-# What `choose_head_ring` picks from: a head ring that carries hair, ears and neck with the
-# head (right where the tracked pose is right: the talking head), or one just outside the face
-# that lets them follow only in part (better where the pose is off: akiyo's bow, carphone's
-# turn; docs/mbc.md).
+# What `uma.mbc.light.choose_head_ring` picks from: a head ring that carries hair, ears and
+# neck with the head (right where the tracked pose is right: the talking head), or one just
+# outside the face that lets them follow only in part (better where the pose is off: akiyo's
+# bow, carphone's turn; docs/mbc.md).
 HEAD_RING_CHOICES = (1.05, HEAD_RING_OUTLINES)
 LIGHT_GAIN_RANGE = (0.25, 4.0)  # a face's luma gain against its reference's
 LIGHT_OFFSET_RANGE = (-128.0, 128.0)  # levels
@@ -309,34 +308,3 @@ def _checked_light(light) -> tuple[float, float]:
     if not (np.isfinite(offset) and low <= offset <= high):
         raise SceneError(f"light offset: expected in [{low}, {high}] levels, got {offset}")
     return gain, offset
-
-
-def choose_head_ring(
-    description: ContentDescription,
-    reference: np.ndarray,
-    reference_params: np.ndarray,
-    pictures: list[np.ndarray],
-    params: list[np.ndarray],
-    choices: tuple[float, ...] = HEAD_RING_CHOICES,
-) -> float:
-    """The head ring (in face-outline radii, one of `choices`) whose rendering from `reference`
-    (YUV 4:2:0, the model at `reference_params`) at each of `params`, relit as the encoder
-    measures light, comes nearest the matching `pictures` (YUV 4:2:0) in whole-frame luma: the
-    sender's choice, from frames it has coded, for the rest of the call."""
-    from uma.mbc.light import measure_light
-
-    height, width = reference.shape[0] * 2 // 3, reference.shape[1]
-    if not params or len(params) != len(pictures):
-        raise SceneError(f"head ring: expected pictures with a pose each, got {len(pictures)} "
-                         f"pictures and {len(params)} poses")  # fmt: skip
-    errors = []
-    for ring in choices:
-        renderer = SceneRenderer(description, (width, height), head_ring_outlines=ring)
-        renderer.set_reference(reference, reference_params)
-        total = 0.0
-        for picture, pose in zip(pictures, params, strict=True):
-            luma = picture[:height]
-            shown, _ = renderer.render(pose, measure_light(renderer, luma, pose))
-            total += float(np.mean((shown[:height].astype(np.float32) - luma) ** 2))
-        errors.append(total)
-    return float(choices[int(np.argmin(errors))])
