@@ -9,7 +9,15 @@ import pytest
 
 from uma.cli import main
 
-DISPLAYS = ("unquantised", "quantised", "frozen", "h264_lowest", "h264_second")
+DISPLAYS = (
+    "unquantised",
+    "quantised",
+    "frozen",
+    "h264_lowest",
+    "h264_second",
+    "mbc_refresh_lowest",
+    "mbc_refresh_second",
+)
 KEYS = (
     "frames",
     "size",
@@ -43,6 +51,11 @@ def test_bench_mbc_json_keys(capsys, tmp_path) -> None:
                 keys = set(clip[region][display]) - {"kbps"}
                 assert keys == {"psnr_db", "ssim", "chroma_psnr_db"}, (name, region, display)
             assert clip[region]["h264_second"]["kbps"] > clip[region]["h264_lowest"]["kbps"] > 0
+            refreshed = clip[region]["mbc_refresh_lowest"]["kbps"]
+            assert refreshed > clip["rate_kbps"], (name, region)
+        for display in ("mbc_refresh_lowest", "mbc_refresh_second"):
+            info = clip["refresh"][display]
+            assert info["units"] >= 1 and info["refresh_kbps"] > 0, (name, display)
         assert clip["rate_kbps"] > 0 and clip["wire_kbps"] > clip["rate_kbps"]
     head = result["clips"]["talking-head"]
     assert head["size"] == "352x288" and head["mde_median_px"] < 1.0

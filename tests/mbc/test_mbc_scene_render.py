@@ -75,3 +75,28 @@ def test_face_from_the_description_is_relit(still_head) -> None:
     lit, _ = renderer.render(params, light=(1.0, 20.0))
     lifted = lit[:288][face].astype(int) - plain[:288][face]
     assert np.median(lifted) == 20
+
+
+def test_head_ring_size_is_a_choice_and_the_talking_head_keeps_its_rigid_hair(still_head) -> None:
+    """The talking head's hair moves rigidly with its head and its poses are exact: the sender
+    picks the head ring that carries hair and ears (1.4 outlines), not the tight one."""
+    import cv2
+
+    from uma.mbc.light import choose_head_ring
+    from uma.mbc.scene_render import HEAD_RING_CHOICES
+
+    tight = SceneRenderer(still_head.description, (352, 288), head_ring_outlines=1.05)
+    wide = SceneRenderer(still_head.description, (352, 288))
+    assert not np.allclose(tight.scene.head_ring, wide.scene.head_ring)
+    with pytest.raises(SceneError, match="head ring"):
+        SceneRenderer(still_head.description, (352, 288), head_ring_outlines=0.9)
+    frame0 = cv2.cvtColor(still_head.render_bgr(0), cv2.COLOR_BGR2YUV_I420)
+    indices = (60,)
+    pictures = [cv2.cvtColor(still_head.render_bgr(i), cv2.COLOR_BGR2YUV_I420) for i in indices]
+    poses = [still_head.params_at(i) for i in indices]
+    ring = choose_head_ring(
+        still_head.description, frame0, still_head.params_at(0), pictures, poses
+    )
+    assert ring == max(HEAD_RING_CHOICES) == 1.4
+    with pytest.raises(SceneError, match="pose each"):
+        choose_head_ring(still_head.description, frame0, still_head.params_at(0), pictures, [])

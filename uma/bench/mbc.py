@@ -29,19 +29,25 @@ from typing import Any
 
 import numpy as np
 
+from uma.bench.mbc_refresh import DEFAULT_REFRESH
+
 __all__ = ["ClipSpec", "run_mbc_bench", "format_table", "default_clips", "DISPLAYS"]
 
-DISPLAYS = (
+BASE_DISPLAYS = (
     "unquantised",
     "quantised",
     "frozen",
     "h264_lowest",
     "h264_second",
+    "h264_lowest_delayed",
+    "h264_second_delayed",
     "other_reference",
     "description_face",
 )
+DISPLAYS = BASE_DISPLAYS + tuple(DEFAULT_REFRESH)
 REGIONS = ("face", "frame", "model")
 SCALED_FPS = 25.0
+RING_CHOICE_FRAMES = 25  # the first second: the sender's look at the call before it settles
 
 
 @dataclass(frozen=True, eq=False)
@@ -56,7 +62,7 @@ class ClipSpec:
     where: str = ""
 
 
-def talking_head_clip(frames: int, *, seed: int = 0) -> ClipSpec:
+def talking_head_clip(frames: int, *, seed: int = 0, start: int = 0) -> ClipSpec:
     import cv2
 
     from uma.face.talking_head import TalkingHeadSource
@@ -64,36 +70,38 @@ def talking_head_clip(frames: int, *, seed: int = 0) -> ClipSpec:
     source = TalkingHeadSource(352, 288, seed=seed)
     noise = np.random.default_rng(seed)
     yuv = [
-        cv2.cvtColor(source.render_bgr(i, rng=noise), cv2.COLOR_BGR2YUV_I420) for i in range(frames)
+        cv2.cvtColor(source.render_bgr(i, rng=noise), cv2.COLOR_BGR2YUV_I420)
+        for i in range(start, start + frames)
     ]
-    return ClipSpec(
-        "talking-head", yuv, source.fps, source.description, source.params_at, "talking head"
-    )
+    truth = source.params_at if not start else (lambda i: source.params_at(i + start))
+    return ClipSpec("talking-head", yuv, source.fps, source.description, truth, "talking head")
 
 
-def file_clip(video: Path, description, frames: int, *, name: str | None = None) -> ClipSpec:
+def file_clip(
+    video: Path, description, frames: int, *, name: str | None = None, start: int = 0
+) -> ClipSpec:
+    """`frames` frames of `video` from frame `start`."""
     from uma.video import VideoFileSource
 
-    source = VideoFileSource(video, max_frames=frames)
-    return ClipSpec(
-        name or video.stem, list(source.frames()), source.fps, description, None, str(video)
-    )
+    source = VideoFileSource(video, max_frames=start + frames)
+    pictures = list(source.frames())[start:]
+    return ClipSpec(name or video.stem, pictures, source.fps, description, None, str(video))
 
 
-def default_clips(frames: int, *, seed: int = 0) -> list[ClipSpec]:
+def default_clips(frames: int, *, seed: int = 0, start: int = 0) -> list[ClipSpec]:
     """The talking head, then akiyo and carphone with the shipped clicked points (skipped
-    when ../shared/data is absent)."""
+    when ../shared/data is absent), `frames` frames from frame `start` (tuning uses 150)."""
     from uma.face.clip import describe_clip, load_points
     from uma.paths import codecs_dir
 
-    clips = [talking_head_clip(frames, seed=seed)]
+    clips = [talking_head_clip(frames, seed=seed, start=start)]
     for name in ("akiyo", "carphone"):
         points_file = codecs_dir() / "face" / f"{name}.yaml"
         points = load_points(points_file)
         video = Path(points.video) if points.video is not None else None
         if video is None or not video.is_file():
             continue
-        clips.append(file_clip(video, describe_clip(points), frames, name=name))
+        clips.append(file_clip(video, describe_clip(points), frames, name=name, start=start))
     return clips
 
 
@@ -124,12 +132,26 @@ def _track(clip: ClipSpec, lumas: list[np.ndarray], seed: int, tracker_config):
     return results, times
 
 
-def _renderer(clip: ClipSpec, reference: str, first, size):
+def _choose_ring(clip: ClipSpec, results) -> float:
+    """The head ring the sender picks on the call's first `RING_CHOICE_FRAMES` frames (from
+    frame 0 at its tracked pose, as the receiver renders), used for the whole clip."""
+    from uma.mbc.light import choose_head_ring
+    from uma.mbc.scene_render import HEAD_RING_OUTLINES
+
+    tracked = [i for i in range(1, min(RING_CHOICE_FRAMES + 1, len(results))) if results[i]]
+    if not results[0] or not tracked:
+        return HEAD_RING_OUTLINES
+    pictures = [clip.frames[i] for i in tracked]
+    poses = [results[i].params for i in tracked]
+    return choose_head_ring(clip.description, clip.frames[0], results[0].params, pictures, poses)
+
+
+def _renderer(clip: ClipSpec, reference: str, first, size, head_ring: float | None = None):
     """The receiver's renderer: from the last full picture (frame 0, at the pose tracked on
     it) or from the description's own picture."""
     from uma.mbc.scene_render import SceneRenderer
 
-    renderer = SceneRenderer(clip.description, size)
+    renderer = SceneRenderer(clip.description, size, head_ring_outlines=head_ring)
     if reference == "picture" and first:
         renderer.set_reference(clip.frames[0], first.params)
     return renderer
@@ -144,8 +166,12 @@ def run_clip(
     reference: str = "picture",
     keep_frame: int | None = None,
     kept: dict | None = None,
+    refresh: dict | None = None,
 ) -> dict:
-    """Code one clip and score it; see the module docstring."""
+    """Code one clip and score it; see the module docstring. `refresh` names the
+    `mbc_refresh_*` displays (`uma.bench.mbc_refresh.RefreshSpec` by name; default
+    `DEFAULT_REFRESH`)."""
+    from uma.bench.mbc_refresh import refresh_display
     from uma.bench.mbc_scores import RegionSums, face_box, h264_display
     from uma.errors import VideoError
     from uma.face.geometry import project
@@ -170,11 +196,12 @@ def run_clip(
     # The encoder's mirror of the receiver: its light is measured against what it will show.
     units = FaceUnits.of(description.model, description.params, light=True)
     encoder = ParameterEncoder(units, stream_config)
-    mirror = _renderer(clip, reference, results[0], (width, height))
+    ring = _choose_ring(clip, results)
+    mirror = _renderer(clip, reference, results[0], (width, height), ring)
     other = _renderer(clip, "description" if reference == "picture" else "picture",
-                      results[0], (width, height))  # fmt: skip
+                      results[0], (width, height), ring)  # fmt: skip
     # The simulation's choice: the scene from the picture, the face from the description.
-    mixed = _renderer(clip, "picture", results[0], (width, height))
+    mixed = _renderer(clip, "picture", results[0], (width, height), ring)
     mixed.set_face_source(True)
     lights, other_lights, mixed_lights, light_ms, packets = {}, {}, {}, [], []
     for index, result in enumerate(results):
@@ -188,7 +215,7 @@ def run_clip(
     packets += encoder.flush()
     # The receiver: decode every packet in order, render each frame at the newest parameters.
     decoder = ParameterDecoder(units, stream_config)
-    receiver = _renderer(clip, reference, results[0], (width, height))
+    receiver = _renderer(clip, reference, results[0], (width, height), ring)
     decoded: dict[int, np.ndarray] = {}
     decode_ms: dict[int, float] = {}
     for packet in packets:
@@ -198,9 +225,19 @@ def run_clip(
         share = (time.perf_counter() - begin) * 1000.0 / max(len(out.frames), 1)
         for frame, values in out.frames:
             decoded[frame], decode_ms[frame] = values, share
-    h264 = {name: h264_display(clip.frames, clip.fps, rung) for name, rung in
-            (("h264_lowest", 0), ("h264_second", 1))}  # fmt: skip
-    displays = DISPLAYS
+    h264 = {name: h264_display(clip.frames, clip.fps, rung, delayed=late) for name, rung, late in
+            (("h264_lowest", 0, False), ("h264_second", 1, False),
+             ("h264_lowest_delayed", 0, True), ("h264_second_delayed", 1, True))}  # fmt: skip
+    # The refresh spends the rung's rate minus the plain stream's, both at the clip's own rate.
+    refresh = DEFAULT_REFRESH if refresh is None else refresh
+    mbc_clip_kbps = sum(p.size_bytes for p in packets) * 8 / (len(lumas) / clip.fps) / 1000.0
+    refreshed = {
+        name: refresh_display(
+            clip, results, units, stream_config, mbc_clip_kbps, spec, head_ring=ring
+        )
+        for name, spec in refresh.items()
+    }
+    displays = BASE_DISPLAYS + tuple(refresh)
     sums = {d: RegionSums() for d in displays}
     rendered = ("unquantised", "quantised", "other_reference", "description_face")
     shown = {d: clip.frames[0] for d in rendered}
@@ -228,7 +265,8 @@ def run_clip(
         if index == 0:
             continue
         pictures = dict(shown, frozen=clip.frames[0],
-                        **{name: h264[name][0][index] for name in h264})  # fmt: skip
+                        **{name: h264[name][0][index] for name in h264},
+                        **{name: refreshed[name][0][index] for name in refreshed})  # fmt: skip
         for name in displays:
             sums[name].add(clip.frames[index], pictures[name], box, model_mask)
         if kept is not None and index == keep_frame:
@@ -240,6 +278,7 @@ def run_clip(
     rates = {"unquantised": None, "quantised": rate_kbps, "frozen": 0.0,
              "other_reference": rate_kbps, "description_face": rate_kbps}  # fmt: skip
     rates.update({name: h264[name][1] for name in h264})
+    rates.update({name: refreshed[name][1] for name in refreshed})
     scored = {name: sums[name].means(rates[name]) for name in displays}
     reinits = [r for r in results[1:] if r.reinitialised]
     face_psnr = {d: scored[d]["face"]["psnr_db"] for d in ("unquantised", "quantised")}
@@ -248,6 +287,7 @@ def run_clip(
         "size": f"{width}x{height}",
         "fps": round(clip.fps, 3),
         "reference": reference,
+        "head_ring_outlines": ring,
         "rate_kbps": round(rate_kbps, 3),
         "wire_kbps": round(wire_bytes * 8 / seconds / 1000.0, 3),
         "packets": len(packets),
@@ -273,6 +313,7 @@ def run_clip(
         "mde_p95_px": round(float(np.percentile(mde, 95)), 4) if mde else None,
         "h264_lowest": {"rung": h264["h264_lowest"][2]},
         "h264_second": {"rung": h264["h264_second"][2]},
+        "refresh": {name: refreshed[name][2] for name in refreshed},
         **{region: {d: scored[d][region] for d in displays} for region in REGIONS},
     }
 
@@ -295,7 +336,9 @@ def run_mbc_bench(
         out["clips"][clip.name] = result
         if kept:
             tails = {
-                d: f"{result['face'][d]['kbps']:.1f} kbit/s" for d in ("quantised", "h264_lowest")
+                d: f"{result['face'][d]['kbps']:.1f} kbit/s"
+                for d in ("quantised", "mbc_refresh_lowest", "h264_lowest")
+                if d in result["face"]
             }
             rows.append((f"{clip.name} #{middle}", kept, tails))
     if picture is not None and rows:
@@ -328,17 +371,18 @@ def format_table(result: dict[str, Any]) -> str:
         )
     lines += [
         "",
-        f"  {'clip':<14}{'display':<17}{'kbit/s':>7}  "
+        f"  {'clip':<14}{'display':<25}{'kbit/s':>7}  "
         + "".join(f"{r + ' PSNR':>11}{'SSIM':>7}{'CbCr':>6}" for r in REGIONS),
     ]
     for name, c in result["clips"].items():
-        for d in DISPLAYS:
-            label = d if not d.startswith("h264") else f"{d} {c[d]['rung'].split()[0]}"
+        for d in c["face"]:
+            rung = c.get(d.removesuffix("_delayed"), {}).get("rung")
+            label = d if not rung else f"{d} {rung.split()[0]}"
             kbps = c["face"][d].get("kbps")
             cells = "".join(
                 f"{c[r][d]['psnr_db']:>11.2f}{c[r][d]['ssim']:>7.3f}"
                 f"{c[r][d]['chroma_psnr_db']:>6.1f}"
                 for r in REGIONS
             )
-            lines.append(f"  {name:<14}{label:<17}{num(kbps, '.2f'):>7}  {cells}")
+            lines.append(f"  {name:<14}{label:<25}{num(kbps, '.2f'):>7}  {cells}")
     return "\n".join(lines)

@@ -1,4 +1,4 @@
-"""The side-by-side picture of `uma bench mbc --picture FILE`: source | MBC | H.264 alone.
+"""`uma bench mbc --picture FILE`: source | MBC | MBC + refresh | H.264 alone, side by side.
 
 Units: pixels. One row per clip, at one instant (the same frame of each display), each panel
 at the clip's size scaled to a common height, labelled with the display and its payload rate,
@@ -13,8 +13,13 @@ import numpy as np
 
 __all__ = ["PANELS", "side_by_side", "save_side_by_side"]
 
-PANELS = ("source", "quantised", "h264_lowest")
-_LABELS = {"source": "source", "quantised": "MBC", "h264_lowest": "H.264 alone"}
+PANELS = ("source", "quantised", "mbc_refresh_lowest", "h264_lowest")
+_LABELS = {
+    "source": "source",
+    "quantised": "MBC",
+    "mbc_refresh_lowest": "MBC+refresh",
+    "h264_lowest": "H.264 alone",
+}
 ROW_HEIGHT_PX = 288
 
 
@@ -36,7 +41,9 @@ def side_by_side(rows: list[tuple[str, dict[str, np.ndarray], dict[str, str]]]) 
     out = []
     for name, pictures, tails in rows:
         panels = [
-            _panel(pictures[p], f"{name} {_LABELS[p]} {tails.get(p, '')}".strip()) for p in PANELS
+            _panel(pictures[p], f"{name} {_LABELS[p]} {tails.get(p, '')}".strip())
+            for p in PANELS
+            if p in pictures
         ]
         gap = np.full((ROW_HEIGHT_PX, 4, 3), 255, np.uint8)
         row = np.concatenate([x for panel in panels for x in (panel, gap)][:-1], axis=1)

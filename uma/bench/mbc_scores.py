@@ -22,9 +22,12 @@ REGIONS = ("face", "frame", "model")
 
 
 def h264_display(
-    frames: list[np.ndarray], fps: float, rung_index: int
+    frames: list[np.ndarray], fps: float, rung_index: int, *, delayed: bool = False
 ) -> tuple[list[np.ndarray], float, str]:
-    """The ladder rung's display at the source size (YUV 4:2:0), its rate (kbit/s), label."""
+    """The ladder rung's display at the source size (YUV 4:2:0), its rate (kbit/s), label.
+    `delayed`: each picture shows from the first frame after its bits arrive over a channel
+    of the rung's rate (`uma.mbc.refresh`, as the refresh's pictures), frame 0 until then."""
+    from uma.mbc.refresh import RefreshUnit, schedule_refresh
     from uma.video import H264Decoder, H264Encoder, load_ladder, resize_yuv420
 
     ladder = load_ladder()
@@ -37,17 +40,23 @@ def h264_display(
     )
     decoder = H264Decoder()
     grey = np.full((height * 3 // 2, width), 128, np.uint8)
-    shown, bits, last = [], 0, None
+    shown, bits, last, units, pictures = [], 0, None, [], []
     for index, frame in enumerate(frames):
         if index % step == 0:
             unit = encoder.encode(resize_yuv420(frame, rung.width, rung.height))
             bits += unit.size_bits
+            units.append(RefreshUnit(index, unit.size_bits, unit.is_keyframe))
             picture = decoder.decode(unit.data)
             if picture is not None:
                 last = resize_yuv420(picture, width, height)
+            pictures.append(last if last is not None else grey)
         shown.append(last if last is not None else grey)
     coded = -(-len(frames) // step)
-    return shown, bits / (coded / rung.fps) / 1000.0, rung.label
+    kbps = bits / (coded / rung.fps) / 1000.0
+    if delayed:
+        serving = schedule_refresh(units, len(frames), fps, rung.rate_kbps).serving
+        shown = [frames[0] if k < 0 else pictures[k] for k in serving]
+    return shown, kbps, rung.label
 
 
 def face_box(luma: np.ndarray, truth_points: np.ndarray | None, last):

@@ -4,15 +4,18 @@ Pure library (no SimPy, no clock). `FaceTracker` (encoder.py) initialises and tr
 `ParameterEncoder` (stream.py) quantises in face animation units (units.py, quant.py),
 range-codes (coding.py, constriction, imported when coding) and packs (packets.py);
 `ParameterDecoder` and `FaceRenderer` (decoder.py) turn packets back into pictures;
-`SceneRenderer` (scene_render.py) warps a whole reference picture in colour with the model.
+`SceneRenderer` (scene_render.py) warps a whole reference picture in colour with the model;
+`schedule_refresh` (refresh.py) says which refresh picture it warps on which frame.
 """
 
 from uma.mbc.coding import AdaptiveModels, CoderConfig, decode_sets, encode_sets
 from uma.mbc.decoder import Decoded, DecodeEvent, FaceRenderer, ParameterDecoder
 from uma.mbc.encoder import FaceTracker, TrackerConfig, TrackFailure, TrackResult
 from uma.mbc.errors import PacketError, SceneError
+from uma.mbc.light import choose_head_ring
 from uma.mbc.packets import IP_UDP_RTP_BYTES, Packet, parse_packet
 from uma.mbc.quant import Quantiser, QuantiserConfig
+from uma.mbc.refresh import RefreshSchedule, RefreshUnit, refresh_frames, schedule_refresh
 from uma.mbc.scene_render import SceneRenderer, description_reference
 from uma.mbc.stream import ParameterEncoder, StreamConfig
 from uma.mbc.units import FaceUnits
@@ -42,4 +45,9 @@ __all__ = [
     "SceneRenderer",
     "SceneError",
     "description_reference",
+    "choose_head_ring",
+    "RefreshUnit",
+    "RefreshSchedule",
+    "refresh_frames",
+    "schedule_refresh",
 ]

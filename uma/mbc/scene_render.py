@@ -22,7 +22,13 @@ from uma.face.describe import ContentDescription
 from uma.face.scene import HEAD_RING_SCALE, SceneMesh
 from uma.mbc.errors import SceneError
 
-__all__ = ["SceneRenderer", "description_reference", "LIGHT_GAIN_RANGE", "LIGHT_OFFSET_RANGE"]
+__all__ = [
+    "SceneRenderer",
+    "description_reference",
+    "LIGHT_GAIN_RANGE",
+    "LIGHT_OFFSET_RANGE",
+    "HEAD_RING_CHOICES",
+]
 
 # The far ring, fixed in the picture, at this many head-ring radii from the face's centre: the
 # picture beyond it never moves (a background stays put while a tracked pose jitters). Chosen on
@@ -31,6 +37,11 @@ __all__ = ["SceneRenderer", "description_reference", "LIGHT_GAIN_RANGE", "LIGHT_
 # unchanged (+0.1 / +0.2 dB); 2.5 radii gives 0.58 / 0.90.
 FAR_RING_HEAD_RADII: float | None = 1.6
 HEAD_RING_OUTLINES = 1.4  # the head ring's radius in face-outline radii (hair, ears, neck)
+# What `uma.mbc.light.choose_head_ring` picks from: a head ring that carries hair, ears and
+# neck with the head (right where the tracked pose is right: the talking head), or one just
+# outside the face that lets them follow only in part (better where the pose is off: akiyo's
+# bow, carphone's turn; docs/mbc.md).
+HEAD_RING_CHOICES = (1.05, HEAD_RING_OUTLINES)
 LIGHT_GAIN_RANGE = (0.25, 4.0)  # a face's luma gain against its reference's
 LIGHT_OFFSET_RANGE = (-128.0, 128.0)  # levels
 
@@ -75,7 +86,8 @@ class SceneRenderer:
     """Draws the whole scene at given parameters by warping a reference picture (see the module).
 
     `talking_head_scene` places the rings as `uma.face.scene` does by default (the talking
-    head's own scene: its far ring 1.5 frame diagonals away) instead of the receiver's.
+    head's own scene: its far ring 1.5 frame diagonals away) instead of the receiver's;
+    `head_ring_outlines` sizes the receiver's head ring (default `HEAD_RING_OUTLINES`).
     """
 
     def __init__(
@@ -84,10 +96,14 @@ class SceneRenderer:
         size: tuple[int, int],
         *,
         talking_head_scene: bool = False,
+        head_ring_outlines: float | None = None,
     ):
         width, height = (int(v) for v in size)
         if width < 2 or height < 2 or width % 2 or height % 2:
             raise SceneError(f"renderer: expected an even picture size, got {width}x{height}")
+        ring = HEAD_RING_OUTLINES if head_ring_outlines is None else float(head_ring_outlines)
+        if not (np.isfinite(ring) and ring > 1.0):
+            raise SceneError(f"head ring: expected more than 1 face-outline radius, got {ring}")
         self.size = (width, height)
         self.description = description
         self.scene = SceneMesh.build(
@@ -95,7 +111,7 @@ class SceneRenderer:
             description.params,
             (height, width),
             far_ring_scale=None if talking_head_scene else FAR_RING_HEAD_RADII,
-            head_ring_scale=HEAD_RING_SCALE if talking_head_scene else HEAD_RING_OUTLINES,
+            head_ring_scale=HEAD_RING_SCALE if talking_head_scene else ring,
         )
         self._strips = len(self.scene.triangles) - len(description.model.triangles)
         ys, xs = np.mgrid[0:height, 0:width].astype(np.float32)
