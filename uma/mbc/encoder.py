@@ -24,10 +24,12 @@ import numpy as np
 from uma.face.describe import ContentDescription
 from uma.face.geometry import N_POSE, project
 from uma.failure import Failure
-from uma.fit.cost import Cost, FitTemplate
+from uma.fit.cost import FitTemplate
 from uma.fit.fit import DetectorCalibration, check_image, detect, fit_face
 from uma.fit.gauss_newton import GaussNewtonConfig, gauss_newton
 from uma.fit.search import search_box
+from uma.mbc.tracking_gate import AppearanceGate
+from uma.mbc.tracking_search import Scorer, starts, tracking_box
 
 __all__ = ["TrackerConfig", "TrackResult", "TrackFailure", "FaceTracker", "TRACK_GAUSS_NEWTON"]
 
@@ -68,7 +70,7 @@ class TrackerConfig:
 
     gauss_newton: GaussNewtonConfig = TRACK_GAUSS_NEWTON
     velocity_damping: float = 0.5  # share of the last pose change carried on to the next frame
-    lost_below: float = 0.4
+    lost_below: float = 0.3
     min_inside: float = 0.8
     init_method: str = "hybrid"
     score_pixels: int = 6000  # template pixels the score reads
@@ -76,6 +78,24 @@ class TrackerConfig:
     # fitting's fine tolerance) before the track counts as lost: a fast move (12 px a frame on
     # the CIF talking head) needs 6-8 iterations where a normal frame needs 2-4.
     recover_iterations: int = 12
+    # A step ending below `doubt_below` also tries the `other_starts` best of
+    # `uma.mbc.tracking_search.starts` around the last good pose, and keeps the best fit.
+    doubt_below: float = 0.45
+    other_starts: int = 2
+    # (pitch, yaw, roll) limits of a tracking step, radians.
+    rotation_limits_rad: tuple[float, float, float] = (0.45, 0.45, 0.35)
+    # After a failed initialisation the tracker holds (steps from the last good pose, a failure
+    # that does not re-initialise) for this many frames before it initialises again.
+    retry_frames: int = 10
+    # A fit whose samples depart from the tracked face's running appearance in more than this
+    # share of its pixels has something in front of the face (`uma.mbc.tracking_gate`); after
+    # `gate_patience` frames without a face the appearance is forgotten (started again).
+    occluded_above: float = 0.4
+    gate_patience: int = 25
+    # An initialisation (the whole picture searched) is trusted more: refused above this share;
+    # accepted, it starts the appearance again (its pose may sit a pixel or two off the
+    # track's, and the face may have changed while it was covered).
+    occluded_init_above: float = 0.6
 
     def __post_init__(self) -> None:
         if not 0.0 <= self.velocity_damping <= 1.0:
@@ -128,6 +148,7 @@ class FaceTracker:
         # The tracking step's pixels, thinned once (Gauss-Newton would thin on every call).
         step = -(-self.template.raster.size // config.gauss_newton.max_pixels)
         self._step_template = self.template.subsampled(step)
+        self.gate = AppearanceGate(self.template)
         box = detect(self.template.image)
         self.calibration = DetectorCalibration.from_template(self.template, box) if box else None
         # Without a calibration, initialisation starts where the description was cut out.
@@ -136,15 +157,18 @@ class FaceTracker:
         self._previous: np.ndarray | None = None
         self._before: np.ndarray | None = None
         self._last_good: np.ndarray | None = None  # kept across resets
+        self._held = 0  # frames without a trustworthy pose since the last good one
+        self._next_init: int | None = None  # after a failed initialisation: when to try again
         self._frame = 0
 
     def reset(self) -> None:
-        """Forget the track: the next picture initialises."""
-        self._previous = self._before = None
+        """Forget the track and the face's tracked appearance: the next picture initialises."""
+        self._forget()
+        self.gate.reset()
 
-    def _score(self, image: np.ndarray, params: np.ndarray) -> float:
-        cost = Cost(self.template, image, illumination=True).thinned(self.config.score_pixels)
-        return float(1.0 - cost(params))
+    def _forget(self) -> None:
+        self._previous = self._before = None
+        self._held, self._next_init = 0, None
 
     def _inside(self, params: np.ndarray, shape: tuple[int, int]) -> float:
         points = project(self.template.model, params)
@@ -156,14 +180,17 @@ class FaceTracker:
         )
         return float(ok.mean())
 
-    def step(self, image: np.ndarray, prediction: np.ndarray):
+    def step(self, image: np.ndarray, prediction: np.ndarray, last_good: np.ndarray | None = None):
         """One tracking step from `prediction`: (fit, score, evaluations). A step scoring below
-        `lost_below` goes on for `recover_iterations` more before it is given up.
+        `doubt_below` also starts from the best `other_starts` of the starts around `last_good`
+        (`uma.mbc.tracking_search.starts`); one still below `lost_below` goes on for
+        `recover_iterations` more before it is given up.
 
         Gauss-Newton sees only the picture around the predicted face (a margin of 0.4 face
         widths, beyond the 0.25 its search box allows): its blur and gradients then cost a
         third of a CIF frame's. Translation is additive, so the crop only shifts tx and ty.
         """
+        config = self.config
         width = self.template.face_width_px * prediction[2] / self.template.params[2]
         points = project(self.template.model, prediction)
         margin = 0.4 * width + 8.0
@@ -175,24 +202,34 @@ class FaceTracker:
         crop = image[y0:y1, x0:x1]
         offset = np.zeros_like(prediction)
         offset[:2] = (x0, y0)
+        scorer = Scorer(self.template, crop, offset, config.score_pixels)
 
-        def run(start: np.ndarray, config: GaussNewtonConfig):
+        def run(start: np.ndarray, gn: GaussNewtonConfig):
             local = start - offset
-            fit = gauss_newton(self.template, crop, local, search_box(local, width), config=config)
+            box = tracking_box(local, width, config.rotation_limits_rad)
+            fit = gauss_newton(self.template, crop, local, box, config=gn)
             params = fit.params + offset
             ok = bool(np.all(np.isfinite(params)))
-            return params, (self._score(image, params) if ok else -1.0), fit.evaluations + 1, ok
+            return params, (float(scorer.scores(params)) if ok else -1.0), fit.evaluations, ok
 
-        params, score, evaluations, ok = run(prediction, self.config.gauss_newton)
-        if score < self.config.lost_below and self.config.recover_iterations > 0:
+        params, score, evaluations, ok = run(prediction, config.gauss_newton)
+        if score < config.doubt_below and last_good is not None and config.other_starts > 0:
+            candidates = starts(last_good, width)
+            order = np.argsort(-scorer.scores(candidates))[: config.other_starts]
+            for start in candidates[order]:
+                other, other_score, more, other_ok = run(start, config.gauss_newton)
+                evaluations += more
+                if other_ok and other_score > score:
+                    params, score, ok = other, other_score, True
+        if score < config.lost_below and config.recover_iterations > 0:
             longer = replace(
-                self.config.gauss_newton,
-                iterations=self.config.recover_iterations,
-                tolerance_px=min(self.config.gauss_newton.tolerance_px, 0.05),
+                config.gauss_newton,
+                iterations=config.recover_iterations,
+                tolerance_px=min(config.gauss_newton.tolerance_px, 0.05),
             )
             params, score, more, ok = run(params if ok else prediction, longer)
             evaluations += more
-        return params, score, evaluations
+        return params, score, evaluations + scorer.evaluations
 
     def track(self, picture: np.ndarray, *, frame: int | None = None) -> TrackResult | TrackFailure:
         """Parameters for the next picture (gray, (H, W)); `frame` defaults to a running count."""
@@ -204,32 +241,78 @@ class FaceTracker:
             return TrackFailure(f"frame {frame}: {problem.reason}", frame=frame, evaluations=0)
         image = np.asarray(picture, dtype=np.float32)
         if self._previous is None:
-            return self._initialise(image, frame, "first picture" if frame == 0 else "no track")
+            if self._next_init is not None and frame < self._next_init:
+                return TrackFailure(
+                    f"frame {frame}: no face (initialising again at frame {self._next_init})",
+                    frame=frame,
+                    reinitialised=False,
+                )
+            result = self._initialise(image, frame, "first picture" if frame == 0 else "no track")
+            if not result:
+                self._next_init = frame + self.config.retry_frames
+            return result
         prediction = self._previous.copy()
         if self._before is not None:
             velocity = self._previous[:N_POSE] - self._before[:N_POSE]
             prediction[:N_POSE] += self.config.velocity_damping * velocity
         inside = self._inside(prediction, image.shape)
         if inside < self.config.min_inside:
-            return self._initialise(
-                image, frame, f"face leaving the picture ({100 * inside:.0f} % inside)"
-            )
-        params, score, evaluations = self.step(image, prediction)
+            why = f"face leaving the picture ({100 * inside:.0f} % inside)"
+            return self._lost(image, frame, why, spent=0, score=float("nan"))
+        params, score, evaluations = self.step(image, prediction, self._previous)
         if score < self.config.lost_below:
-            return self._initialise(
-                image,
-                frame,
-                f"track lost (score {score:.2f} < {self.config.lost_below})",
-                spent=evaluations,
-            )
+            why = f"track lost (score {score:.2f} < {self.config.lost_below})"
+            return self._lost(image, frame, why, spent=evaluations, score=score)
+        covered = self._covered(image, params, self.config.occluded_above)
+        if covered:
+            return self._lost(image, frame, covered, spent=evaluations, score=score)
+        self.gate.accept(image, params)
+        reason = "tracked"
+        if self._held:
+            reason = f"tracked (found again after {self._held} frames without a face)"
+        self._held, self._next_init = 0, None
         self._before, self._previous = self._previous, params
         self._last_good = params
-        return TrackResult(frame, params, score, False, "tracked", evaluations)
+        return TrackResult(frame, params, score, False, reason, evaluations)
+
+    def _covered(self, image: np.ndarray, params: np.ndarray, limit: float) -> str:
+        """Why the face at `params` is taken for covered (a share above `limit`), or ""."""
+        if self._held >= self.config.gate_patience:
+            self.gate.reset()  # the face changed for good (light, a turn): learn it again
+        share = self.gate.outlier_share(image, params)
+        self.last_share = share
+        if share <= limit:
+            return ""
+        return f"face covered ({100 * share:.0f} % of it unlike the tracked face)"
+
+    def _lost(
+        self, image: np.ndarray, frame: int, why: str, *, spent: int, score: float
+    ) -> TrackResult | TrackFailure:
+        """No trustworthy pose from the track: initialise again, unless an initialisation
+        failed less than `retry_frames` ago; then hold (a failure that did not re-initialise:
+        the display keeps the last good picture) and step from the last good pose next time."""
+        self._held += 1
+        self._before = None  # no velocity across a gap
+        if self._next_init is not None and frame < self._next_init:
+            return TrackFailure(
+                f"frame {frame}: {why}; held the last good picture ({self._held} frames without "
+                f"a face; initialising again at frame {self._next_init})",
+                frame=frame,
+                evaluations=spent,
+                reinitialised=False,
+                score=score,
+            )
+        last, held = self._previous, self._held
+        result = self._initialise(image, frame, why, spent=spent)
+        if not result:
+            self._previous, self._held = last, held
+            self._next_init = frame + self.config.retry_frames
+        return result
 
     def _initialise(
         self, image: np.ndarray, frame: int, why: str, *, spent: int = 0
     ) -> TrackResult | TrackFailure:
-        self.reset()
+        self._forget()
         start = box = None
         if self.calibration is None:
             start = self.home
@@ -279,5 +362,28 @@ class FaceTracker:
                 detections=detections,
                 score=score,
             )
+        inside = self._inside(fit.params, image.shape)
+        if inside < self.config.min_inside:
+            return TrackFailure(
+                f"frame {frame}: {why}; initialisation found a face only {100 * inside:.0f} % "
+                "inside the picture",
+                frame=frame,
+                evaluations=evaluations,
+                detections=detections,
+                score=score,
+            )
+        covered = self._covered(image, fit.params, self.config.occluded_init_above)
+        if covered:
+            return TrackFailure(
+                f"frame {frame}: {why}; initialisation found a {covered}",
+                frame=frame,
+                evaluations=evaluations,
+                detections=detections,
+                score=score,
+            )
+        self.gate.reset()
+        self.gate.accept(image, fit.params)
         self._previous = fit.params
+        self._held, self._next_init = 0, None
+        self._last_good = fit.params
         return TrackResult(frame, fit.params, score, True, why, evaluations, detections)
