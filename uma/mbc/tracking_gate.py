@@ -61,8 +61,19 @@ class AppearanceGate:
         self.mean: np.ndarray | None = None
         self.scale = 0.0
         self.frames = 0  # accepted frames since the reset
+        self._cached = None
 
-    def _samples(self, image: np.ndarray, params: np.ndarray):
+    def _samples(self, image: np.ndarray, params: np.ndarray, *, reuse: bool = False):
+        # `accept` usually follows `outlier_share` on the same picture and pose: sample once.
+        key = (id(image), params.tobytes())
+        cached, self._cached = self._cached, None
+        if reuse and cached is not None and cached[0] == key:
+            return cached[1]
+        out = self._sample(image, params)
+        self._cached = (key, out)
+        return out
+
+    def _sample(self, image: np.ndarray, params: np.ndarray):
         from uma.fit.cost import blurred
         from uma.fit.kernels import project_batch, sample_at
 
@@ -103,7 +114,8 @@ class AppearanceGate:
 
     def accept(self, image: np.ndarray, params: np.ndarray) -> None:
         """Learn an accepted frame: departing pixels at a tenth of the rate."""
-        samples, visible = self._samples(image, params)
+        samples, visible = self._samples(image, params, reuse=True)
+        self._cached = None
         self.frames += 1
         if self.mean is None:
             self.mean = np.where(visible, samples, np.nan)
