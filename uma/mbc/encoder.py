@@ -8,11 +8,18 @@ engine can model compute time.
 The first picture, and every re-initialisation, runs the project's best automatic
 initialisation (`uma.fit.fit_face`, the hybrid: detector, SAABs in two views, Gauss-Newton
 polish). Later pictures are tracked: Gauss-Newton (with a gain and offset per triangle patch)
-from the previous parameters moved on by a damped constant-velocity prediction of the pose.
-The tracker re-initialises when the tracked fit's score falls below `lost_below` (the track is
-lost; the threshold is measured, see `TrackerConfig`) or when the predicted face leaves the
-picture, and says why. A picture where even initialisation finds no face gives a
-`TrackFailure` (a `uma.failure.Failure`: it tests false and carries the reason), never NaN.
+from the previous parameters moved on by a damped constant-velocity prediction of the pose; a
+step that ends doubtful also starts from a few poses around the last good one
+(`uma.mbc.tracking_search`) and keeps the best. A fit is trusted when it scores at least
+`lost_below` and the appearance gate (`uma.mbc.tracking_gate`) finds no large part of the face
+unlike the tracked face (a hand in front). An untrusted fit, or a predicted face leaving the
+picture, re-initialises; when that finds no face either, the tracker holds: for
+`retry_frames` frames it gives a `TrackFailure` that did not re-initialise (the display keeps
+the last good picture), steps from the last good pose each frame, and takes the face back by
+tracking when it shows again there, or by the next initialisation. Every failure is a
+`TrackFailure` (a `uma.failure.Failure`: it tests false and carries the reason), never NaN and
+never a pose drawn where the face is not. Settings and their measurements: `TrackerConfig`,
+docs/tracking.md.
 """
 
 from __future__ import annotations
@@ -28,83 +35,11 @@ from uma.fit.cost import FitTemplate
 from uma.fit.fit import DetectorCalibration, check_image, detect, fit_face
 from uma.fit.gauss_newton import GaussNewtonConfig, gauss_newton
 from uma.fit.search import search_box
+from uma.mbc.tracking_config import TRACK_GAUSS_NEWTON, TrackerConfig
 from uma.mbc.tracking_gate import AppearanceGate
 from uma.mbc.tracking_search import Scorer, starts, tracking_box
 
 __all__ = ["TrackerConfig", "TrackResult", "TrackFailure", "FaceTracker", "TRACK_GAUSS_NEWTON"]
-
-# The tracking step: pose and action units together from the prediction, at most 4
-# Levenberg-Marquardt iterations on 2,000 template pixels (of ~17,000 on a CIF face), stopping
-# once no vertex moves 0.2 px. Chosen on data the README does not quote (the talking head at
-# seed 1, akiyo's and carphone's frames 150-299): against the fitting defaults (8,000 pixels,
-# 1e-3 px, 30 iterations; 24 ms a CIF frame, 0.09 px) it costs a fifth of the time for 0.19 px
-# median error; against 6 iterations and 0.05 px, 6-7 cost evaluations a frame instead of
-# 7-11 (a converged step that cannot lower the error is retried with more damping up to 6
-# times: the stop on a small move saves those) at the same error, rate and face PSNR.
-TRACK_GAUSS_NEWTON = GaussNewtonConfig(
-    iterations=4,
-    max_pixels=2000,
-    tolerance_px=0.2,
-    patch_photometry=True,
-    pose_first=False,
-)
-
-
-@dataclass(frozen=True)
-class TrackerConfig:
-    """Tracking and re-initialisation settings.
-
-    `lost_below`: a tracked fit correlating below this is a lost track. Measured with
-    `python -m uma.bench.mbc_threshold` on data the README's figures do not use (the talking
-    head at seed 1, akiyo's and carphone's frames 150-299; 150 tracked frames and about 100
-    lost tracks each): tracked frames score 0.96-0.99 on the talking head, 0.59-0.73 on akiyo
-    and 0.33-0.61 on carphone (5th percentile 0.38; carphone's track, without ground truth, may
-    drift there: the measurement never re-initialises); a real face never matches its template
-    as the model's own rendering does. Tracking steps (recovery included) started 0.15-0.3
-    face widths off that settle more than 3 px away score below 0.37, 0.24 and 0.38 in 95 % of
-    cases (at most 0.58, 0.43, 0.53: fits still on their way back). 0.4 lies above 95 % of the
-    lost tracks everywhere and below every tracked frame of the talking head and akiyo (94 %
-    of carphone's); a false alarm costs one re-initialisation, which finds the same face.
-    `min_inside`: the share of the model's vertices that must lie in the picture.
-    """
-
-    gauss_newton: GaussNewtonConfig = TRACK_GAUSS_NEWTON
-    velocity_damping: float = 0.5  # share of the last pose change carried on to the next frame
-    lost_below: float = 0.3
-    min_inside: float = 0.8
-    init_method: str = "hybrid"
-    score_pixels: int = 6000  # template pixels the score reads
-    # A step that ends below `lost_below` first goes on for this many more iterations (at the
-    # fitting's fine tolerance) before the track counts as lost: a fast move (12 px a frame on
-    # the CIF talking head) needs 6-8 iterations where a normal frame needs 2-4.
-    recover_iterations: int = 12
-    # A step ending below `doubt_below` also tries the `other_starts` best of
-    # `uma.mbc.tracking_search.starts` around the last good pose, and keeps the best fit.
-    doubt_below: float = 0.45
-    other_starts: int = 2
-    # (pitch, yaw, roll) limits of a tracking step, radians.
-    rotation_limits_rad: tuple[float, float, float] = (0.45, 0.45, 0.35)
-    # After a failed initialisation the tracker holds (steps from the last good pose, a failure
-    # that does not re-initialise) for this many frames before it initialises again.
-    retry_frames: int = 10
-    # A fit whose samples depart from the tracked face's running appearance in more than this
-    # share of its pixels has something in front of the face (`uma.mbc.tracking_gate`); after
-    # `gate_patience` frames without a face the appearance is forgotten (started again).
-    occluded_above: float = 0.4
-    gate_patience: int = 25
-    # An initialisation (the whole picture searched) is trusted more: refused above this share;
-    # accepted, it starts the appearance again (its pose may sit a pixel or two off the
-    # track's, and the face may have changed while it was covered).
-    occluded_init_above: float = 0.6
-
-    def __post_init__(self) -> None:
-        if not 0.0 <= self.velocity_damping <= 1.0:
-            raise ValueError(f"tracker: velocity_damping in [0, 1], got {self.velocity_damping}")
-        if not -1.0 <= self.lost_below <= 1.0 or not 0.0 < self.min_inside <= 1.0:
-            raise ValueError(
-                f"tracker: lost_below a correlation and min_inside in (0, 1], got "
-                f"{self.lost_below}, {self.min_inside}"
-            )
 
 
 @dataclass(frozen=True, eq=False)
@@ -138,10 +73,14 @@ class FaceTracker:
     """Tracks the personal model of `description` through a sequence of gray pictures."""
 
     def __init__(
-        self, description: ContentDescription, *, config: TrackerConfig = TrackerConfig(), rng=None
+        self,
+        description: ContentDescription,
+        *,
+        config: TrackerConfig | None = None,
+        rng=None,
     ):
         self.description = description
-        self.config = config
+        self.config = config = config if config is not None else TrackerConfig()
         self.rng = np.random.default_rng(rng)
         self.template = FitTemplate.build(description.model, description.gray, description.params)
         self.n_params = self.template.params.size
@@ -149,6 +88,7 @@ class FaceTracker:
         step = -(-self.template.raster.size // config.gauss_newton.max_pixels)
         self._step_template = self.template.subsampled(step)
         self.gate = AppearanceGate(self.template)
+        self.last_share = float("nan")  # the gate's share on the last fit it judged
         box = detect(self.template.image)
         self.calibration = DetectorCalibration.from_template(self.template, box) if box else None
         # Without a calibration, initialisation starts where the description was cut out.
