@@ -114,6 +114,7 @@ def run(name: str, lumas: list[np.ndarray], description, seed: int, config) -> d
         "track_ms_median": round(float(np.median(wall)), 2) if wall else None,
         "track_cpu_ms_median": round(float(np.median(cpu)), 2) if cpu else None,
         "evaluations_median": float(np.median(evaluations)) if evaluations else None,
+        "evaluations_mean": round(float(np.mean(evaluations)), 2) if evaluations else None,
         "events": events,
     }
 
@@ -153,7 +154,8 @@ def main() -> int:
             f"{name}: {c['frames']} frames, reinits {c['reinits']} (0-149: {c['reinits_0_149']}, "
             f"150-299: {c['reinits_150_299']}, worst window {c['worst_window_reinits']}), "
             f"failures {c['failures']}, track {c['track_ms_median']} ms "
-            f"(CPU {c['track_cpu_ms_median']}), evaluations {c['evaluations_median']}"
+            f"(CPU {c['track_cpu_ms_median']}), evaluations {c['evaluations_median']} "
+            f"(mean {c['evaluations_mean']})"
         )
         for event in c["events"]:
             print(f"    {event}")
