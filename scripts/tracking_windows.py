@@ -113,6 +113,7 @@ def run(name: str, lumas: list[np.ndarray], description, seed: int, config) -> d
         "worst_window_reinits": int(counts.max()) if counts.size else int(reinit.sum()),
         "track_ms_median": round(float(np.median(wall)), 2) if wall else None,
         "track_cpu_ms_median": round(float(np.median(cpu)), 2) if cpu else None,
+        "track_cpu_ms_mean": round(float(np.mean(cpu)), 2) if cpu else None,
         "evaluations_median": float(np.median(evaluations)) if evaluations else None,
         "evaluations_mean": round(float(np.mean(evaluations)), 2) if evaluations else None,
         "events": events,

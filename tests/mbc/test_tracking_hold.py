@@ -106,3 +106,26 @@ def test_other_starts_surround_the_last_pose() -> None:
     box = tracking_box(last, 40.0, (0.5, 0.6, 0.7))
     assert box.high[3:6].tolist() == [0.5, 0.6, 0.7] and box.low[5] == -0.7
     assert box.low[0] == 90.0 and box.high[1] == 90.0
+
+
+def test_a_face_that_leaves_and_comes_back_is_found_again(head, head_frames) -> None:
+    tracker = FaceTracker(head.description, config=TrackerConfig(retry_frames=4), rng=0)
+    width = head_frames[0].shape[1]
+    # Out to the right at 24 px a frame, 6 frames off the picture, then back the same way.
+    shifts = [24 * k for k in range(12)] + [width] * 6 + [24 * k for k in range(11, -1, -1)]
+    results = []
+    noise = np.random.default_rng(0).normal(100, 12, head_frames[0].shape)
+    for frame, shift in enumerate(shifts):
+        picture = np.clip(noise, 0, 255).astype(np.uint8)  # a background, not a flat picture
+        picture[:, shift:] = head_frames[0][:, : width - shift]
+        results.append(tracker.track(picture, frame=frame))
+    gone = [r for r, s in zip(results, shifts, strict=True) if s == width]
+    assert not any(gone) and all(r.reason for r in gone)
+    # Initialisation is tried at most once every 4 frames while the face is away.
+    tried = [k for k, r in enumerate(results) if r.reinitialised and not r]
+    assert all(b - a >= 4 for a, b in zip(tried, tried[1:], strict=False)), tried
+    # Back in the picture: found again (within the wait) and tracked to the end.
+    assert all(results[-3:]), [r.reason for r in results[-3:]]
+    moved = project(head.model, results[-1].params) - project(head.model, head.params_at(0))
+    distance = np.linalg.norm(moved, axis=1)
+    assert np.median(distance) < 2.0 and distance.max() < 8.0, distance.max()

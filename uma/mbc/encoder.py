@@ -89,6 +89,7 @@ class FaceTracker:
         self._step_template = self.template.subsampled(step)
         self.gate = AppearanceGate(self.template)
         self.last_share = float("nan")  # the gate's share on the last fit it judged
+        self._level: float | None = None  # running mean of the tracked scores
         box = detect(self.template.image)
         self.calibration = DetectorCalibration.from_template(self.template, box) if box else None
         # Without a calibration, initialisation starts where the description was cut out.
@@ -105,6 +106,7 @@ class FaceTracker:
         """Forget the track and the face's tracked appearance: the next picture initialises."""
         self._forget()
         self.gate.reset()
+        self._level = None
 
     def _forget(self) -> None:
         self._previous = self._before = None
@@ -120,10 +122,25 @@ class FaceTracker:
         )
         return float(ok.mean())
 
-    def step(self, image: np.ndarray, prediction: np.ndarray, last_good: np.ndarray | None = None):
+    def _thresholds(self) -> tuple[float, float]:
+        """(lost, doubtful) scores for a tracking step: the settings, raised with the level."""
+        c, level = self.config, self._level
+        if level is None:
+            return c.lost_below, c.doubt_below
+        return max(c.lost_below, c.lost_of_level * level), max(
+            c.doubt_below, level - c.doubt_margin
+        )
+
+    def step(
+        self,
+        image: np.ndarray,
+        prediction: np.ndarray,
+        last_good: np.ndarray | None = None,
+        thresholds: tuple[float, float] | None = None,
+    ):
         """One tracking step from `prediction`: (fit, score, evaluations). A step scoring below
-        `doubt_below` also starts from the best `other_starts` of the starts around `last_good`
-        (`uma.mbc.tracking_search.starts`); one still below `lost_below` goes on for
+        the doubtful score also starts from the best `other_starts` of the starts around
+        `last_good` (`uma.mbc.tracking_search.starts`); one still below the lost score goes on for
         `recover_iterations` more before it is given up.
 
         Gauss-Newton sees only the picture around the predicted face (a margin of 0.4 face
@@ -131,6 +148,7 @@ class FaceTracker:
         third of a CIF frame's. Translation is additive, so the crop only shifts tx and ty.
         """
         config = self.config
+        lost, doubt = thresholds or (config.lost_below, config.doubt_below)
         width = self.template.face_width_px * prediction[2] / self.template.params[2]
         points = project(self.template.model, prediction)
         margin = 0.4 * width + 8.0
@@ -153,7 +171,7 @@ class FaceTracker:
             return params, (float(scorer.scores(params)) if ok else -1.0), fit.evaluations, ok
 
         params, score, evaluations, ok = run(prediction, config.gauss_newton)
-        if score < config.doubt_below and last_good is not None and config.other_starts > 0:
+        if score < doubt and last_good is not None and config.other_starts > 0:
             candidates = starts(last_good, width)
             order = np.argsort(-scorer.scores(candidates))[: config.other_starts]
             for start in candidates[order]:
@@ -161,7 +179,7 @@ class FaceTracker:
                 evaluations += more
                 if other_ok and other_score > score:
                     params, score, ok = other, other_score, True
-        if score < config.lost_below and config.recover_iterations > 0:
+        if score < lost and config.recover_iterations > 0:
             longer = replace(
                 config.gauss_newton,
                 iterations=config.recover_iterations,
@@ -178,7 +196,9 @@ class FaceTracker:
         problem = check_image(np.asarray(picture))
         if problem is not None:
             self.reset()
-            return TrackFailure(f"frame {frame}: {problem.reason}", frame=frame, evaluations=0)
+            return TrackFailure(
+                f"frame {frame}: {problem.reason}", frame=frame, reinitialised=False
+            )
         image = np.asarray(picture, dtype=np.float32)
         if self._previous is None:
             if self._next_init is not None and frame < self._next_init:
@@ -199,14 +219,16 @@ class FaceTracker:
         if inside < self.config.min_inside:
             why = f"face leaving the picture ({100 * inside:.0f} % inside)"
             return self._lost(image, frame, why, spent=0, score=float("nan"))
-        params, score, evaluations = self.step(image, prediction, self._previous)
-        if score < self.config.lost_below:
-            why = f"track lost (score {score:.2f} < {self.config.lost_below})"
+        lost, doubt = self._thresholds()
+        params, score, evaluations = self.step(image, prediction, self._previous, (lost, doubt))
+        if score < lost:
+            why = f"track lost (score {score:.2f} < {lost:.2f})"
             return self._lost(image, frame, why, spent=evaluations, score=score)
         covered = self._covered(image, params, self.config.occluded_above)
         if covered:
             return self._lost(image, frame, covered, spent=evaluations, score=score)
         self.gate.accept(image, params)
+        self._level = score if self._level is None else 0.9 * self._level + 0.1 * score
         reason = "tracked"
         if self._held:
             reason = f"tracked (found again after {self._held} frames without a face)"
@@ -323,6 +345,8 @@ class FaceTracker:
             )
         self.gate.reset()
         self.gate.accept(image, fit.params)
+        if self._level is None:
+            self._level = score  # the first initialisation's match sets the level to keep
         self._previous = fit.params
         self._held, self._next_init = 0, None
         self._last_good = fit.params

@@ -55,6 +55,11 @@ class TrackerConfig:
     # `uma.mbc.tracking_search.starts` around the last good pose, and keeps the best fit.
     doubt_below: float = 0.45
     other_starts: int = 2
+    # Both thresholds rise with the track's own level (a running mean of its tracked scores):
+    # a step is lost below `lost_of_level` x the level and doubtful below the level minus
+    # `doubt_margin`, so a fit 10 px off on a face that usually scores 0.97 is not taken.
+    lost_of_level: float = 0.6
+    doubt_margin: float = 0.1
     # (pitch, yaw, roll) limits of a tracking step, radians.
     rotation_limits_rad: tuple[float, float, float] = (0.45, 0.45, 0.35)
     # After a failed initialisation the tracker holds (steps from the last good pose, a failure
@@ -77,6 +82,11 @@ class TrackerConfig:
                 f"tracker: occluded_above and occluded_init_above in (0, 1], doubt_below a "
                 f"correlation, got {shares} and {self.doubt_below}"
             )
+        if not (0.0 <= self.lost_of_level <= 1.0 and self.doubt_margin >= 0.0):
+            raise ValueError(
+                f"tracker: lost_of_level in [0, 1] and doubt_margin >= 0 expected, got "
+                f"{self.lost_of_level} and {self.doubt_margin}"
+            )
         counts = (self.other_starts, self.retry_frames, self.gate_patience)
         if min(counts) < 0 or self.retry_frames < 1 or len(self.rotation_limits_rad) != 3:
             raise ValueError(
@@ -90,5 +100,3 @@ class TrackerConfig:
                 f"tracker: lost_below a correlation and min_inside in (0, 1], got "
                 f"{self.lost_below}, {self.min_inside}"
             )
-
-

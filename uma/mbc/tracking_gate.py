@@ -91,7 +91,12 @@ class AppearanceGate:
         local = np.ascontiguousarray(points - np.array([x0, y0], np.float32))
         samples = sample_at(crop, self._corners, self._bary, local)[0].astype(np.float64)
         visible = batch_visible(self.template.model, points)[0][self._tri]
-        return samples, visible & np.isfinite(samples)
+        # Only pixels that land in the picture: a face leaving it is not a covered face.
+        where = np.einsum("kc,kcd->kd", self._bary, points[0][self._corners])
+        height, width = image.shape
+        inside = (where[:, 0] >= 0) & (where[:, 0] <= width - 1)
+        inside &= (where[:, 1] >= 0) & (where[:, 1] <= height - 1)
+        return samples, visible & inside & np.isfinite(samples)
 
     def _residual(self, samples: np.ndarray, visible: np.ndarray) -> np.ndarray | None:
         """Samples against the mean after one least-squares gain and offset (visible only)."""
