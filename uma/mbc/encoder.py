@@ -8,11 +8,18 @@ engine can model compute time.
 The first picture, and every re-initialisation, runs the project's best automatic
 initialisation (`uma.fit.fit_face`, the hybrid: detector, SAABs in two views, Gauss-Newton
 polish). Later pictures are tracked: Gauss-Newton (with a gain and offset per triangle patch)
-from the previous parameters moved on by a damped constant-velocity prediction of the pose.
-The tracker re-initialises when the tracked fit's score falls below `lost_below` (the track is
-lost; the threshold is measured, see `TrackerConfig`) or when the predicted face leaves the
-picture, and says why. A picture where even initialisation finds no face gives a
-`TrackFailure` (a `uma.failure.Failure`: it tests false and carries the reason), never NaN.
+from the previous parameters moved on by a damped constant-velocity prediction of the pose; a
+step that ends doubtful also starts from a few poses around the last good one
+(`uma.mbc.tracking_search`) and keeps the best. A fit is trusted when it scores at least
+`lost_below` and the appearance gate (`uma.mbc.tracking_gate`) finds no large part of the face
+unlike the tracked face (a hand in front). An untrusted fit, or a predicted face leaving the
+picture, re-initialises; when that finds no face either, the tracker holds: for
+`retry_frames` frames it gives a `TrackFailure` that did not re-initialise (the display keeps
+the last good picture), steps from the last good pose each frame, and takes the face back by
+tracking when it shows again there, or by the next initialisation. Every failure is a
+`TrackFailure` (a `uma.failure.Failure`: it tests false and carries the reason), never NaN and
+never a pose drawn where the face is not. Settings and their measurements: `TrackerConfig`,
+docs/tracking.md.
 """
 
 from __future__ import annotations
@@ -24,67 +31,15 @@ import numpy as np
 from uma.face.describe import ContentDescription
 from uma.face.geometry import N_POSE, project
 from uma.failure import Failure
-from uma.fit.cost import Cost, FitTemplate
+from uma.fit.cost import FitTemplate
 from uma.fit.fit import DetectorCalibration, check_image, detect, fit_face
 from uma.fit.gauss_newton import GaussNewtonConfig, gauss_newton
 from uma.fit.search import search_box
+from uma.mbc.tracking_config import TRACK_GAUSS_NEWTON, TrackerConfig
+from uma.mbc.tracking_gate import AppearanceGate
+from uma.mbc.tracking_search import Scorer, starts, tracking_box
 
 __all__ = ["TrackerConfig", "TrackResult", "TrackFailure", "FaceTracker", "TRACK_GAUSS_NEWTON"]
-
-# The tracking step: pose and action units together from the prediction, at most 4
-# Levenberg-Marquardt iterations on 2,000 template pixels (of ~17,000 on a CIF face), stopping
-# once no vertex moves 0.2 px. Chosen on data the README does not quote (the talking head at
-# seed 1, akiyo's and carphone's frames 150-299): against the fitting defaults (8,000 pixels,
-# 1e-3 px, 30 iterations; 24 ms a CIF frame, 0.09 px) it costs a fifth of the time for 0.19 px
-# median error; against 6 iterations and 0.05 px, 6-7 cost evaluations a frame instead of
-# 7-11 (a converged step that cannot lower the error is retried with more damping up to 6
-# times: the stop on a small move saves those) at the same error, rate and face PSNR.
-TRACK_GAUSS_NEWTON = GaussNewtonConfig(
-    iterations=4,
-    max_pixels=2000,
-    tolerance_px=0.2,
-    patch_photometry=True,
-    pose_first=False,
-)
-
-
-@dataclass(frozen=True)
-class TrackerConfig:
-    """Tracking and re-initialisation settings.
-
-    `lost_below`: a tracked fit correlating below this is a lost track. Measured with
-    `python -m uma.bench.mbc_threshold` on data the README's figures do not use (the talking
-    head at seed 1, akiyo's and carphone's frames 150-299; 150 tracked frames and about 100
-    lost tracks each): tracked frames score 0.96-0.99 on the talking head, 0.59-0.73 on akiyo
-    and 0.33-0.61 on carphone (5th percentile 0.38; carphone's track, without ground truth, may
-    drift there: the measurement never re-initialises); a real face never matches its template
-    as the model's own rendering does. Tracking steps (recovery included) started 0.15-0.3
-    face widths off that settle more than 3 px away score below 0.37, 0.24 and 0.38 in 95 % of
-    cases (at most 0.58, 0.43, 0.53: fits still on their way back). 0.4 lies above 95 % of the
-    lost tracks everywhere and below every tracked frame of the talking head and akiyo (94 %
-    of carphone's); a false alarm costs one re-initialisation, which finds the same face.
-    `min_inside`: the share of the model's vertices that must lie in the picture.
-    """
-
-    gauss_newton: GaussNewtonConfig = TRACK_GAUSS_NEWTON
-    velocity_damping: float = 0.5  # share of the last pose change carried on to the next frame
-    lost_below: float = 0.4
-    min_inside: float = 0.8
-    init_method: str = "hybrid"
-    score_pixels: int = 6000  # template pixels the score reads
-    # A step that ends below `lost_below` first goes on for this many more iterations (at the
-    # fitting's fine tolerance) before the track counts as lost: a fast move (12 px a frame on
-    # the CIF talking head) needs 6-8 iterations where a normal frame needs 2-4.
-    recover_iterations: int = 12
-
-    def __post_init__(self) -> None:
-        if not 0.0 <= self.velocity_damping <= 1.0:
-            raise ValueError(f"tracker: velocity_damping in [0, 1], got {self.velocity_damping}")
-        if not -1.0 <= self.lost_below <= 1.0 or not 0.0 < self.min_inside <= 1.0:
-            raise ValueError(
-                f"tracker: lost_below a correlation and min_inside in (0, 1], got "
-                f"{self.lost_below}, {self.min_inside}"
-            )
 
 
 @dataclass(frozen=True, eq=False)
@@ -118,16 +73,23 @@ class FaceTracker:
     """Tracks the personal model of `description` through a sequence of gray pictures."""
 
     def __init__(
-        self, description: ContentDescription, *, config: TrackerConfig = TrackerConfig(), rng=None
+        self,
+        description: ContentDescription,
+        *,
+        config: TrackerConfig | None = None,
+        rng=None,
     ):
         self.description = description
-        self.config = config
+        self.config = config = config if config is not None else TrackerConfig()
         self.rng = np.random.default_rng(rng)
         self.template = FitTemplate.build(description.model, description.gray, description.params)
         self.n_params = self.template.params.size
         # The tracking step's pixels, thinned once (Gauss-Newton would thin on every call).
         step = -(-self.template.raster.size // config.gauss_newton.max_pixels)
         self._step_template = self.template.subsampled(step)
+        self.gate = AppearanceGate(self.template)
+        self.last_share = float("nan")  # the gate's share on the last fit it judged
+        self._level: float | None = None  # running mean of the tracked scores
         box = detect(self.template.image)
         self.calibration = DetectorCalibration.from_template(self.template, box) if box else None
         # Without a calibration, initialisation starts where the description was cut out.
@@ -136,15 +98,19 @@ class FaceTracker:
         self._previous: np.ndarray | None = None
         self._before: np.ndarray | None = None
         self._last_good: np.ndarray | None = None  # kept across resets
+        self._held = 0  # frames without a trustworthy pose since the last good one
+        self._next_init: int | None = None  # after a failed initialisation: when to try again
         self._frame = 0
 
     def reset(self) -> None:
-        """Forget the track: the next picture initialises."""
-        self._previous = self._before = None
+        """Forget the track and the face's tracked appearance: the next picture initialises."""
+        self._forget()
+        self.gate.reset()
+        self._level = None
 
-    def _score(self, image: np.ndarray, params: np.ndarray) -> float:
-        cost = Cost(self.template, image, illumination=True).thinned(self.config.score_pixels)
-        return float(1.0 - cost(params))
+    def _forget(self) -> None:
+        self._previous = self._before = None
+        self._held, self._next_init = 0, None
 
     def _inside(self, params: np.ndarray, shape: tuple[int, int]) -> float:
         points = project(self.template.model, params)
@@ -156,14 +122,33 @@ class FaceTracker:
         )
         return float(ok.mean())
 
-    def step(self, image: np.ndarray, prediction: np.ndarray):
+    def _thresholds(self) -> tuple[float, float]:
+        """(lost, doubtful) scores for a tracking step: the settings, raised with the level."""
+        c, level = self.config, self._level
+        if level is None:
+            return c.lost_below, c.doubt_below
+        return max(c.lost_below, c.lost_of_level * level), max(
+            c.doubt_below, level - c.doubt_margin
+        )
+
+    def step(
+        self,
+        image: np.ndarray,
+        prediction: np.ndarray,
+        last_good: np.ndarray | None = None,
+        thresholds: tuple[float, float] | None = None,
+    ):
         """One tracking step from `prediction`: (fit, score, evaluations). A step scoring below
-        `lost_below` goes on for `recover_iterations` more before it is given up.
+        the doubtful score also starts from the best `other_starts` of the starts around
+        `last_good` (`uma.mbc.tracking_search.starts`); one still below the lost score goes on for
+        `recover_iterations` more before it is given up.
 
         Gauss-Newton sees only the picture around the predicted face (a margin of 0.4 face
         widths, beyond the 0.25 its search box allows): its blur and gradients then cost a
         third of a CIF frame's. Translation is additive, so the crop only shifts tx and ty.
         """
+        config = self.config
+        lost, doubt = thresholds or (config.lost_below, config.doubt_below)
         width = self.template.face_width_px * prediction[2] / self.template.params[2]
         points = project(self.template.model, prediction)
         margin = 0.4 * width + 8.0
@@ -175,24 +160,34 @@ class FaceTracker:
         crop = image[y0:y1, x0:x1]
         offset = np.zeros_like(prediction)
         offset[:2] = (x0, y0)
+        scorer = Scorer(self.template, crop, offset, config.score_pixels)
 
-        def run(start: np.ndarray, config: GaussNewtonConfig):
+        def run(start: np.ndarray, gn: GaussNewtonConfig):
             local = start - offset
-            fit = gauss_newton(self.template, crop, local, search_box(local, width), config=config)
+            box = tracking_box(local, width, config.rotation_limits_rad)
+            fit = gauss_newton(self.template, crop, local, box, config=gn)
             params = fit.params + offset
             ok = bool(np.all(np.isfinite(params)))
-            return params, (self._score(image, params) if ok else -1.0), fit.evaluations + 1, ok
+            return params, (float(scorer.scores(params)) if ok else -1.0), fit.evaluations, ok
 
-        params, score, evaluations, ok = run(prediction, self.config.gauss_newton)
-        if score < self.config.lost_below and self.config.recover_iterations > 0:
+        params, score, evaluations, ok = run(prediction, config.gauss_newton)
+        if score < doubt and last_good is not None and config.other_starts > 0:
+            candidates = starts(last_good, width)
+            order = np.argsort(-scorer.scores(candidates))[: config.other_starts]
+            for start in candidates[order]:
+                other, other_score, more, other_ok = run(start, config.gauss_newton)
+                evaluations += more
+                if other_ok and other_score > score:
+                    params, score, ok = other, other_score, True
+        if score < lost and config.recover_iterations > 0:
             longer = replace(
-                self.config.gauss_newton,
-                iterations=self.config.recover_iterations,
-                tolerance_px=min(self.config.gauss_newton.tolerance_px, 0.05),
+                config.gauss_newton,
+                iterations=config.recover_iterations,
+                tolerance_px=min(config.gauss_newton.tolerance_px, 0.05),
             )
             params, score, more, ok = run(params if ok else prediction, longer)
             evaluations += more
-        return params, score, evaluations
+        return params, score, evaluations + scorer.evaluations
 
     def track(self, picture: np.ndarray, *, frame: int | None = None) -> TrackResult | TrackFailure:
         """Parameters for the next picture (gray, (H, W)); `frame` defaults to a running count."""
@@ -201,35 +196,85 @@ class FaceTracker:
         problem = check_image(np.asarray(picture))
         if problem is not None:
             self.reset()
-            return TrackFailure(f"frame {frame}: {problem.reason}", frame=frame, evaluations=0)
+            return TrackFailure(
+                f"frame {frame}: {problem.reason}", frame=frame, reinitialised=False
+            )
         image = np.asarray(picture, dtype=np.float32)
         if self._previous is None:
-            return self._initialise(image, frame, "first picture" if frame == 0 else "no track")
+            if self._next_init is not None and frame < self._next_init:
+                return TrackFailure(
+                    f"frame {frame}: no face (initialising again at frame {self._next_init})",
+                    frame=frame,
+                    reinitialised=False,
+                )
+            result = self._initialise(image, frame, "first picture" if frame == 0 else "no track")
+            if not result:
+                self._next_init = frame + self.config.retry_frames
+            return result
         prediction = self._previous.copy()
         if self._before is not None:
             velocity = self._previous[:N_POSE] - self._before[:N_POSE]
             prediction[:N_POSE] += self.config.velocity_damping * velocity
         inside = self._inside(prediction, image.shape)
         if inside < self.config.min_inside:
-            return self._initialise(
-                image, frame, f"face leaving the picture ({100 * inside:.0f} % inside)"
-            )
-        params, score, evaluations = self.step(image, prediction)
-        if score < self.config.lost_below:
-            return self._initialise(
-                image,
-                frame,
-                f"track lost (score {score:.2f} < {self.config.lost_below})",
-                spent=evaluations,
-            )
+            why = f"face leaving the picture ({100 * inside:.0f} % inside)"
+            return self._lost(image, frame, why, spent=0, score=float("nan"))
+        lost, doubt = self._thresholds()
+        params, score, evaluations = self.step(image, prediction, self._previous, (lost, doubt))
+        if score < lost:
+            why = f"track lost (score {score:.2f} < {lost:.2f})"
+            return self._lost(image, frame, why, spent=evaluations, score=score)
+        covered = self._covered(image, params, self.config.occluded_above)
+        if covered:
+            return self._lost(image, frame, covered, spent=evaluations, score=score)
+        self.gate.accept(image, params)
+        self._level = score if self._level is None else 0.9 * self._level + 0.1 * score
+        reason = "tracked"
+        if self._held:
+            reason = f"tracked (found again after {self._held} frames without a face)"
+        self._held, self._next_init = 0, None
         self._before, self._previous = self._previous, params
         self._last_good = params
-        return TrackResult(frame, params, score, False, "tracked", evaluations)
+        return TrackResult(frame, params, score, False, reason, evaluations)
+
+    def _covered(self, image: np.ndarray, params: np.ndarray, limit: float) -> str:
+        """Why the face at `params` is taken for covered (a share above `limit`), or ""."""
+        if self._held >= self.config.gate_patience:
+            self.gate.reset()  # the face changed for good (light, a turn): learn it again
+        share = self.gate.outlier_share(image, params)
+        self.last_share = share
+        if share <= limit:
+            return ""
+        return f"face covered ({100 * share:.0f} % of it unlike the tracked face)"
+
+    def _lost(
+        self, image: np.ndarray, frame: int, why: str, *, spent: int, score: float
+    ) -> TrackResult | TrackFailure:
+        """No trustworthy pose from the track: initialise again, unless an initialisation
+        failed less than `retry_frames` ago; then hold (a failure that did not re-initialise:
+        the display keeps the last good picture) and step from the last good pose next time."""
+        self._held += 1
+        self._before = None  # no velocity across a gap
+        if self._next_init is not None and frame < self._next_init:
+            return TrackFailure(
+                f"frame {frame}: {why}; held the last good picture ({self._held} frames without "
+                f"a face; initialising again at frame {self._next_init})",
+                frame=frame,
+                evaluations=spent,
+                reinitialised=False,
+                score=score,
+            )
+        last, held = self._previous, self._held
+        result = self._initialise(image, frame, why, spent=spent)
+        if not result:
+            self._previous, self._held = last, held
+            self._next_init = frame + self.config.retry_frames
+        return result
 
     def _initialise(
         self, image: np.ndarray, frame: int, why: str, *, spent: int = 0
     ) -> TrackResult | TrackFailure:
-        self.reset()
+        self._forget()
         start = box = None
         if self.calibration is None:
             start = self.home
@@ -279,5 +324,30 @@ class FaceTracker:
                 detections=detections,
                 score=score,
             )
+        inside = self._inside(fit.params, image.shape)
+        if inside < self.config.min_inside:
+            return TrackFailure(
+                f"frame {frame}: {why}; initialisation found a face only {100 * inside:.0f} % "
+                "inside the picture",
+                frame=frame,
+                evaluations=evaluations,
+                detections=detections,
+                score=score,
+            )
+        covered = self._covered(image, fit.params, self.config.occluded_init_above)
+        if covered:
+            return TrackFailure(
+                f"frame {frame}: {why}; initialisation found a {covered}",
+                frame=frame,
+                evaluations=evaluations,
+                detections=detections,
+                score=score,
+            )
+        self.gate.reset()
+        self.gate.accept(image, fit.params)
+        if self._level is None:
+            self._level = score  # the first initialisation's match sets the level to keep
         self._previous = fit.params
+        self._held, self._next_init = 0, None
+        self._last_good = fit.params
         return TrackResult(frame, fit.params, score, True, why, evaluations, detections)
