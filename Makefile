@@ -16,9 +16,12 @@ install: $(BIN)/uma
 demo: install
 	$(BIN)/uma run
 
-# The fast suite (at most two minutes); the 15 slowest tests are listed at the end.
+# The fast suite (at most two minutes); the 15 slowest tests are listed at the end. It runs on
+# TEST_WORKERS processes (pytest-xdist; `auto`: one per core), each test file on one of them so
+# a module's fixtures are computed once; `make test TEST_WORKERS=0` runs it in this process.
+TEST_WORKERS ?= auto
 test: install
-	$(BIN)/python -m pytest -q -m "not slow" --durations=15
+	$(BIN)/python -m pytest -q -m "not slow" -n $(TEST_WORKERS) --dist loadfile --durations=15
 
 # The regression gate on the repository's baselines: seven short scenarios (about 30 s).
 regress: install

@@ -53,3 +53,12 @@ def astronaut_clip(tmp_path_factory) -> Path:
             container.mux(stream.encode(frame))
         container.mux(stream.encode(None))
     return path
+
+
+@pytest.fixture(scope="session")
+def face_model():
+    """The project's own wireframe (`load_model()`), read once: a `FaceModel` is frozen and its
+    arrays are read-only, so tests can share it. Tests of reading the file call `load_model`."""
+    from uma.face import load_model
+
+    return load_model()

@@ -8,6 +8,7 @@ are independent of each other, except where `SIDEWAYS` says so.
 from __future__ import annotations
 
 import ast
+import functools
 from pathlib import Path
 
 import uma
@@ -64,6 +65,12 @@ def _modules() -> dict[str, Path]:
     return {_module_name(p): p for p in sorted(ROOT.rglob("*.py"))}
 
 
+@functools.cache
+def _package_imports() -> dict[str, frozenset[str]]:
+    """`_imports` of every module of the package, read once for the tests that need them all."""
+    return {name: frozenset(_imports(path)) for name, path in _modules().items()}
+
+
 def test_every_room_has_a_level():
     rooms = {_room(path) for path in ROOT.rglob("*.py")}
     assert rooms <= set(LEVEL), f"rooms without a level in this test: {rooms - set(LEVEL)}"
@@ -85,7 +92,7 @@ def _wrong_arrows(imports: dict[str, set[str]], rooms: dict[str, str]) -> list[s
 
 def test_no_room_imports_a_higher_or_sideways_room():
     modules = _modules()
-    imports = {name: _imports(path) for name, path in modules.items()}
+    imports = _package_imports()
     rooms = {name: _room(path) for name, path in modules.items()}
     bad = _wrong_arrows(imports, rooms)
     assert not bad, "arrows pointing up or sideways:\n" + "\n".join(bad)
@@ -110,8 +117,8 @@ def test_the_check_catches_a_lazy_upward_and_a_sideways_import(tmp_path):
 def test_no_import_circles_between_modules():
     modules = _modules()
     graph = {
-        name: sorted(t for t in _imports(path) if t in modules and t != name)
-        for name, path in modules.items()
+        name: sorted(t for t in targets if t in modules and t != name)
+        for name, targets in _package_imports().items()
     }
     # A package's __init__ re-exporting its own modules is not a circle of meaning: drop the
     # edges from a module back to a package that contains it.

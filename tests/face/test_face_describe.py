@@ -10,7 +10,6 @@ from uma.face import (
     detect_face,
     fit_points,
     load_description,
-    load_model,
     make_params,
     project,
     read_points,
@@ -22,8 +21,8 @@ from uma.paths import codecs_dir
 
 
 @pytest.mark.parametrize("seed", [5, 6, 7])
-def test_render_then_fit_from_points_recovers_parameters(seed):
-    model = load_model()
+def test_render_then_fit_from_points_recovers_parameters(seed, face_model):
+    model = face_model
     rng = np.random.default_rng(seed)
     shape = rng.normal(0, 0.3, model.n_shapes)
     actions = rng.uniform(0, 0.6, model.n_actions)
@@ -58,8 +57,8 @@ def test_render_then_fit_from_points_recovers_parameters(seed):
     assert psnr_db(want.image[both], got.image[both]) > 40
 
 
-def test_missing_region_fails_with_reason():
-    model = load_model()
+def test_missing_region_fails_with_reason(face_model):
+    model = face_model
     points = {"3.5": (10, 10), "3.7": (5, 10), "3.11": (15, 10), "9.3": (20, 30), "8.3": (12, 40)}
     points |= {"8.4": (28, 40), "2.1": (20, 55)}
     fit = fit_points(model, points)
@@ -90,8 +89,8 @@ def test_missing_region_fails_with_reason():
         ),
     ],
 )
-def test_bad_points_fail_with_reason(points, reason):
-    fit = fit_points(load_model(), points, image_shape=(100, 100))
+def test_bad_points_fail_with_reason(points, reason, face_model):
+    fit = fit_points(face_model, points, image_shape=(100, 100))
     assert not fit
     assert reason in fit.reason
 

@@ -6,7 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from uma.errors import FaceError
-from uma.face import describe_clip, load_model
+from uma.face import describe_clip
 from uma.face.fap import FAP_NAMES, N_FAPS, FapSequence, format_fap, parse_fap, read_fap, write_fap
 from uma.face.fap_map import (
     FAP_TABLE,
@@ -136,8 +136,8 @@ def test_missing_file(tmp_path):
         read_fap(tmp_path / "none.fap")
 
 
-def test_units_are_neutral_distances_over_1024():
-    model = load_model()
+def test_units_are_neutral_distances_over_1024(face_model):
+    model = face_model
     units = fap_units(model)
     pupils = model.vertices[[model.feature_points["3.5"], model.feature_points["3.6"]]]
     assert units.es == pytest.approx(np.linalg.norm(pupils[0] - pupils[1]) / 1024)

@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 
 from uma.cli import main
 from uma.errors import FaceError
-from uma.face import fit_points, load_description, load_model, project
+from uma.face import fit_points, load_description, project
 from uma.face.landmarks import (
     IBUG68_TO_MPEG4,
     N_LANDMARKS,
@@ -75,8 +75,8 @@ def test_read_pts_missing_file(tmp_path):
         read_pts(tmp_path / "none.pts")
 
 
-def test_mapping_covers_model_points_with_valid_landmarks():
-    model = load_model()
+def test_mapping_covers_model_points_with_valid_landmarks(face_model):
+    model = face_model
     for name, indices in IBUG68_TO_MPEG4.items():
         assert name in model.feature_points, name
         assert indices and all(0 <= i < N_LANDMARKS for i in indices)
@@ -105,8 +105,8 @@ def _ibug_like(model, params):
     return landmarks
 
 
-def test_landmarks_where_the_model_puts_them_fit_the_pose():
-    model = load_model()
+def test_landmarks_where_the_model_puts_them_fit_the_pose(face_model):
+    model = face_model
     params = np.array([200.0, 150.0, 60.0, 0.05, -0.1, 0.08] + [0.0] * model.n_actions)
     landmarks = _ibug_like(model, params)
     landmarks[np.isnan(landmarks)] = 0.0  # landmarks the mapping does not use
@@ -149,13 +149,13 @@ def dlib_files(shared_data):
     return folder, [folder / f"{n}_with_face_landmarks.xml" for n in ("training", "testing")]
 
 
-def test_reads_the_shared_dlib_files(dlib_files):
+def test_reads_the_shared_dlib_files(dlib_files, face_model):
     _, files = dlib_files
     faces = [face for path in files for face in read_dlib_xml(path)]
     assert len(faces) == 43
     assert all(np.isfinite(face.landmarks).all() for face in faces)
     # Every annotated face fits the model through the mapping, without a click by hand.
-    model = load_model()
+    model = face_model
     for face in faces:
         fit = fit_points(model, to_mpeg4(face.landmarks))
         assert fit, (face.image, fit.reason)

@@ -14,8 +14,8 @@ def test_stored_wireframe_matches_its_generator():
     assert built.feature_points == stored.feature_points
 
 
-def test_wireframe_has_what_the_codec_needs():
-    model = load_model()
+def test_wireframe_has_what_the_codec_needs(face_model):
+    model = face_model
     assert 100 <= len(model.triangles) <= 200
     for unit in ("jaw_drop", "lip_stretch", "lip_corner_depressor", "brow_raise", "eye_close"):
         assert unit in model.action_unit_names
@@ -25,8 +25,8 @@ def test_wireframe_has_what_the_codec_needs():
     assert visible_triangles(model, params).all()
 
 
-def test_units_bend_the_mesh_without_folding_it():
-    model = load_model()
+def test_units_bend_the_mesh_without_folding_it(face_model):
+    model = face_model
     frontal = make_params(model, tx_px=0, ty_px=0, scale_px=100)
     for k in range(model.n_shapes):
         for value in (-1.0, 1.0):
@@ -46,8 +46,8 @@ def test_units_bend_the_mesh_without_folding_it():
     assert visible_triangles(model, everything).all()
 
 
-def test_wireframe_is_mirror_symmetric():
-    model = load_model()
+def test_wireframe_is_mirror_symmetric(face_model):
+    model = face_model
     mirrored = model.vertices * np.array([-1.0, 1.0, 1.0])
     # Each vertex has a mirror twin, and each triangle a mirrored twin.
     distance = np.linalg.norm(mirrored[:, None] - model.vertices[None], axis=2)
@@ -57,15 +57,15 @@ def test_wireframe_is_mirror_symmetric():
     assert {tuple(sorted(twin[list(t)])) for t in triangles} == triangles
 
 
-def test_turning_away_culls_triangles():
-    model = load_model()
+def test_turning_away_culls_triangles(face_model):
+    model = face_model
     params = make_params(model, tx_px=100, ty_px=100, scale_px=50, ry_rad=1.2)
     visible = visible_triangles(model, params)
     assert 0 < visible.sum() < len(model.triangles)
 
 
-def test_projection_is_batched_and_geometric():
-    model = load_model()
+def test_projection_is_batched_and_geometric(face_model):
+    model = face_model
     p = make_params(model, tx_px=10, ty_px=20, scale_px=2)
     single = project(model, p)
     batch = project(model, np.stack([p, p]))

@@ -4,7 +4,6 @@ import pytest
 import skimage.data
 
 from uma.face import (
-    load_model,
     make_params,
     project,
     rasterize,
@@ -17,9 +16,9 @@ from uma.metrics.quality import psnr_db
 
 
 @pytest.fixture(scope="module")
-def template():
+def template(face_model):
     gray = cv2.cvtColor(skimage.data.astronaut(), cv2.COLOR_RGB2GRAY)
-    model = load_model()
+    model = face_model
     params = make_params(model, tx_px=224, ty_px=118, scale_px=68)
     return gray, model, params
 
