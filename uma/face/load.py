@@ -1,10 +1,13 @@
 """`load_model`: a face model from uma's YAML or a Candide-3 `.wfm`, chosen by the suffix.
 
 Above both readers, so `model` (the data type) and `wfm` (a format reader) never import each other.
+A model is frozen with read-only arrays, so one read is shared by every caller until the file
+changes (its size or modification time): the pure-Python YAML parse costs about 0.1 s.
 """
 
 from __future__ import annotations
 
+from functools import lru_cache
 from pathlib import Path
 
 from uma.face.model import FaceModel, default_model_path, read_model_yaml
@@ -15,6 +18,19 @@ __all__ = ["load_model"]
 def load_model(path: str | Path | None = None) -> FaceModel:
     """Read a face model: uma's YAML (default: the project's own wireframe) or a `.wfm` file."""
     path = Path(path) if path is not None else default_model_path()
+    try:
+        stat = path.stat()
+    except OSError:
+        return _read(path)  # the reader names what is wrong with it
+    return _read_once(path, stat.st_mtime_ns, stat.st_size)
+
+
+@lru_cache(maxsize=8)
+def _read_once(path: Path, mtime_ns: int, size: int) -> FaceModel:
+    return _read(path)
+
+
+def _read(path: Path) -> FaceModel:
     if path.suffix.lower() == ".wfm":
         from uma.face.wfm import read_wfm
 
