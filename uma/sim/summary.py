@@ -37,6 +37,8 @@ def run_metrics(result: RunResult) -> dict[str, Any]:
     body |= switching_metrics(result)
     if result.scenario.engine.switching.policy != "none":
         body["shown_s_by_codec"] = shown_seconds_by_codec(result)
+    if result.scenario.engine.mbc.refresh.enabled:
+        body |= refresh_metrics(result)
     return head | body | playout_metrics(result)
 
 
@@ -80,6 +82,23 @@ def switching_metrics(result: RunResult) -> dict[str, Any]:
         "sender_mbc_ms_per_frame": round(result.sender_mbc_compute_ms / result.log.frames, 3)
         if result.log.frames
         else 0.0,
+    }
+
+
+def refresh_metrics(result: RunResult) -> dict[str, Any]:
+    """The model-aided refresh's rate (on the wire, headers included: not in `bits_sent` or
+    `kbps_mbc`, which are the codecs' own), its compute and what the receiver made of it."""
+    counts = result.engine_counts or {}
+    return {
+        "kbps_refresh": round(result.refresh_bits / result.duration_s / 1000.0, 3),
+        "refresh_bits": int(result.refresh_bits),
+        "refreshes": counts.get("refreshes", 0),
+        "refresh_intra": counts.get("refresh_intra", 0),
+        "refresh_dropped": counts.get("refresh_dropped", 0),
+        "refresh_decoded": result.refresh_decoded,
+        "refresh_lost": result.refresh_lost,
+        "refresh_adopted": counts.get("refresh_adopted", 0),
+        "engine_refresh_compute_s": round(result.refresh_compute_s, 3),
     }
 
 
