@@ -30,12 +30,12 @@ def test_keys_are_read(tmp_path):
     mbc = _load(
         tmp_path,
         "    light: false\n    far_ring_head_radii: 2.0\n"
-        "    refresh: {enabled: true, frame_bits: 24000, min_interval_ms: 500,"
+        "    refresh: {enabled: true, max_frame_bits: 24000, min_interval_ms: 500,"
         " max_interval_ms: 2000, face: description, scale: 0.5}\n",
     )
     assert mbc.light is False and mbc.far_ring_head_radii == 2.0
     refresh = mbc.refresh
-    assert refresh.enabled and refresh.frame_bits == 24000 and refresh.face == "description"
+    assert refresh.enabled and refresh.max_frame_bits == 24000 and refresh.face == "description"
     assert (refresh.min_interval_ms, refresh.max_interval_ms, refresh.scale) == (500, 2000, 0.5)
 
 
@@ -46,7 +46,8 @@ def test_keys_are_read(tmp_path):
         ("    light: maybe\n", r"engine\.mbc\.light"),
         ("    refresh: {face: mouth}\n", r"engine\.mbc\.refresh\.face"),
         ("    refresh: {share: 1.5}\n", r"engine\.mbc\.refresh\.share"),
-        ("    refresh: {frame_bits: 10}\n", r"engine\.mbc\.refresh\.frame_bits"),
+        ("    refresh: {min_frame_bits: 10}\n", r"engine\.mbc\.refresh\.min_frame_bits"),
+        ("    refresh: {min_frame_bits: 9000, max_frame_bits: 8000}\n", r"engine\.mbc\.refresh"),
         ("    refresh: {min_interval_ms: 3000, max_interval_ms: 1000}\n", r"engine\.mbc\.refresh"),
         ("    refresh: {intervall_ms: 3000}\n", r"engine\.mbc\.refresh\.intervall_ms"),
     ],

@@ -32,24 +32,28 @@ class RefreshConfig(Section):
     receiver renders from each refresh it decodes (the model codec's new reference, at that
     frame's decoded pose).
 
-    Every refresh is coded to about `frame_bits` (libx264 at that many bits a frame, its VBV
-    one frame); the spare rate sets how often: the next refresh is coded once the last one
-    has left and its own bits at `share` of the spare rate would have taken as long, but never
-    sooner than `min_interval_ms` after it, and none while that would take more than
+    An intra refresh starts a stream sized to what `share` of the spare rate carries in
+    `interval_ms` (within `min_frame_bits` and `max_frame_bits`; libx264 at that many bits a
+    frame, its VBV one frame); the refreshes after it are predicted from the one before at
+    that size. The spare rate sets how often: the next refresh is coded once the last one has
+    left and its own bits at `share` of the spare rate would have taken as long, never sooner
+    than `min_interval_ms` after it, and none while that would take more than
     `max_interval_ms` or less than `min_spare_kbps` are spare. Its packets (`packet_bytes` of
     payload) leave at the spare rate, none while the last report saw more than
     `queue_high_ms` of queueing delay (they would delay the parameters behind them). The
-    first refresh of a stretch on the model codec and the one after a lost refresh are intra;
-    the others are predicted from the refresh before. `scale`: the refresh's size as a
-    fraction of the source's (the receiver upscales). `face`: where the rendered face's own
-    triangles come from once a refresh is the reference: the refresh picture itself
+    first refresh of a stretch on the model codec, the one after a lost refresh and the one
+    after the spare rate has doubled the stream's size are intra. `scale`: the refresh's size
+    as a fraction of the source's (the receiver upscales). `face`: where the rendered face's
+    own triangles come from once a refresh is the reference: the refresh picture itself
     (`picture`) or the description's texture (`description`). `preset`: libx264's (a picture
     every interval, so a slower preset than the ladder's costs little); `encode_ms`: the
     modelled compute of coding one refresh and decoding it again for the encoder's mirror.
     """
 
     enabled: Bool = False
-    frame_bits: Annotated[int, Strict(), Field(ge=1000)] = 16000
+    interval_ms: Annotated[float, Strict(), AllowInfNan(False), Field(ge=40)] = 1000.0
+    min_frame_bits: Annotated[int, Strict(), Field(ge=1000)] = 8000
+    max_frame_bits: Annotated[int, Strict(), Field(ge=1000)] = 32000
     min_interval_ms: Annotated[float, Strict(), AllowInfNan(False), Field(ge=40)] = 400.0
     max_interval_ms: Annotated[float, Strict(), AllowInfNan(False), Field(ge=40)] = 3000.0
     min_spare_kbps: PosNum = 8.0
@@ -63,6 +67,11 @@ class RefreshConfig(Section):
 
     @model_validator(mode="after")
     def _intervals(self) -> RefreshConfig:
+        if self.min_frame_bits > self.max_frame_bits:
+            raise ValueError(
+                f"min_frame_bits ({self.min_frame_bits}) must not exceed max_frame_bits "
+                f"({self.max_frame_bits})"
+            )
         if self.min_interval_ms > self.max_interval_ms:
             raise ValueError(
                 f"min_interval_ms ({self.min_interval_ms:g}) must not exceed max_interval_ms "

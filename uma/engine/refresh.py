@@ -4,17 +4,19 @@ when its packets leave (docs/refresh.md).
 Units: times in seconds, rates in kbit/s, sizes in bits.
 
 While the engine is on the model codec, the budget (safety x estimate) leaves `spare` =
-budget - the model point's rate. Every refresh is H.264 of the whole picture at about
-`frame_bits` (one encoder for a stretch on the model codec, so the refreshes after the first
-are predicted from the one before); the spare rate sets how often: the next is ordered once
-the last has left and its bits at `share` x spare would have taken as long, never sooner than
+budget - the model point's rate. A refresh is H.264 of the whole picture; an intra one
+starts a stream sized to what `share` x spare carries in `interval_ms` (within
+`min_frame_bits` and `max_frame_bits`), and the refreshes after it are predicted from the one
+before at that size. The spare rate sets how often: the next is ordered once the last has
+left and its bits at `share` x spare would have taken as long, never sooner than
 `min_interval_ms` after it, and none while that would take longer than `max_interval_ms` or
 less than `min_spare_kbps` are spare. Its packets wait here and leave at the spare rate, a
 packet whenever the credit allows, so the parameters never queue behind a whole refresh;
 nothing leaves while the last report saw more than `queue_high_ms` of queueing delay. A
-refresh is intra at the start of a stretch and after the receiver asked for one (a refresh
-lost or undecodable); one left half sent when the spare rate collapses or the engine leaves
-the model codec is dropped, and the next is intra. The receiver reports the newest refresh it
+refresh is intra at the start of a stretch, after the receiver asked for one (a refresh lost
+or undecodable), and when the spare rate has grown to twice the stream's size an interval; one left half sent when the spare rate collapses or the engine leaves
+the model codec is dropped (the spare rate: below half `min_spare_kbps`), and the next is
+intra. The receiver reports the newest refresh it
 renders from; the engine hands it on once (`take_adopted`), so the encoder's mirror of the
 receiver's reference changes only when the receiver's did.
 
@@ -61,7 +63,7 @@ REFRESH_TRANSITIONS: dict[tuple[RefreshState, RefreshEvent], RefreshState] = {
 @dataclass(frozen=True)
 class RefreshOrder:
     """Code a refresh of frame `frame` now: H.264 at `rate_kbps` and `fps` (so about
-    `frame_bits` a refresh, whatever the interval), intra when `intra`."""
+    1000 x `rate_kbps` / `fps` bits a refresh, whatever the interval), intra when `intra`."""
 
     frame: int
     rate_kbps: float
@@ -90,7 +92,8 @@ class RefreshPlanner:
         self.last_coded_s = -math.inf
         self.last_pace_s: float | None = None
         self.intra_due = True
-        self.last_bits = float(config.frame_bits)  # the last refresh's size
+        self.frame_bits = 0  # the size the refresh stream codes at (0: none yet)
+        self.last_bits = 0.0  # the last refresh's size
         self.released_bits = 0  # since the last `take_released_bits`
         self.acked_frame = -1
         self.adopted: int | None = None  # a refresh the receiver took, not yet handed on
@@ -122,22 +125,33 @@ class RefreshPlanner:
         self.fire(RefreshEvent.ENTER)
         self.spare_kbps = max(0.0, budget_kbps - model_kbps)
         if self.spare_kbps < config.min_spare_kbps:
-            if self.state is RefreshState.SENDING:
+            # One under way goes on unless the spare rate fell well below the floor (a
+            # hysteresis: the estimate wanders around it).
+            if self.state is RefreshState.SENDING and self.spare_kbps < 0.5 * config.min_spare_kbps:
                 self._drop(now_s, f"spare {self.spare_kbps:.1f} kbps")
                 self.fire(RefreshEvent.DROPPED)
             return None
         if self.state is not RefreshState.WAITING:
             return None
+        rate_bps = config.share * self.spare_kbps * 1000.0
+        # What a refresh an interval would be now; a stream's refreshes keep its first size.
+        wanted_bits = min(max(rate_bps * config.interval_ms / 1000.0, config.min_frame_bits),
+                          config.max_frame_bits)  # fmt: skip
+        if self.frame_bits and wanted_bits >= 2.0 * self.frame_bits:
+            self.intra_due = True  # the link gives far more now: a larger stream, from intra
         # The last refresh's own bits at the share of the spare rate set the interval.
-        interval_s = self.last_bits / (config.share * self.spare_kbps * 1000.0)
+        bits = wanted_bits if self.intra_due else self.last_bits
+        interval_s = bits / rate_bps
         if interval_s > config.max_interval_ms / 1000.0:
             return None
         interval_s = max(interval_s, config.min_interval_ms / 1000.0)
         if now_s - self.last_coded_s < interval_s - 1e-9:
             return None
         intra, self.intra_due = self.intra_due, False
+        if intra:
+            self.frame_bits = int(round(wanted_bits / 500.0)) * 500
         self.last_coded_s = now_s
-        return RefreshOrder(frame, config.frame_bits / 1000.0, 1.0, intra)
+        return RefreshOrder(frame, self.frame_bits / 1000.0, 1.0, intra)
 
     def coded(self, packets: list[tuple[object, int]], now_s: float, *, intra: bool) -> None:
         """The refresh ordered was coded as `packets` ((packet, size_bits) each): they wait
@@ -146,6 +160,10 @@ class RefreshPlanner:
             return
         self.queue.extend(packets)
         self.last_bits = float(sum(bits for _, bits in packets))
+        kind = "intra" if intra else "predicted"
+        self.emit(
+            now_s, "refresh", f"{kind} {self.last_bits:.0f} bits; spare {self.spare_kbps:.1f} kbps"
+        )
         self.counts["refreshes"] += 1
         self.counts["refresh_intra"] += int(intra)
         self.credit_bits = 0.0

@@ -53,13 +53,14 @@ def test_gsm_has_nothing_to_spare_so_it_stays_plain_mbc():
 
 
 def test_first_refresh_is_intra_at_once_then_predicted_at_the_spare_rate():
-    plan, _, counts = planner(frame_bits=16000, share=0.8, min_interval_ms=400)
-    first = frame(plan, 0)
-    assert first == RefreshOrder(0, 16.0, 1.0, True)
-    plan.coded(packets(17280), 0.0, intra=True)
-    assert plan.state is RefreshState.SENDING
-    assert frame(plan, 1) is None  # not while the last one is still leaving
+    plan, events, counts = planner(share=0.8, interval_ms=1000, min_interval_ms=400)
     spare_kbps = 30.0 - 4.8
+    first = frame(plan, 0)
+    # Sized to what the share of the spare rate carries in an interval (to 500 bits).
+    assert first == RefreshOrder(0, 20.0, 1.0, True)
+    plan.coded(packets(17280), 0.0, intra=True)
+    assert plan.state is RefreshState.SENDING and events[-1][1] == "refresh"
+    assert frame(plan, 1) is None  # not while the last one is still leaving
     sent_bits, index = 0, 1
     while plan.state is RefreshState.SENDING:
         sent_bits += sum(bits for _, bits in plan.pace(index / FPS, queue_delay_ms=0.0))
@@ -72,11 +73,43 @@ def test_first_refresh_is_intra_at_once_then_predicted_at_the_spare_rate():
     orders = {i: frame(plan, i) for i in range(index, 100)}
     first_next = min(i for i, order in orders.items() if order is not None)
     assert first_next / FPS == pytest.approx(due_s, abs=1.0 / FPS + 1e-9)
-    assert orders[first_next].intra is False and counts["refreshes"] == 1
+    assert orders[first_next] == RefreshOrder(first_next, 20.0, 1.0, False)
+    assert counts["refreshes"] == 1
+
+
+def test_a_stream_keeps_its_size_until_the_spare_rate_doubles_it():
+    plan, _, _ = planner(min_frame_bits=4000, max_frame_bits=64000, min_interval_ms=40)
+
+    def drain(order):
+        plan.coded(packets(1000 * order.rate_kbps), order.frame / FPS, intra=order.intra)
+        while plan.state is RefreshState.SENDING:
+            plan.pace(plan.last_pace_s + 0.04, queue_delay_ms=0.0)
+
+    first = frame(plan, 0, budget_kbps=14.8)  # 10 spare: 8 kbit an interval
+    assert first.intra and first.rate_kbps == 8.0
+    drain(first)
+    sizes = []
+    for i in range(1, 400):
+        budget = 14.8 if i < 100 else 24.8 if i < 200 else 44.8  # 10, 20 and 40 spare
+        order = frame(plan, i, budget_kbps=budget)
+        if order is not None:
+            sizes.append(((i >= 100) + (i >= 200), order.rate_kbps, order.intra))
+            drain(order)
+    # 20 spare is 16 kbit an interval, twice 8: one intra at 16, then predicted; 40: 32.
+    assert (0, 8.0, False) in sizes and (1, 16.0, True) in sizes and (2, 32.0, True) in sizes
+    assert [s for s in sizes if s[2]] == [(1, 16.0, True), (2, 32.0, True)]
+    assert {s[1] for s in sizes if s[0] == 1} == {16.0} and len(sizes) > 10
+
+
+def test_the_first_refresh_is_within_its_size_bounds():
+    plan, _, _ = planner(min_frame_bits=8000, max_frame_bits=12000, min_spare_kbps=2.0)
+    assert frame(plan, 0, budget_kbps=200.0).rate_kbps == 12.0
+    plan, _, _ = planner(min_frame_bits=8000, max_frame_bits=12000, min_spare_kbps=2.0)
+    assert frame(plan, 0, budget_kbps=4.8 + 4.0).rate_kbps == 8.0  # 8 kbit in 2.5 s
 
 
 def test_a_rich_link_is_refreshed_no_faster_than_the_minimum_interval():
-    plan, _, _ = planner(frame_bits=8000, min_interval_ms=1000)
+    plan, _, _ = planner(max_frame_bits=8000, min_interval_ms=1000)
     frame(plan, 0, budget_kbps=500.0)
     plan.coded(packets(8640), 0.0, intra=True)
     plan.pace(0.0, queue_delay_ms=0.0)
@@ -87,7 +120,7 @@ def test_a_rich_link_is_refreshed_no_faster_than_the_minimum_interval():
 
 
 def test_a_poor_link_waits_longer_than_the_maximum_interval_for_nothing():
-    plan, _, _ = planner(frame_bits=16000, max_interval_ms=1000, min_spare_kbps=1.0)
+    plan, _, _ = planner(min_frame_bits=16000, max_interval_ms=1000, min_spare_kbps=1.0)
     # 10 kbit/s spare at share 0.8: 16 kbit would take 2 s > 1 s.
     assert all(frame(plan, i, budget_kbps=14.8) is None for i in range(100))
 
@@ -109,7 +142,7 @@ def test_leaving_the_model_codec_drops_a_half_sent_refresh_and_the_next_is_intra
     plan.pace(0.0, queue_delay_ms=0.0)
     assert frame(plan, 1, on_model=False) is None
     assert plan.state is RefreshState.OFF and plan.queue == type(plan.queue)()
-    assert counts["refresh_dropped"] == 1 and events[0][1] == "refresh_dropped"
+    assert counts["refresh_dropped"] == 1 and events[-1][1] == "refresh_dropped"
     order = frame(plan, 200)
     assert order is not None and order.intra
 
@@ -118,7 +151,9 @@ def test_a_collapsed_spare_rate_drops_the_refresh_under_way():
     plan, _, counts = planner(min_spare_kbps=8.0)
     frame(plan, 0)
     plan.coded(packets(17280), 0.0, intra=True)
-    assert frame(plan, 1, budget_kbps=8.0) is None
+    assert frame(plan, 1, budget_kbps=4.8 + 7.0) is None  # just under the floor: goes on
+    assert plan.state is RefreshState.SENDING and plan.queue
+    assert frame(plan, 2, budget_kbps=4.8 + 3.9) is None  # under half of it: dropped
     assert plan.state is RefreshState.WAITING and not plan.queue
     assert counts["refresh_dropped"] == 1
     assert plan.pace(0.1, queue_delay_ms=0.0) == []

@@ -37,7 +37,7 @@ def test_refresh_size_is_even_and_scaled():
 
 def test_the_engines_mirror_is_exactly_what_the_receiver_decodes(head):
     source, frames = head
-    config = RefreshConfig(enabled=True, frame_bits=12000, preset="ultrafast")
+    config = RefreshConfig(enabled=True, preset="ultrafast")
     encoder = RefreshEncoder(config, source_size=SIZE)
     decoder = RefreshDecoder(source_size=SIZE)
     sizes = []
@@ -50,7 +50,7 @@ def test_the_engines_mirror_is_exactly_what_the_receiver_decodes(head):
         kept, params = encoder.kept[index]
         assert np.array_equal(picture, kept)
         assert np.array_equal(params, source.params_at(index))
-    assert max(sizes) <= 1.1 * 12000  # about frame_bits each, the VBV one frame
+    assert max(sizes) <= 1.1 * 12000  # about its bits a frame each, the VBV one frame
     assert encoder.taken(20) is not None and sorted(encoder.kept) == [20]
     assert decoder.decode(b"\x00\x00\x01\x65garbage") is None  # corrupt: no picture
 
@@ -68,7 +68,7 @@ def _refresh_unit(seq, frame, data, key):
 
 def test_a_lost_refresh_leaves_the_reference_and_asks_for_an_intra_one(head):
     source, frames = head
-    config = RefreshConfig(enabled=True, frame_bits=12000, preset="ultrafast")
+    config = RefreshConfig(enabled=True, preset="ultrafast")
     encoder = RefreshEncoder(config, source_size=SIZE)
     taken = []
     clock, requests = Clock(), []
