@@ -147,16 +147,20 @@ def test_leaving_the_model_codec_drops_a_half_sent_refresh_and_the_next_is_intra
     assert order is not None and order.intra
 
 
-def test_a_collapsed_spare_rate_drops_the_refresh_under_way():
+def test_a_refresh_under_way_still_leaves_when_the_spare_rate_falls():
     plan, _, counts = planner(min_spare_kbps=8.0)
     frame(plan, 0)
-    plan.coded(packets(17280), 0.0, intra=True)
-    assert frame(plan, 1, budget_kbps=4.8 + 7.0) is None  # just under the floor: goes on
-    assert plan.state is RefreshState.SENDING and plan.queue
-    assert frame(plan, 2, budget_kbps=4.8 + 3.9) is None  # under half of it: dropped
-    assert plan.state is RefreshState.WAITING and not plan.queue
-    assert counts["refresh_dropped"] == 1
-    assert plan.pace(0.1, queue_delay_ms=0.0) == []
+    plan.coded(packets(4320 * 4), 0.0, intra=True)
+    plan.pace(0.0, queue_delay_ms=0.0)  # one packet now, three to go
+    assert frame(plan, 1, budget_kbps=4.8) is None  # nothing spare: no new refresh
+    assert plan.state is RefreshState.SENDING and counts["refresh_dropped"] == 0
+    # Still at half the floor, 4 kbit/s: 4,320 bits a packet take about 1.08 s each.
+    times = []
+    for i in range(2, 200):
+        if plan.pace(i / FPS, queue_delay_ms=0.0):
+            times.append(i / FPS)
+    assert len(times) == 3 and plan.state is RefreshState.WAITING
+    assert times[1] - times[0] == pytest.approx(4320 / 4000.0, abs=1.5 / FPS)
 
 
 def test_a_lost_refresh_makes_the_next_intra():

@@ -39,8 +39,9 @@ class RefreshConfig(Section):
     left and its own bits at `share` of the spare rate would have taken as long, never sooner
     than `min_interval_ms` after it, and none while that would take more than
     `max_interval_ms` or less than `min_spare_kbps` are spare. Its packets (`packet_bytes` of
-    payload) leave at the spare rate, none while the last report saw more than
-    `queue_high_ms` of queueing delay (they would delay the parameters behind them). The
+    payload) leave at the spare rate (at least half `min_spare_kbps`), none while the last
+    report saw more than `queue_high_ms` of queueing delay (they would delay the parameters
+    behind them). The
     first refresh of a stretch on the model codec, the one after a lost refresh and the one
     after the spare rate has doubled the stream's size are intra. `scale`: the refresh's size
     as a fraction of the source's (the receiver upscales). `face`: where the rendered face's
@@ -56,7 +57,7 @@ class RefreshConfig(Section):
     max_frame_bits: Annotated[int, Strict(), Field(ge=1000)] = 32000
     min_interval_ms: Annotated[float, Strict(), AllowInfNan(False), Field(ge=40)] = 400.0
     max_interval_ms: Annotated[float, Strict(), AllowInfNan(False), Field(ge=40)] = 3000.0
-    min_spare_kbps: PosNum = 8.0
+    min_spare_kbps: PosNum = 10.0
     share: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, le=1)] = 0.8
     queue_high_ms: PosNum = 100.0
     packet_bytes: Annotated[int, Strict(), Field(ge=100, le=1500)] = 500

@@ -12,13 +12,15 @@ left and its bits at `share` x spare would have taken as long, never sooner than
 `min_interval_ms` after it, and none while that would take longer than `max_interval_ms` or
 less than `min_spare_kbps` are spare. Its packets wait here and leave at the spare rate, a
 packet whenever the credit allows, so the parameters never queue behind a whole refresh;
-nothing leaves while the last report saw more than `queue_high_ms` of queueing delay. A
-refresh is intra at the start of a stretch, after the receiver asked for one (a refresh lost
-or undecodable), and when the spare rate has grown to twice the stream's size an interval; one left half sent when the spare rate collapses or the engine leaves
-the model codec is dropped (the spare rate: below half `min_spare_kbps`), and the next is
-intra. The receiver reports the newest refresh it
-renders from; the engine hands it on once (`take_adopted`), so the encoder's mirror of the
-receiver's reference changes only when the receiver's did.
+nothing leaves while the last report saw more than `queue_high_ms` of queueing delay, and
+when the spare rate falls under way they still leave at half `min_spare_kbps` (a refresh
+coded before the estimate fell, as it does while a handover's queue drains, still arrives,
+and its bits let the estimate grow again). A refresh is intra at the start of a stretch,
+after the receiver asked for one (a refresh lost or undecodable), and when the spare rate
+has grown to twice the stream's size an interval; one left half sent when the engine leaves
+the model codec is dropped, and the next is intra. The receiver reports the newest refresh
+it renders from; the engine hands it on once (`take_adopted`), so the encoder's mirror of
+the receiver's reference changes only when the receiver's did.
 
 One Enum of states, one transition table, as `uma.engine.model` keeps the model codec's.
 """
@@ -44,7 +46,6 @@ class RefreshEvent(Enum):
     ENTER = "enter"  # a frame on the model codec's point
     CODED = "coded"  # a refresh was coded and its packets queued here
     DRAINED = "drained"  # its last packet left
-    DROPPED = "dropped"  # its packets were let go (no spare rate left)
     LEAVE = "leave"  # a frame off the model codec's point
 
 
@@ -55,7 +56,6 @@ REFRESH_TRANSITIONS: dict[tuple[RefreshState, RefreshEvent], RefreshState] = {
     (S.SENDING, E.ENTER): S.SENDING,
     (S.WAITING, E.CODED): S.SENDING,
     (S.SENDING, E.DRAINED): S.WAITING,
-    (S.SENDING, E.DROPPED): S.WAITING,
     **{(state, E.LEAVE): S.OFF for state in RefreshState},
 }
 
@@ -125,11 +125,6 @@ class RefreshPlanner:
         self.fire(RefreshEvent.ENTER)
         self.spare_kbps = max(0.0, budget_kbps - model_kbps)
         if self.spare_kbps < config.min_spare_kbps:
-            # One under way goes on unless the spare rate fell well below the floor (a
-            # hysteresis: the estimate wanders around it).
-            if self.state is RefreshState.SENDING and self.spare_kbps < 0.5 * config.min_spare_kbps:
-                self._drop(now_s, f"spare {self.spare_kbps:.1f} kbps")
-                self.fire(RefreshEvent.DROPPED)
             return None
         if self.state is not RefreshState.WAITING:
             return None
@@ -180,7 +175,8 @@ class RefreshPlanner:
         self.last_pace_s = now_s
         if queue_delay_ms > self.config.queue_high_ms:
             return []
-        self.credit_bits += self.spare_kbps * 1000.0 * elapsed_s
+        rate_kbps = max(self.spare_kbps, 0.5 * self.config.min_spare_kbps)
+        self.credit_bits += rate_kbps * 1000.0 * elapsed_s
         # The credit never stores more than one packet's worth: no burst after a pause.
         self.credit_bits = min(self.credit_bits, 8.0 * self.config.packet_bytes + 320.0)
         out = []
