@@ -149,3 +149,46 @@ def test_the_model_codecs_receiver_renders_from_each_refresh_taken(head):
     del decoder.params_by_frame[8]
     assert not decoder.refresh(8, frames[8])
     assert decoder.refresh_waiting is None and decoder.refresh_frame == 6
+
+
+def test_the_face_comes_from_the_refresh_while_it_is_recent():
+    from uma.sim.mbc_codecs import face_from_description
+
+    def mbc(face):
+        return MbcConfig(refresh=RefreshConfig(face=face, face_recent_ms=2000.0))
+
+    assert face_from_description(mbc("recent"), 100, -1, 25.0)  # no refresh yet
+    assert not face_from_description(mbc("recent"), 150, 100, 25.0)  # 2 s: still recent
+    assert face_from_description(mbc("recent"), 151, 100, 25.0)
+    assert not face_from_description(mbc("picture"), 1000, 100, 25.0)
+    assert face_from_description(mbc("description"), 100, 100, 25.0)
+    assert face_from_description(None, 100, 100, 25.0)
+
+
+def test_a_refresh_no_better_than_the_receivers_picture_is_not_sent(head):
+    from types import SimpleNamespace
+
+    from uma.mbc import FaceUnits
+
+    source, frames = head
+    config = RefreshConfig(enabled=True, preset="ultrafast", min_gain_db=0.5)
+    units = FaceUnits.of(source.model, source.description.params, light=True)
+    params = source.params_at(10)
+
+    def encoder_showing(picture):
+        mirror = SimpleNamespace(render=lambda p, light: (picture, None))
+        stream = SimpleNamespace(decoded=np.append(params, (1.0, 0.0)))
+        return SimpleNamespace(
+            mirror=mirror, stream=stream, units=units, description=source.description,
+            decoded_params=lambda: params,
+        )  # fmt: skip
+
+    order = RefreshOrder(10, 8.0, 1.0, True)
+    chain = RefreshChain(config, source_size=SIZE)
+    # The receiver already shows the frame itself: an 8 kbit refresh cannot beat it.
+    assert chain.engine_code(encoder_showing(frames[10]), frames[10], order) is None
+    assert chain.encoder.encoder is None and 10 not in chain.encoder.kept  # next: intra
+    # It shows an old picture of another pose: the refresh is sent, and starts intra.
+    coded = chain.engine_code(encoder_showing(frames[40]), frames[10], order)
+    assert coded is not None and coded[1] is True
+    assert chain.gain_db(encoder_showing(frames[40]), frames[10], 10) > 0.5

@@ -10,7 +10,7 @@ from typing import Annotated, Literal
 
 from pydantic import AllowInfNan, Field, Strict, model_validator
 
-from uma.config.types import Bool, Fraction, NonNeg, PosInt, PosNum, Section, Str
+from uma.config.types import Bool, Fraction, NonNeg, Num, PosInt, PosNum, Section, Str
 
 __all__ = [
     "MbcConfig",
@@ -46,9 +46,14 @@ class RefreshConfig(Section):
     after the spare rate has doubled the stream's size are intra. `scale`: the refresh's size
     as a fraction of the source's (the receiver upscales). `face`: where the rendered face's
     own triangles come from once a refresh is the reference: the refresh picture itself
-    (`picture`) or the description's texture (`description`). `preset`: libx264's (a picture
-    every interval, so a slower preset than the ladder's costs little); `encode_ms`: the
-    modelled compute of coding one refresh and decoding it again for the encoder's mirror.
+    (`picture`), the description's texture (`description`), or the refresh picture's for
+    `face_recent_ms` after its frame and the description's after that (`recent`: a head that
+    moved far from the refresh's pose is drawn better from the exact description). `preset`: libx264's (a picture
+    every interval, so a slower preset than the ladder's costs little). A refresh is sent only
+    when, over the face box, it beats by `min_gain_db` what the engine's mirror of the
+    receiver renders at that frame (a sharp old reference of a still scene can be better than
+    a small refresh); else it is not sent and the next one starts intra. `encode_ms`: the
+    modelled compute of coding one refresh, decoding it again for the mirror and that check.
     """
 
     enabled: Bool = False
@@ -62,9 +67,11 @@ class RefreshConfig(Section):
     queue_high_ms: PosNum = 100.0
     packet_bytes: Annotated[int, Strict(), Field(ge=100, le=1500)] = 500
     scale: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, le=1)] = 1.0
-    face: Literal["picture", "description"] = "picture"
+    face: Literal["recent", "picture", "description"] = "recent"
+    face_recent_ms: NonNeg = 2000.0
     preset: RefreshPreset = "medium"
-    encode_ms: NonNeg = 8.0
+    min_gain_db: Num = 0.5
+    encode_ms: NonNeg = 12.0
 
     @model_validator(mode="after")
     def _intervals(self) -> RefreshConfig:

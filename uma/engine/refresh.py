@@ -76,7 +76,7 @@ class RefreshPlanner:
 
     `config` is an `engine.mbc.refresh` section (`uma.config.codecs.RefreshConfig`); events go
     to `emit(now_s, kind, detail)`, counts into `counts` (`refreshes`, `refresh_intra`,
-    `refresh_dropped`, `refresh_adopted`).
+    `refresh_dropped`, `refresh_adopted`, `refresh_skipped`).
     """
 
     def __init__(self, config, *, emit: Callable[[float, str, str], None], counts: dict) -> None:
@@ -84,7 +84,14 @@ class RefreshPlanner:
         self.state = RefreshState.OFF
         self.emit = emit
         self.counts = counts
-        for key in ("refreshes", "refresh_intra", "refresh_dropped", "refresh_adopted"):
+        keys = (
+            "refreshes",
+            "refresh_intra",
+            "refresh_dropped",
+            "refresh_adopted",
+            "refresh_skipped",
+        )
+        for key in keys:
             counts.setdefault(key, 0)
         self.queue: deque[tuple[object, int]] = deque()
         self.credit_bits = 0.0
@@ -151,7 +158,10 @@ class RefreshPlanner:
     def coded(self, packets: list[tuple[object, int]], now_s: float, *, intra: bool) -> None:
         """The refresh ordered was coded as `packets` ((packet, size_bits) each): they wait
         for `pace`."""
-        if self.state is not RefreshState.WAITING or not packets:
+        if self.state is not RefreshState.WAITING:
+            return
+        if not packets:  # the world did not send it (no better than the receiver's picture)
+            self.counts["refresh_skipped"] += 1
             return
         self.queue.extend(packets)
         self.last_bits = float(sum(bits for _, bits in packets))

@@ -171,6 +171,7 @@ class CodecChain:
             source_size=(width, height),
             face_region=scenario.engine.face_region,
             mbc=scenario.engine.mbc,
+            fps=fps,
         )
         self.refresh = None  # the model-aided refresh's coders (`uma.sim.refresh`)
         if description is not None and scenario.engine.mbc.refresh.enabled:

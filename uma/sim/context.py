@@ -40,6 +40,7 @@ class CodecContext:
     selected: dict[int, Any] | None = None
     tracker: Any = None  # a tracker to reuse instead of making one (benchmarks)
     mbc: Any = None  # the scenario's `engine.mbc` section (None: the codec's defaults)
+    fps: float = 25.0  # the source's frame rate
 
 
 def as_context(context: CodecContext | Mapping[str, Any] | None) -> CodecContext:

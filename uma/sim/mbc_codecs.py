@@ -51,6 +51,19 @@ def scene_renderer(description, size: tuple[int, int], mbc=None):
     return renderer
 
 
+def face_from_description(mbc, frame: int, refresh_frame: int, fps: float) -> bool:
+    """Whether the rendered face's own triangles come from the description's texture at
+    `frame`, rendering from the refresh of `refresh_frame` (-1: none; the `engine.mbc` section
+    `mbc` says where): the refresh picture's face while it is recent (`recent`: within
+    `face_recent_ms`; `picture`: always), else the description's (its pose there is exact)."""
+    refresh = getattr(mbc, "refresh", None)
+    if refresh_frame < 0 or refresh is None or refresh.face == "description":
+        return True
+    if refresh.face == "picture":
+        return False
+    return (frame - refresh_frame) * 1000.0 / fps > refresh.face_recent_ms
+
+
 def _light_on(context) -> bool:
     return context.mbc is None or context.mbc.light
 
@@ -87,23 +100,35 @@ class MbcPointEncoder:
         self.stream = ParameterEncoder(self.units, context.stream)
         self.description = description
         self.mbc = context.mbc
+        self.fps = float(source_fps)
         self.mirror = None  # the receiver's renderer as this encoder expects it
+        self.refresh_frame = -1  # the refresh the mirror renders from (-1: none)
+        self._face_from_description = True
 
     def set_reference(
-        self, picture: np.ndarray, params: np.ndarray, *, face_from_description: bool = True
+        self, picture: np.ndarray, params: np.ndarray, *, refresh_frame: int = -1
     ) -> None:
         """Measure light against `picture` (YUV 4:2:0) with the model at `params` on it, as the
         receiver renders: by default the picture this encoder initialised on (the receiver's is
-        the last it showed, at the stream's first pose); the model-aided refresh calls this and
-        `MbcUnitDecoder.set_reference` with the same picture and pose (the face's own
-        triangles then from `picture` unless `face_from_description`)."""
+        the last it showed, at the stream's first pose); the model-aided refresh calls this
+        with the refresh of `refresh_frame` the receiver took, its picture and pose, and the
+        face's own triangles then come from where `engine.mbc.refresh.face` says."""
         from uma.video import resize_yuv420
 
         if self.mirror is None:
             self.mirror = scene_renderer(self.description, (self.width, self.height), self.mbc)
         picture = resize_yuv420(np.ascontiguousarray(picture), self.width, self.height)
         self.mirror.set_reference(picture, params)
-        self.mirror.set_face_source(face_from_description)
+        self.refresh_frame = refresh_frame
+        self._face_from_description = True
+        self.mirror.set_face_source(True)
+
+    def _face_source(self, frame: int) -> None:
+        """The mirror's face from where the receiver's comes at `frame`."""
+        wanted = face_from_description(self.mbc, frame, self.refresh_frame, self.fps)
+        if wanted != self._face_from_description:
+            self._face_from_description = wanted
+            self.mirror.set_face_source(wanted)
 
     def decoded_params(self) -> np.ndarray | None:
         """The geometry of the last set pushed, as the receiver decodes it (None: none yet)."""
@@ -147,6 +172,8 @@ class MbcPointEncoder:
             self.stream.request_intra()
         values = result.params
         if self.light:
+            if self.mirror is not None:
+                self._face_source(frame)
             values = np.append(values, self._light(picture, result.params))
         packets = self.stream.push(frame, values)
         return _packets_coded(
@@ -243,8 +270,9 @@ class MbcUnitDecoder:
         self.units = FaceUnits.of(description.model, description.params, light=light)
         self.decoder = ParameterDecoder(self.units, context.stream)
         self.renderer = scene_renderer(description, (width, height), context.mbc)
-        refresh = getattr(context.mbc, "refresh", None)
-        self.refresh_face_from_description = refresh is not None and refresh.face == "description"
+        self.mbc = context.mbc
+        self.fps = float(context.fps)
+        self._face_from_description = context.background is not None
         self.params_by_frame: dict[int, np.ndarray] = {}  # decoded poses, for refreshes
         self.refresh_waiting: tuple[int, np.ndarray] | None = None  # a refresh without its pose
         self.refresh_frame = -1  # the refresh rendered from (-1: none)
@@ -283,9 +311,18 @@ class MbcUnitDecoder:
             self.set_reference(picture, params)
         except SceneError:
             return False  # the old reference stays
-        self.renderer.set_face_source(self.refresh_face_from_description)
         self.refresh_frame = frame
+        self._face_source(frame)
         return True
+
+    def _face_source(self, frame: int) -> None:
+        """The face's own triangles at `frame` from where `engine.mbc.refresh.face` says."""
+        if self.refresh_frame < 0:
+            return
+        wanted = face_from_description(self.mbc, frame, self.refresh_frame, self.fps)
+        if wanted != self._face_from_description:
+            self._face_from_description = wanted
+            self.renderer.set_face_source(wanted)
 
     def decode(self, unit: EncodedUnit) -> dict[int, np.ndarray]:
         from uma.mbc import PacketError
@@ -304,6 +341,7 @@ class MbcUnitDecoder:
                 self.set_reference(self._pending, params)
             if self.refresh_waiting is not None and self.refresh_waiting[0] == frame:
                 self._take_refresh()
+            self._face_source(frame)
             pictures[frame], _ = self.renderer.render(params, light)
         for old in [f for f in self.params_by_frame if f < max(pictures or [0]) - 100]:
             del self.params_by_frame[old]

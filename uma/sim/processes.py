@@ -140,10 +140,12 @@ def _code_refresh(world: World, picture: np.ndarray, decision, index: int) -> fl
     """Code the model-aided refresh the engine ordered and queue it in the engine; returns
     its modelled compute seconds (0 when there was nothing to code)."""
     coded = world.codec.engine_refresh(picture, decision.refresh)
-    if coded is None:
-        return 0.0
-    data, intra = coded
     config = world.codec.refresh.config
+    world.refresh_compute_s += config.encode_ms / 1000.0
+    if coded is None:  # not worth sending: the engine is told so
+        world.engine.on_refresh_coded([], world.env.now, intra=False)
+        return config.encode_ms / 1000.0
+    data, intra = coded
     height, width = picture.shape[0] * 2 // 3, picture.shape[1]
     unit = EncodedUnit(
         unit_seq=world.next_refresh_seq, frame=index, codec=decision.codec, rung=decision.rung,
@@ -154,7 +156,6 @@ def _code_refresh(world: World, picture: np.ndarray, decision, index: int) -> fl
     world.engine.on_refresh_coded(
         [(packet, packet.size_bits) for packet in packets], world.env.now, intra=intra
     )
-    world.refresh_compute_s += config.encode_ms / 1000.0
     return config.encode_ms / 1000.0
 
 

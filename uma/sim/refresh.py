@@ -49,6 +49,7 @@ class RefreshEncoder:
 
         width, height = self.size
         if self.encoder is None or (order.rate_kbps, order.fps) != (self.rate_kbps, self.fps):
+            # A new stream (a new size, or the last refresh was not sent) starts intra.
             self.encoder = H264Encoder(
                 width, height, order.fps, order.rate_kbps, preset=self.config.preset,
                 keyint_frames=10_000, vbv_frames=1.0,
@@ -67,6 +68,11 @@ class RefreshEncoder:
             for frame in sorted(self.kept)[:-_KEPT]:
                 del self.kept[frame]
         return out.data, bool(out.is_keyframe)
+
+    def discard(self, frame: int) -> None:
+        """Refresh `frame` is not sent: forget it, and start the next stream intra."""
+        self.kept.pop(frame, None)
+        self.encoder = None
 
     def taken(self, frame: int) -> tuple[np.ndarray, np.ndarray] | None:
         """The picture and pose of refresh `frame` the receiver took (None: not kept)."""
@@ -111,11 +117,41 @@ class RefreshChain:
 
     def engine_code(self, mbc_encoder, picture: np.ndarray, order: RefreshOrder):
         """Code the refresh `order` names of `picture`, which `mbc_encoder` (the engine's
-        model codec) has just coded: (bytes, intra), or None when it has no pose for it."""
+        model codec) has just coded: (bytes, intra), or None when it has no pose for it or
+        the refresh would not beat what the receiver renders now by `min_gain_db`."""
         params = getattr(mbc_encoder, "decoded_params", lambda: None)()
         if params is None:
             return None
-        return self.encoder.encode(picture, order, params)
+        data, intra = self.encoder.encode(picture, order, params)
+        gain_db = self.gain_db(mbc_encoder, picture, order.frame)
+        if gain_db is not None and gain_db < self.config.min_gain_db:
+            self.encoder.discard(order.frame)
+            return None
+        return data, intra
+
+    def gain_db(self, mbc_encoder, picture: np.ndarray, frame: int) -> float | None:
+        """How much better the refresh of `frame` is than the engine's mirror of the
+        receiver's rendering there, in luma PSNR over the face box (the model's points plus
+        `uma.face.region`'s margin); None when there is nothing to compare."""
+        from uma.face.geometry import project
+        from uma.face.region import points_box
+
+        kept = self.encoder.kept.get(frame)
+        mirror = getattr(mbc_encoder, "mirror", None)
+        decoded = getattr(getattr(mbc_encoder, "stream", None), "decoded", None)
+        if kept is None or mirror is None or decoded is None:
+            return None
+        params, light = mbc_encoder.units.split(decoded)
+        width, height = self.source_size
+        box = points_box(project(mbc_encoder.description.model, params), width, height)
+        if box is None:
+            return None
+        rendered, _ = mirror.render(params, light)
+        window = (slice(box.y, box.y + box.height), slice(box.x, box.x + box.width))
+        truth = picture[:height][window].astype(np.float64)
+        return _psnr_db(kept[0][:height][window], truth) - _psnr_db(
+            rendered[:height][window], truth
+        )
 
     def engine_adopt(self, mbc_encoder, frame: int) -> bool:
         """The receiver renders from refresh `frame`: so does the encoder's mirror."""
@@ -123,9 +159,7 @@ class RefreshChain:
         if taken is None or mbc_encoder is None or not hasattr(mbc_encoder, "set_reference"):
             return False
         picture, params = taken
-        mbc_encoder.set_reference(
-            picture, params, face_from_description=self.config.face == "description"
-        )
+        mbc_encoder.set_reference(picture, params, refresh_frame=frame)
         return True
 
     def receiver_decode(self, mbc_decoder, frame: int, data: bytes) -> np.ndarray | None:
@@ -135,3 +169,8 @@ class RefreshChain:
         if picture is not None and mbc_decoder is not None and hasattr(mbc_decoder, "refresh"):
             mbc_decoder.refresh(frame, picture)
         return picture
+
+
+def _psnr_db(picture: np.ndarray, truth: np.ndarray) -> float:
+    mse = float(np.mean((picture.astype(np.float64) - truth) ** 2))
+    return 100.0 if mse <= 1e-10 else 10.0 * float(np.log10(255.0**2 / mse))

@@ -95,6 +95,7 @@ def refresh_metrics(result: RunResult) -> dict[str, Any]:
         "refreshes": counts.get("refreshes", 0),
         "refresh_intra": counts.get("refresh_intra", 0),
         "refresh_dropped": counts.get("refresh_dropped", 0),
+        "refresh_skipped": counts.get("refresh_skipped", 0),
         "refresh_decoded": result.refresh_decoded,
         "refresh_lost": result.refresh_lost,
         "refresh_adopted": counts.get("refresh_adopted", 0),
