@@ -52,6 +52,20 @@ def test_gsm_has_nothing_to_spare_so_it_stays_plain_mbc():
     assert counts["refreshes"] == 0 and plan.state is RefreshState.WAITING
 
 
+def test_an_estimate_above_what_the_link_delivers_spares_nothing():
+    plan, _, counts = planner()
+    # GSM while the probe pads: the estimate reads 20 kbit/s (budget 17), 9.6 arrive.
+    for i in range(250):
+        order = plan.on_frame(
+            i, i / FPS, on_model=True, budget_kbps=17.0, model_kbps=4.8, received_kbps=9.6
+        )
+        assert order is None
+    assert counts["refreshes"] == 0
+    assert plan.on_frame(
+        250, 10.0, on_model=True, budget_kbps=17.0, model_kbps=4.8, received_kbps=30.0
+    )
+
+
 def test_first_refresh_is_intra_at_once_then_predicted_at_the_spare_rate():
     plan, events, counts = planner(share=0.8, interval_ms=1000, min_interval_ms=400)
     spare_kbps = 30.0 - 4.8

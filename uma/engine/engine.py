@@ -262,6 +262,7 @@ class UmaEngine:
             refresh = self.refresh.on_frame(
                 frame, now_s, on_model=spec(point.codec).role is Role.MODEL,
                 budget_kbps=budget_kbps, model_kbps=point.rate_kbps,
+                received_kbps=self.estimator.received_kbps,
             )  # fmt: skip
             adopted = self.refresh.take_adopted()
         return replace(

@@ -4,7 +4,9 @@ when its packets leave (docs/refresh.md).
 Units: times in seconds, rates in kbit/s, sizes in bits.
 
 While the engine is on the model codec, the budget (safety x estimate) leaves `spare` =
-budget - the model point's rate. A refresh is H.264 of the whole picture; an intra one
+budget - the model point's rate, the budget never above what the link delivered over the
+estimator's last window (the estimate overshoots a slow link while the model codec's probe
+pads: GSM's 9.6 kbit/s read as 20; what arrived does not). A refresh is H.264 of the whole picture; an intra one
 starts a stream sized to what `share` x spare carries in `interval_ms` (within
 `min_frame_bits` and `max_frame_bits`), and the refreshes after it are predicted from the one
 before at that size. The spare rate sets how often: the next is ordered once the last has
@@ -116,10 +118,18 @@ class RefreshPlanner:
         return sum(bits for _, bits in self.queue)
 
     def on_frame(
-        self, frame: int, now_s: float, *, on_model: bool, budget_kbps: float, model_kbps: float
+        self,
+        frame: int,
+        now_s: float,
+        *,
+        on_model: bool,
+        budget_kbps: float,
+        model_kbps: float,
+        received_kbps: float = math.inf,
     ) -> RefreshOrder | None:
         """The engine sends `frame` at `now_s`, on the model codec's point or not: a refresh
-        to code with it, or None."""
+        to code with it, or None. The spare rate is the budget, never more than what the
+        link delivered lately (`received_kbps`), less the model point's rate."""
         config = self.config
         if not config.enabled:
             return None
@@ -130,7 +140,7 @@ class RefreshPlanner:
                 self.intra_due = True
             return None
         self.fire(RefreshEvent.ENTER)
-        self.spare_kbps = max(0.0, budget_kbps - model_kbps)
+        self.spare_kbps = max(0.0, min(budget_kbps, received_kbps) - model_kbps)
         if self.spare_kbps < config.min_spare_kbps:
             return None
         if self.state is not RefreshState.WAITING:
