@@ -139,14 +139,18 @@ def test_a_poor_link_waits_longer_than_the_maximum_interval_for_nothing():
     assert all(frame(plan, i, budget_kbps=14.8) is None for i in range(100))
 
 
-def test_packets_hold_while_the_queue_is_long():
-    plan, _, _ = planner(queue_high_ms=100)
+def test_packets_hold_while_the_queue_builds_not_on_a_slower_links_delay():
+    plan, _, _ = planner(queue_high_ms=100, queue_window_ms=2000)
+    plan.pace(0.0, queue_delay_ms=0.0)
     frame(plan, 0)
     plan.coded(packets(17280), 0.0, intra=True)
-    assert plan.pace(0.5, queue_delay_ms=150.0) == []
+    assert plan.pace(0.5, queue_delay_ms=150.0) == []  # 150 ms above the last 2 s' least
     assert plan.pace(0.54, queue_delay_ms=150.0) == []
     # No credit was saved up meanwhile: one packet, not a burst.
     assert len(plan.pace(0.58, queue_delay_ms=0.0)) == 1
+    # A handover to GPRS: the receiver reads 290 ms more for seconds, with no queue behind it.
+    held = [bool(plan.pace(t, queue_delay_ms=290.0)) for t in (0.8, 1.5, 2.2, 2.62, 2.66)]
+    assert held[:2] == [False, False] and any(held[2:])
 
 
 def test_leaving_the_model_codec_drops_a_half_sent_refresh_and_the_next_is_intra():

@@ -180,7 +180,7 @@ def test_a_refresh_no_better_than_the_receivers_picture_is_not_sent(head):
         stream = SimpleNamespace(decoded=np.append(params, (1.0, 0.0)))
         return SimpleNamespace(
             mirror=mirror, stream=stream, units=units, description=source.description,
-            decoded_params=lambda: params,
+            decoded_params=lambda: params, refresh_frame=0,
         )  # fmt: skip
 
     order = RefreshOrder(10, 8.0, 1.0, True)
@@ -192,3 +192,7 @@ def test_a_refresh_no_better_than_the_receivers_picture_is_not_sent(head):
     coded = chain.engine_code(encoder_showing(frames[40]), frames[10], order)
     assert coded is not None and coded[1] is True
     assert chain.gain_db(encoder_showing(frames[40]), frames[10], 10) > 0.5
+    # Before the receiver took a refresh, the mirror is not its picture: always sent.
+    first = encoder_showing(frames[10])
+    first.refresh_frame = -1
+    assert chain.engine_code(first, frames[10], order) is not None

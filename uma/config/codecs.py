@@ -40,8 +40,8 @@ class RefreshConfig(Section):
     than `min_interval_ms` after it, and none while that would take more than
     `max_interval_ms` or less than `min_spare_kbps` are spare. Its packets (`packet_bytes` of
     payload) leave at the spare rate (at least half `min_spare_kbps`), none while the last
-    report saw more than `queue_high_ms` of queueing delay (they would delay the parameters
-    behind them). The
+    report's queueing delay is more than `queue_high_ms` above its least over the last
+    `queue_window_ms` (they would delay the parameters behind them). The
     first refresh of a stretch on the model codec, the one after a lost refresh and the one
     after the spare rate has doubled the stream's size are intra. `scale`: the refresh's size
     as a fraction of the source's (the receiver upscales). `face`: where the rendered face's
@@ -65,6 +65,7 @@ class RefreshConfig(Section):
     min_spare_kbps: PosNum = 10.0
     share: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, le=1)] = 0.8
     queue_high_ms: PosNum = 100.0
+    queue_window_ms: PosNum = 2000.0
     packet_bytes: Annotated[int, Strict(), Field(ge=100, le=1500)] = 500
     scale: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, le=1)] = 1.0
     face: Literal["recent", "picture", "description"] = "recent"

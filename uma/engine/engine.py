@@ -259,10 +259,13 @@ class UmaEngine:
         self.last_sent_s = now_s
         refresh = adopted = None
         if self.refresh is not None:
+            # The oracle knows the capacity; others spend no more than the link carried.
+            oracle = self.config.policy == "oracle"
+            received_kbps = float("inf") if oracle else self.estimator.received_kbps
             refresh = self.refresh.on_frame(
                 frame, now_s, on_model=spec(point.codec).role is Role.MODEL,
                 budget_kbps=budget_kbps, model_kbps=point.rate_kbps,
-                received_kbps=self.estimator.received_kbps,
+                received_kbps=received_kbps,
             )  # fmt: skip
             adopted = self.refresh.take_adopted()
         return replace(

@@ -14,7 +14,9 @@ left and its bits at `share` x spare would have taken as long, never sooner than
 `min_interval_ms` after it, and none while that would take longer than `max_interval_ms` or
 less than `min_spare_kbps` are spare. Its packets wait here and leave at the spare rate, a
 packet whenever the credit allows, so the parameters never queue behind a whole refresh;
-nothing leaves while the last report saw more than `queue_high_ms` of queueing delay, and
+nothing leaves while the last report's queueing delay is more than `queue_high_ms` above the
+least of the last `queue_window_ms` (a handover to a slower technology raises the delay the
+receiver reads for as long as it remembers the old link's, with no queue behind it), and
 when the spare rate falls under way they still leave at half `min_spare_kbps` (a refresh
 coded before the estimate fell, as it does while a handover's queue drains, still arrives,
 and its bits let the estimate grow again). A refresh is intra at the start of a stretch,
@@ -96,6 +98,7 @@ class RefreshPlanner:
         for key in keys:
             counts.setdefault(key, 0)
         self.queue: deque[tuple[object, int]] = deque()
+        self.delays: deque[tuple[float, float]] = deque()  # (now_s, queue_ms), increasing
         self.credit_bits = 0.0
         self.spare_kbps = 0.0
         self.last_coded_s = -math.inf
@@ -188,12 +191,19 @@ class RefreshPlanner:
     def pace(self, now_s: float, *, queue_delay_ms: float) -> list[tuple[object, int]]:
         """The refresh packets ((packet, size_bits) each) that leave at `now_s`: the credit the
         spare rate gave since the last call allows them (one may overdraw it), none while the
-        queue is too long."""
+        queue is building (call it every frame: it keeps the recent delays)."""
+        window_s = self.config.queue_window_ms / 1000.0
+        delays = self.delays
+        while delays and delays[0][0] < now_s - window_s:
+            delays.popleft()
+        while delays and delays[-1][1] >= queue_delay_ms:
+            delays.pop()  # a later, lower delay is the window's least from now on
+        delays.append((now_s, queue_delay_ms))
         if self.state is not RefreshState.SENDING:
             return []
         elapsed_s = max(0.0, now_s - (self.last_pace_s if self.last_pace_s is not None else now_s))
         self.last_pace_s = now_s
-        if queue_delay_ms > self.config.queue_high_ms:
+        if queue_delay_ms - delays[0][1] > self.config.queue_high_ms:
             return []
         rate_kbps = max(self.spare_kbps, 0.5 * self.config.min_spare_kbps)
         self.credit_bits += rate_kbps * 1000.0 * elapsed_s
