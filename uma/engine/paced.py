@@ -47,6 +47,8 @@ def unit_queued(
     _dropped(self, dropped, now_s, "model codec first")
     interval_s = len(frames) / min(point.fps, self.ladder.source_fps)
     sent_bits = sum(size for _, size in packets)
+    if self.refresh is not None:  # refresh bits that left fill the probe's share too
+        sent_bits += self.refresh.take_released_bits()
     return UnitSent(-1, padding_bits(self, point, interval_s, sent_bits=sent_bits))
 
 
