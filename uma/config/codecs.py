@@ -52,7 +52,9 @@ class RefreshConfig(Section):
     every interval, so a slower preset than the ladder's costs little). A refresh is sent only
     when, over the face box, it beats by `min_gain_db` what the engine's mirror of the
     receiver renders at that frame (a sharp old reference of a still scene can be better than
-    a small refresh); else it is not sent and the next one starts intra. `encode_ms`: the
+    a small refresh); else it is not sent and the next one starts intra. With `first_always`
+    the first refresh of a stretch skips that check (the mirror is then the engine's own
+    initialisation picture, sharper than the receiver's last one). `encode_ms`: the
     modelled compute of coding one refresh, decoding it again for the mirror and that check.
     """
 
@@ -72,6 +74,7 @@ class RefreshConfig(Section):
     face_recent_ms: NonNeg = 2000.0
     preset: RefreshPreset = "medium"
     min_gain_db: Num = 0.5
+    first_always: Bool = True
     encode_ms: NonNeg = 12.0
 
     @model_validator(mode="after")

@@ -132,14 +132,14 @@ class RefreshChain:
     def gain_db(self, mbc_encoder, picture: np.ndarray, frame: int) -> float | None:
         """How much better the refresh of `frame` is than the engine's mirror of the
         receiver's rendering there, in luma PSNR over the face box (the model's points plus
-        `uma.face.region`'s margin); None when there is nothing to compare (and before the
-        receiver took a first refresh)."""
+        `uma.face.region`'s margin); None when there is nothing to compare (and, with
+        `first_always`, before the receiver took a first refresh)."""
         from uma.face.geometry import project
         from uma.face.region import points_box
 
         kept = self.encoder.kept.get(frame)
         mirror = getattr(mbc_encoder, "mirror", None)
-        if getattr(mbc_encoder, "refresh_frame", -1) < 0:
+        if self.config.first_always and getattr(mbc_encoder, "refresh_frame", -1) < 0:
             # Before the receiver took a refresh, the mirror is the picture the engine
             # initialised on, sharper than the receiver's last one: no fair comparison.
             return None

@@ -95,8 +95,13 @@ def snapshot_png(scenarios, at_s: float, out: str | Path, *, labels=None) -> Pat
             if box is not None:
                 cv2.rectangle(source, (box.x, box.y), (box.x + box.width, box.y + box.height),
                               (0, 200, 0), 1)  # fmt: skip
+        psnr = None
+        if picture is not None:
+            from uma.video import resize_yuv420
+
+            picture = resize_yuv420(picture, width, height)  # a lower rung is shown upscaled
+            psnr = _face_psnr_db(frame, picture, box)
         panel = np.zeros_like(source) if picture is None else _bgr(picture, width, height)
-        psnr = None if picture is None else _face_psnr_db(frame, picture, box)
         name = labels[k] if labels else scenario.name
         index = int(round(at_s * scenario.source.fps))
         state = "frozen" if shown != index else "live"
