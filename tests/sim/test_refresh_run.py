@@ -47,7 +47,10 @@ def test_the_spare_rate_refreshes_the_receiver_and_is_reported(refreshed):
     assert metrics["refresh_lost"] == 0
     # Its bits are its own key, beside the parameters' (which stay the codec's own).
     assert metrics["kbps_refresh"] > 5 * metrics["kbps_mbc"] > 0
-    assert metrics["refresh_bits"] == pytest.approx(metrics["kbps_refresh"] * 8.0 * 1000, rel=1e-3)
+    duration_s = refreshed.duration_s
+    assert metrics["refresh_bits"] == pytest.approx(
+        metrics["kbps_refresh"] * duration_s * 1000, rel=1e-3
+    )
     assert metrics["engine_refresh_compute_s"] > 0
     kinds = [event.kind for event in refreshed.events]
     assert kinds.count("refresh") == metrics["refreshes"]
@@ -63,15 +66,15 @@ def test_an_h264_only_run_reports_no_refresh():
     assert "kbps_refresh" not in run_metrics(run_scenario(scenario(False, switching="none")))
 
 
-def test_after_a_refresh_the_mbc_pictures_are_closer_to_the_source(refreshed):
+def test_the_refreshed_mbc_pictures_are_closer_to_the_source(refreshed):
+    plain = run_scenario(scenario(False))
+
+    def gprs_face_db(run):
+        return run_metrics(run)["by_technology"]["GPRS"]["psnr_face_db"]
+
     log = refreshed.log
     codec = np.array([str(c) for c in log["codec"]])
     shown = log["shown_frame"].astype(int)
     mbc = (shown >= 0) & (codec[np.clip(shown, 0, None)] == "mbc")
-    psnr = log["psnr_face_db"]
-    assert np.isfinite(psnr[mbc]).all() and mbc.sum() > 50
-    adopted = [e.time_s for e in refreshed.events if e.kind == "refresh"]
-    late = mbc & (log["display_ms"] > 1000.0 * (adopted[0] + 1.5))
-    early = mbc & (log["display_ms"] < 1000.0 * adopted[0])
-    assert late.sum() > 20 and early.sum() > 5
-    assert psnr[late].mean() > psnr[early].mean() + 2.0
+    assert mbc.sum() > 100 and np.isfinite(log["psnr_face_db"][mbc]).all()
+    assert gprs_face_db(refreshed) > gprs_face_db(plain) + 2.0
