@@ -54,7 +54,8 @@ class RefreshConfig(Section):
     receiver renders at that frame (a sharp old reference of a still scene can be better than
     a small refresh); else it is not sent and the next one starts intra. With `first_always`
     the first refresh of a stretch skips that check (the mirror is then the engine's own
-    initialisation picture, sharper than the receiver's last one). `encode_ms`: the
+    initialisation picture, often sharper than the receiver's last one; measured on the akiyo
+    cut of docs/refresh.md, checking it too did better). `encode_ms`: the
     modelled compute of coding one refresh, decoding it again for the mirror and that check.
     """
 
@@ -74,7 +75,7 @@ class RefreshConfig(Section):
     face_recent_ms: NonNeg = 2000.0
     preset: RefreshPreset = "medium"
     min_gain_db: Num = 0.5
-    first_always: Bool = True
+    first_always: Bool = False
     encode_ms: NonNeg = 12.0
 
     @model_validator(mode="after")
