@@ -137,8 +137,9 @@ def engine_process(env: simpy.Environment, world: World):
 
 
 def _code_refresh(world: World, picture: np.ndarray, decision, index: int) -> float:
-    """Code the model-aided refresh the engine ordered and queue it in the engine; returns
-    its modelled compute seconds (0 when there was nothing to code)."""
+    """Code the model-aided refresh the engine ordered and queue it in the engine (or tell
+    the engine it is not sent); returns its modelled compute seconds (`encode_ms`: coding it,
+    decoding it again and judging it against the mirror)."""
     coded = world.codec.engine_refresh(picture, decision.refresh)
     config = world.codec.refresh.config
     world.refresh_compute_s += config.encode_ms / 1000.0
