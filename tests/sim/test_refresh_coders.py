@@ -192,10 +192,13 @@ def test_a_refresh_no_better_than_the_receivers_picture_is_not_sent(head):
     coded = chain.engine_code(encoder_showing(frames[40]), frames[10], order)
     assert coded is not None and coded[1] is True
     assert chain.gain_db(encoder_showing(frames[40]), frames[10], 10) > 0.5
-    # Before the receiver took a refresh, the mirror is not its picture: checked all the
-    # same, unless the first refresh of a stretch always goes.
-    first = encoder_showing(frames[10])
-    first.refresh_frame = -1
-    assert chain.engine_code(first, frames[10], order) is None
+    # Before the receiver took a refresh, the mirror is not its picture: the check is against
+    # the receiver's own (the last picture it decoded, at the stream's first pose); sent when
+    # that is not known yet, or when the first refresh of a stretch always goes.
+    first = encoder_showing(frames[40])
+    first.refresh_frame, first.first_params, first.mbc = -1, params, None
+    assert chain.engine_code(first, frames[10], order, receiver_picture=frames[10]) is None
+    assert chain.engine_code(first, frames[10], order, receiver_picture=None) is not None
     always = RefreshChain(config.model_copy(update={"first_always": True}), source_size=SIZE)
-    assert always.engine_code(first, frames[10], order) is not None
+    coded = always.engine_code(first, frames[10], order, receiver_picture=frames[10])
+    assert coded is not None

@@ -326,7 +326,14 @@ class CodecChain:
         frame the model codec just coded: (bytes, intra), or None."""
         if self.refresh is None:
             return None
-        return self._timed("refresh", self.refresh.engine_code, self.engine_encoder, picture, order)
+        # The engine knows the last picture the receiver decoded before this stretch on the
+        # model codec (its reports say which), once the receiver is on it.
+        on_model = self.receiver_codec and spec(self.receiver_codec).role is Role.MODEL
+        receiver_picture = self.context.background if on_model else None
+        return self._timed(
+            "refresh", self.refresh.engine_code, self.engine_encoder, picture, order,
+            receiver_picture=receiver_picture,
+        )  # fmt: skip
 
     def engine_adopt_refresh(self, frame: int) -> None:
         """The receiver renders from refresh `frame` now: the engine's mirror follows."""

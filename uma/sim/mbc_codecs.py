@@ -103,6 +103,7 @@ class MbcPointEncoder:
         self.fps = float(source_fps)
         self.mirror = None  # the receiver's renderer as this encoder expects it
         self.refresh_frame = -1  # the refresh the mirror renders from (-1: none)
+        self.first_params: np.ndarray | None = None  # the stream's first pose, as decoded
         self._face_from_description = True
 
     def set_reference(
@@ -176,6 +177,8 @@ class MbcPointEncoder:
                 self._face_source(frame)
             values = np.append(values, self._light(picture, result.params))
         packets = self.stream.push(frame, values)
+        if self.first_params is None:
+            self.first_params = self.decoded_params()
         return _packets_coded(
             packets,
             self.width,

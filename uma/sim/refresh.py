@@ -114,35 +114,63 @@ class RefreshChain:
         self.encoder = RefreshEncoder(config, source_size=source_size)
         self.decoder = RefreshDecoder(source_size=source_size)
         self.source_size = source_size
+        self._view = None  # (the receiver's picture, its renderer) before the first refresh
 
-    def engine_code(self, mbc_encoder, picture: np.ndarray, order: RefreshOrder):
+    def engine_code(
+        self, mbc_encoder, picture: np.ndarray, order: RefreshOrder, *, receiver_picture=None
+    ):
         """Code the refresh `order` names of `picture`, which `mbc_encoder` (the engine's
         model codec) has just coded: (bytes, intra), or None when it has no pose for it or
-        the refresh would not beat what the receiver renders now by `min_gain_db`."""
+        the refresh would not beat what the receiver renders now by `min_gain_db`.
+        `receiver_picture`: the picture the receiver's model codec started its stretch from
+        (the last it decoded before; None: not known yet)."""
         params = getattr(mbc_encoder, "decoded_params", lambda: None)()
         if params is None:
             return None
         data, intra = self.encoder.encode(picture, order, params)
-        gain_db = self.gain_db(mbc_encoder, picture, order.frame)
+        gain_db = self.gain_db(mbc_encoder, picture, order.frame, receiver_picture)
         if gain_db is not None and gain_db < self.config.min_gain_db:
             self.encoder.discard(order.frame)
             return None
         return data, intra
 
-    def gain_db(self, mbc_encoder, picture: np.ndarray, frame: int) -> float | None:
-        """How much better the refresh of `frame` is than the engine's mirror of the
-        receiver's rendering there, in luma PSNR over the face box (the model's points plus
-        `uma.face.region`'s margin); None when there is nothing to compare (and, with
-        `first_always`, before the receiver took a first refresh)."""
+    def _receiver_view(self, mbc_encoder, receiver_picture):
+        """What the receiver renders from before its first refresh: `receiver_picture` at
+        the stream's first decoded pose, the face from the description (as
+        `MbcUnitDecoder` does); None when that is not known."""
+        from uma.sim.mbc_codecs import scene_renderer
+        from uma.video import resize_yuv420
+
+        first = getattr(mbc_encoder, "first_params", None)
+        if receiver_picture is None or first is None:
+            return None
+        if self._view is None or self._view[0] is not receiver_picture:
+            renderer = scene_renderer(mbc_encoder.description, self.source_size, mbc_encoder.mbc)
+            picture = resize_yuv420(np.ascontiguousarray(receiver_picture), *self.source_size)
+            renderer.set_reference(np.ascontiguousarray(picture), first)
+            renderer.set_face_source(True)
+            self._view = (receiver_picture, renderer)
+        return self._view[1]
+
+    def gain_db(
+        self, mbc_encoder, picture: np.ndarray, frame: int, receiver_picture=None
+    ) -> float | None:
+        """How much better the refresh of `frame` is than what the receiver renders there, in
+        luma PSNR over the face box (the model's points plus `uma.face.region`'s margin):
+        against the engine's mirror once the receiver took a refresh, before that against
+        `receiver_picture` at the stream's first pose; None when there is nothing to compare
+        (or, with `first_always`, before the receiver took a first refresh)."""
         from uma.face.geometry import project
         from uma.face.region import points_box
 
         kept = self.encoder.kept.get(frame)
         mirror = getattr(mbc_encoder, "mirror", None)
-        if self.config.first_always and getattr(mbc_encoder, "refresh_frame", -1) < 0:
+        if getattr(mbc_encoder, "refresh_frame", -1) < 0:
             # Before the receiver took a refresh, the mirror is the picture the engine
-            # initialised on, sharper than the receiver's last one: no fair comparison.
-            return None
+            # initialised on, sharper than the receiver's last one: judge against that one.
+            if self.config.first_always:
+                return None
+            mirror = self._receiver_view(mbc_encoder, receiver_picture)
         decoded = getattr(getattr(mbc_encoder, "stream", None), "decoded", None)
         if kept is None or mirror is None or decoded is None:
             return None
