@@ -25,12 +25,11 @@ from dataclasses import replace
 
 from uma.codecs import Role, spec
 from uma.config.scenario import EngineConfig, FeedbackConfig
-from uma.engine import paced
+from uma.engine import paced, refreshing
 from uma.engine.decisions import (
     EngineEvent,
     EngineOutcome,
     FrameDecision,
-    PaceDecision,
     UnitSent,
 )
 from uma.engine.estimator import EstimatorState, initial_estimate, stale_decrease
@@ -40,7 +39,6 @@ from uma.engine.pacing import backlogged, frame_fits, padding_bits
 from uma.engine.parts import DescriptionPlan, build_parts
 from uma.engine.points import OperatingPoint
 from uma.engine.policy import POLICIES, PolicyView
-from uma.engine.refresh import RefreshPlanner
 from uma.engine.reports import KeyframeRequest, ReceiverReport
 
 __all__ = ["UmaEngine", "FrameDecision", "EngineEvent", "DescriptionPlan"]
@@ -81,10 +79,7 @@ class UmaEngine:
         self.keyframes = Keyframes(feedback.keyframe_min_interval_ms / 1000.0)
         self.pacer, self.handover = paced.build(config, technology_priors_kbps)
         self.next_unit = 0
-        refresh = getattr(self.model_config, "refresh", None)
-        self.refresh = None
-        if refresh is not None and refresh.enabled:
-            self.refresh = RefreshPlanner(refresh, emit=self._emit, counts=self.counts)
+        self.refresh = refreshing.build(self.model_config, emit=self._emit, counts=self.counts)
 
     def _emit(self, now_s: float, kind: str, detail: str) -> None:
         self.events.append(EngineEvent(now_s, kind, detail))
@@ -101,35 +96,16 @@ class UmaEngine:
         )
         if self.handover is not None:
             paced.take_handover_prior(self, report.technology, now_s)
-        if self.refresh is not None:
-            self.refresh.on_ack(report.refresh_frame)
+        refreshing.on_report(self, report)
 
     def on_keyframe_request(self, request: KeyframeRequest, now_s: float) -> None:
-        if request.refresh:
-            if self.refresh is not None:
-                self.refresh.request_intra(now_s)
-            return
-        self.keyframes.request()
-        self._emit(now_s, "keyframe_request", f"frame {request.frame}")
+        if not refreshing.keyframe_request(self, request, now_s):
+            self.keyframes.request()
+            self._emit(now_s, "keyframe_request", f"frame {request.frame}")
 
-    def on_refresh_coded(
-        self, packets: list[tuple[object, int]], now_s: float, *, intra: bool
-    ) -> None:
-        """The refresh a decision ordered was coded as `packets` ((packet, size_bits) each,
-        not yet numbered): they wait in the engine for `on_refresh_pace`."""
-        if self.refresh is not None:
-            self.refresh.coded(packets, now_s, intra=intra)
-
-    def on_refresh_pace(self, now_s: float) -> list[tuple[object, int]]:
-        """The refresh packets that leave now, each with its sequence number."""
-        if self.refresh is None:
-            return []
-        out = self.refresh.pace(now_s, queue_delay_ms=self.estimator.queue_delay_ms)
-        if not out:
-            return []
-        sizes = [bits for _, bits in out]
-        first_seq = self.inflight.on_sent(sizes)
-        return [(packet, first_seq + i) for i, (packet, _) in enumerate(out)]
+    # The model-aided refresh (`uma.engine.refreshing`): its coded packets wait in the engine.
+    on_refresh_coded = refreshing.on_refresh_coded
+    on_refresh_pace = refreshing.on_refresh_pace
 
     def on_keyframe_sent(self, now_s: float) -> None:
         """An IDR (or intra parameter set) the engine asked for really left."""
@@ -172,28 +148,15 @@ class UmaEngine:
         `sizes_bits`: their first sequence number, and the padding to send behind it."""
         first_seq = self.inflight.on_sent(sizes_bits)
         interval_s = frames / min(self.points[rung].fps, self.ladder.source_fps)
-        # Refresh bits that left since the last unit fill the probe's share as padding would.
-        sent_bits = sum(sizes_bits) + (self.refresh.take_released_bits() if self.refresh else 0)
+        sent_bits = sum(sizes_bits) + refreshing.released_bits(self)
         pad = padding_bits(self, self.points[rung], interval_s, sent_bits=sent_bits)
         return UnitSent(first_seq, pad)
 
-    def on_unit_queued(
-        self, packets: list[tuple[object, int]], *, rung: int, frames: tuple[int, ...],
-        keyframe: bool, now_s: float,
-    ) -> UnitSent:  # fmt: skip
-        """With the pacer on: a coded unit of point `rung` carrying `frames` waits in the
-        engine's queue (`on_pace` lets it out, numbered then); see `uma.engine.paced`."""
-        return paced.unit_queued(self, packets, rung=rung, frames=frames, keyframe=keyframe,
-                                 now_s=now_s)  # fmt: skip
-
-    def on_padding_queued(self, packets: list[tuple[object, int]], now_s: float) -> None:
-        """Padding packets wait in the pacer's lowest class."""
-        paced.padding_queued(self, packets, now_s)
-
-    def on_pace(self, now_s: float, *, capacity_kbps: float | None = None) -> PaceDecision:
-        """The packets the pacer lets out at `now_s` (each numbered), and when to ask again;
-        the oracle paces at the true capacity `capacity_kbps`."""
-        return paced.pace(self, now_s, capacity_kbps=capacity_kbps)
+    # With the pacer on (`uma.engine.paced`): units and padding wait in the engine's queue,
+    # and `on_pace` lets them out, numbered then.
+    on_unit_queued = paced.unit_queued
+    on_padding_queued = paced.padding_queued
+    on_pace = paced.pace
 
     @property
     def queued_bits(self) -> int:
@@ -257,21 +220,10 @@ class UmaEngine:
             return replace(decision, reason="backlog")
         self.switched_between = False
         self.last_sent_s = now_s
-        refresh = adopted = None
-        if self.refresh is not None:
-            # The oracle knows the capacity; others spend no more than the link carried.
-            oracle = self.config.policy == "oracle"
-            received_kbps = float("inf") if oracle else self.estimator.received_kbps
-            refresh = self.refresh.on_frame(
-                frame, now_s, on_model=spec(point.codec).role is Role.MODEL,
-                budget_kbps=budget_kbps, model_kbps=point.rate_kbps,
-                received_kbps=received_kbps,
-            )  # fmt: skip
-            adopted = self.refresh.take_adopted()
+        refresh = refreshing.decide(self, frame, now_s, point, budget_kbps)
         return replace(
-            decision, send=True, force_idr=switched or self.keyframes.due(now_s),
-            refresh=refresh, refresh_adopted=adopted,
-        )  # fmt: skip
+            decision, send=True, force_idr=switched or self.keyframes.due(now_s), **refresh
+        )
 
     def _switch_to(self, wanted: int, now_s: float, kind: str) -> None:
         old, new = self.points[self.rung], self.points[wanted]
