@@ -202,3 +202,18 @@ def test_a_refresh_no_better_than_the_receivers_picture_is_not_sent(head):
     always = RefreshChain(config.model_copy(update={"first_always": True}), source_size=SIZE)
     coded = always.engine_code(first, frames[10], order, receiver_picture=frames[10])
     assert coded is not None
+
+
+def test_the_run_summary_says_what_the_refresh_sent():
+    from uma.sim.summary import format_summary
+
+    metrics = {
+        "scenario": "s", "seed": 1, "frames": 10, "video": "176x144@25", "source": "x",
+        "switches": 0, "handovers": 0, "keyframe_requests": 0, "kbps_mbc": 0.6,
+        "shown_s_by_codec": {"mbc": 1.0}, "switching": "threshold",
+    }  # fmt: skip
+    assert "refresh" not in format_summary(metrics, "out")
+    metrics |= {"kbps_refresh": 1.747, "refreshes": 16, "refresh_intra": 2, "refresh_adopted": 12}
+    line = [x for x in format_summary(metrics, "out").splitlines() if "refresh" in x]
+    assert line == ["  refresh   1.747 kbit/s beside the model codec, 16 refreshes (2 intra), "
+                    "12 taken by the receiver"]  # fmt: skip

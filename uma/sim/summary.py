@@ -154,6 +154,12 @@ def _codec_lines(metrics: dict[str, Any]) -> list[str]:
             f"{spec(name).label} {kbps or 0:g} kbit/s, on screen {shown.get(name, 0.0):g} s"
         )
     lines = [f"  codecs    {'; '.join(cells)}"] if cells else []
+    if "kbps_refresh" in metrics:
+        lines.append(
+            f"  refresh   {metrics['kbps_refresh']:g} kbit/s beside the model codec, "
+            f"{metrics['refreshes']} refreshes ({metrics['refresh_intra']} intra), "
+            f"{metrics['refresh_adopted']} taken by the receiver"
+        )
     for tech, row in sorted((metrics.get("by_technology") or {}).items()):
         face = [
             f"{label} {row[key]:g}{unit}"
