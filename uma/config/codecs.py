@@ -10,13 +10,87 @@ from typing import Annotated, Literal
 
 from pydantic import AllowInfNan, Field, Strict, model_validator
 
-from uma.config.types import Bool, Fraction, NonNeg, PosInt, PosNum, Section, Str
+from uma.config.types import Bool, Fraction, NonNeg, Num, PosInt, PosNum, Section, Str
 
 __all__ = [
     "MbcConfig",
+    "RefreshConfig",
     "FaceRungConfig",
     "FaceRegionConfig",
 ]
+
+
+# libx264's presets a refresh may use (`uma.video.PRESETS` up to `slow`).
+RefreshPreset = Literal["ultrafast", "superfast", "veryfast", "faster", "fast", "medium", "slow"]
+RingSize = Annotated[float, Strict(), AllowInfNan(False), Field(gt=1)]
+
+
+class RefreshConfig(Section):
+    """The model-aided refresh (`engine.mbc.refresh`, docs/refresh.md): while on the model
+    codec, the rate the budget leaves above its point's (`safety` x estimate - `rate_kbps`)
+    carries a low-frame-rate H.264 stream of the whole picture beside the parameters, and the
+    receiver renders from each refresh it decodes (the model codec's new reference, at that
+    frame's decoded pose).
+
+    An intra refresh starts a stream sized to what `share` of the spare rate carries in
+    `interval_ms` (within `min_frame_bits` and `max_frame_bits`; libx264 at that many bits a
+    frame, its VBV one frame); the refreshes after it are predicted from the one before at
+    that size. The spare rate sets how often: the next refresh is coded once the last one has
+    left and its own bits at `share` of the spare rate would have taken as long, never sooner
+    than `min_interval_ms` after it, and none while that would take more than
+    `max_interval_ms` or less than `min_spare_kbps` are spare. Its packets (`packet_bytes` of
+    payload) leave at the spare rate (at least half `min_spare_kbps`), none while the last
+    report's queueing delay is more than `queue_high_ms` above its least over the last
+    `queue_window_ms` (they would delay the parameters behind them). The
+    first refresh of a stretch on the model codec, the one after a lost refresh and the one
+    after the spare rate has doubled the stream's size are intra. `scale`: the refresh's size
+    as a fraction of the source's (the receiver upscales). `face`: where the rendered face's
+    own triangles come from once a refresh is the reference: the refresh picture itself
+    (`picture`), the description's texture (`description`), or the refresh picture's for
+    `face_recent_ms` after its frame and the description's after that (`recent`: a head that
+    moved far from the refresh's pose is drawn better from the exact description). `preset`: libx264's (a picture
+    every interval, so a slower preset than the ladder's costs little). A refresh is sent only
+    when, over the face box, it beats by `min_gain_db` what the engine's mirror of the
+    receiver renders at that frame (a sharp old reference of a still scene can be better than
+    a small refresh); else it is not sent and the next one starts intra. With `first_always`
+    the first refresh of a stretch skips that check (the mirror is then the engine's own
+    initialisation picture, often sharper than the receiver's last one; measured on the akiyo
+    cut of docs/refresh.md, checking it too did better). `encode_ms`: the
+    modelled compute of coding one refresh, decoding it again for the mirror and that check.
+    """
+
+    enabled: Bool = False
+    interval_ms: Annotated[float, Strict(), AllowInfNan(False), Field(ge=40)] = 1000.0
+    min_frame_bits: Annotated[int, Strict(), Field(ge=1000)] = 8000
+    max_frame_bits: Annotated[int, Strict(), Field(ge=1000)] = 32000
+    min_interval_ms: Annotated[float, Strict(), AllowInfNan(False), Field(ge=40)] = 400.0
+    max_interval_ms: Annotated[float, Strict(), AllowInfNan(False), Field(ge=40)] = 3000.0
+    min_spare_kbps: PosNum = 10.0
+    share: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, le=1)] = 0.8
+    queue_high_ms: PosNum = 100.0
+    queue_window_ms: PosNum = 2000.0
+    packet_bytes: Annotated[int, Strict(), Field(ge=100, le=1500)] = 500
+    scale: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, le=1)] = 1.0
+    face: Literal["recent", "picture", "description"] = "recent"
+    face_recent_ms: NonNeg = 2000.0
+    preset: RefreshPreset = "medium"
+    min_gain_db: Num = 0.5
+    first_always: Bool = False
+    encode_ms: NonNeg = 12.0
+
+    @model_validator(mode="after")
+    def _intervals(self) -> RefreshConfig:
+        if self.min_frame_bits > self.max_frame_bits:
+            raise ValueError(
+                f"min_frame_bits ({self.min_frame_bits}) must not exceed max_frame_bits "
+                f"({self.max_frame_bits})"
+            )
+        if self.min_interval_ms > self.max_interval_ms:
+            raise ValueError(
+                f"min_interval_ms ({self.min_interval_ms:g}) must not exceed max_interval_ms "
+                f"({self.max_interval_ms:g})"
+            )
+        return self
 
 
 class MbcConfig(Section):
@@ -43,6 +117,12 @@ class MbcConfig(Section):
     `probe`: while on MBC, follow each parameter packet with padding up to the estimate's
     share of the frame interval, so the estimate can grow back (without it, it stays within
     3 x the parameters' few kbit/s and the engine never returns to H.264).
+    `light`: code the face's light (gain and offset) in every parameter set and relight the
+    rendering by it; `light_ms`: its modelled compute per frame (the encoder renders the face
+    and fits the light). `far_ring_head_radii`, `head_ring_outlines`: the renderer's scene
+    mesh (`uma.mbc.scene_render`): the far ring, fixed in the picture, in head-ring radii from
+    the face's centre, and the head ring (moves with the head) in face-outline radii.
+    `refresh`: the model-aided refresh (`RefreshConfig`).
     """
 
     description: Str | None = None
@@ -63,6 +143,11 @@ class MbcConfig(Section):
     # tracks the face in every frame and sends its parameters up with the H.264; the engine
     # only selects, and re-codes them for the downlink).
     scheme: Literal["adaptation", "selection"] = "adaptation"
+    light: Bool = True
+    light_ms: NonNeg = 1.5
+    far_ring_head_radii: RingSize = 1.6
+    head_ring_outlines: RingSize = 1.4
+    refresh: RefreshConfig = Field(default_factory=RefreshConfig)
 
 
 class FaceRungConfig(Section):

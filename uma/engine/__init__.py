@@ -20,6 +20,13 @@ from uma.engine.model import TRANSITIONS, ModelEvent, ModelState
 from uma.engine.pacer import PacedPacket, Pacer, PacerRelease
 from uma.engine.parts import DescriptionPlan
 from uma.engine.policy import POLICIES, PolicyView, fixed_policy, oracle_policy, throughput_policy
+from uma.engine.refresh import (
+    REFRESH_TRANSITIONS,
+    RefreshEvent,
+    RefreshOrder,
+    RefreshPlanner,
+    RefreshState,
+)
 from uma.engine.reports import KeyframeRequest, ReceiverReport
 
 __all__ = [
@@ -50,4 +57,9 @@ __all__ = [
     "fixed_policy",
     "ReceiverReport",
     "KeyframeRequest",
+    "RefreshPlanner",
+    "RefreshOrder",
+    "RefreshState",
+    "RefreshEvent",
+    "REFRESH_TRANSITIONS",
 ]

@@ -12,6 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from uma.engine.points import OperatingPoint
+from uma.engine.refresh import RefreshOrder
 
 __all__ = [
     "FrameDecision",
@@ -52,7 +53,10 @@ class FrameDecision:
     of on this frame's decoded picture (then call `on_init_done`), or None. `description`:
     the content description's packets to send now, before the frame (each already counted in
     flight). `estimate_kbps`: the bandwidth estimate the decision was taken on;
-    `queued_bits`: what waited in the engine's own queue (the pacer's) then.
+    `queued_bits`: what waited in the engine's own queue (the pacer's) then. `refresh`: a
+    model-aided refresh to code of this frame's picture (`uma.engine.refresh`), or None;
+    `refresh_adopted`: the frame of a refresh the receiver now renders from, that the
+    encoder's mirror of it should take too (None: no change).
     """
 
     frame: int
@@ -66,6 +70,8 @@ class FrameDecision:
     description: tuple[DescriptionChunk, ...] = ()
     estimate_kbps: float = 0.0
     queued_bits: int = 0
+    refresh: RefreshOrder | None = None
+    refresh_adopted: int | None = None
 
     @property
     def codec(self) -> str:

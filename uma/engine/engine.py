@@ -25,12 +25,11 @@ from dataclasses import replace
 
 from uma.codecs import Role, spec
 from uma.config.scenario import EngineConfig, FeedbackConfig
-from uma.engine import paced
+from uma.engine import paced, refreshing
 from uma.engine.decisions import (
     EngineEvent,
     EngineOutcome,
     FrameDecision,
-    PaceDecision,
     UnitSent,
 )
 from uma.engine.estimator import EstimatorState, initial_estimate, stale_decrease
@@ -80,6 +79,7 @@ class UmaEngine:
         self.keyframes = Keyframes(feedback.keyframe_min_interval_ms / 1000.0)
         self.pacer, self.handover = paced.build(config, technology_priors_kbps)
         self.next_unit = 0
+        self.refresh = refreshing.build(self.model_config, emit=self._emit, counts=self.counts)
 
     def _emit(self, now_s: float, kind: str, detail: str) -> None:
         self.events.append(EngineEvent(now_s, kind, detail))
@@ -96,10 +96,16 @@ class UmaEngine:
         )
         if self.handover is not None:
             paced.take_handover_prior(self, report.technology, now_s)
+        refreshing.on_report(self, report)
 
     def on_keyframe_request(self, request: KeyframeRequest, now_s: float) -> None:
-        self.keyframes.request()
-        self._emit(now_s, "keyframe_request", f"frame {request.frame}")
+        if not refreshing.keyframe_request(self, request, now_s):
+            self.keyframes.request()
+            self._emit(now_s, "keyframe_request", f"frame {request.frame}")
+
+    # The model-aided refresh (`uma.engine.refreshing`): its coded packets wait in the engine.
+    on_refresh_coded = refreshing.on_refresh_coded
+    on_refresh_pace = refreshing.on_refresh_pace
 
     def on_keyframe_sent(self, now_s: float) -> None:
         """An IDR (or intra parameter set) the engine asked for really left."""
@@ -142,26 +148,15 @@ class UmaEngine:
         `sizes_bits`: their first sequence number, and the padding to send behind it."""
         first_seq = self.inflight.on_sent(sizes_bits)
         interval_s = frames / min(self.points[rung].fps, self.ladder.source_fps)
-        pad = padding_bits(self, self.points[rung], interval_s, sent_bits=sum(sizes_bits))
+        sent_bits = sum(sizes_bits) + refreshing.released_bits(self)
+        pad = padding_bits(self, self.points[rung], interval_s, sent_bits=sent_bits)
         return UnitSent(first_seq, pad)
 
-    def on_unit_queued(
-        self, packets: list[tuple[object, int]], *, rung: int, frames: tuple[int, ...],
-        keyframe: bool, now_s: float,
-    ) -> UnitSent:  # fmt: skip
-        """With the pacer on: a coded unit of point `rung` carrying `frames` waits in the
-        engine's queue (`on_pace` lets it out, numbered then); see `uma.engine.paced`."""
-        return paced.unit_queued(self, packets, rung=rung, frames=frames, keyframe=keyframe,
-                                 now_s=now_s)  # fmt: skip
-
-    def on_padding_queued(self, packets: list[tuple[object, int]], now_s: float) -> None:
-        """Padding packets wait in the pacer's lowest class."""
-        paced.padding_queued(self, packets, now_s)
-
-    def on_pace(self, now_s: float, *, capacity_kbps: float | None = None) -> PaceDecision:
-        """The packets the pacer lets out at `now_s` (each numbered), and when to ask again;
-        the oracle paces at the true capacity `capacity_kbps`."""
-        return paced.pace(self, now_s, capacity_kbps=capacity_kbps)
+    # With the pacer on (`uma.engine.paced`): units and padding wait in the engine's queue,
+    # and `on_pace` lets them out, numbered then.
+    on_unit_queued = paced.unit_queued
+    on_padding_queued = paced.padding_queued
+    on_pace = paced.pace
 
     @property
     def queued_bits(self) -> int:
@@ -225,7 +220,10 @@ class UmaEngine:
             return replace(decision, reason="backlog")
         self.switched_between = False
         self.last_sent_s = now_s
-        return replace(decision, send=True, force_idr=switched or self.keyframes.due(now_s))
+        refresh = refreshing.decide(self, frame, now_s, point, budget_kbps)
+        return replace(
+            decision, send=True, force_idr=switched or self.keyframes.due(now_s), **refresh
+        )
 
     def _switch_to(self, wanted: int, now_s: float, kind: str) -> None:
         old, new = self.points[self.rung], self.points[wanted]

@@ -8,6 +8,7 @@ changes only its pacer, estimate, keyframe request, counts and events.
 from __future__ import annotations
 
 from uma.codecs import Role, spec
+from uma.engine import refreshing
 from uma.engine.decisions import PaceDecision, UnitSent
 from uma.engine.handover import Handover, handover_estimate
 from uma.engine.pacer import PADDING, PRIORITY, VIDEO, PacedPacket, Pacer
@@ -47,6 +48,7 @@ def unit_queued(
     _dropped(self, dropped, now_s, "model codec first")
     interval_s = len(frames) / min(point.fps, self.ladder.source_fps)
     sent_bits = sum(size for _, size in packets)
+    sent_bits += refreshing.released_bits(self)  # refresh bits fill the probe's share too
     return UnitSent(-1, padding_bits(self, point, interval_s, sent_bits=sent_bits))
 
 

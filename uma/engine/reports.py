@@ -31,6 +31,7 @@ class ReceiverReport:
     remb_kbps: float | None = None
     description_complete: bool = False  # the receiver holds the whole content description
     technology: str = ""
+    refresh_frame: int = -1  # the newest model-aided refresh the receiver renders from
 
     @property
     def received_kbps(self) -> float:
@@ -44,7 +45,9 @@ class ReceiverReport:
 
 @dataclass(frozen=True)
 class KeyframeRequest:
-    """The receiver lost a reference frame and asks for an IDR (an RTCP PLI)."""
+    """The receiver lost a reference frame and asks for an IDR (an RTCP PLI); `refresh`: a
+    model-aided refresh was lost or undecodable, and the next refresh should be intra."""
 
     sent_s: float
     frame: int
+    refresh: bool = False

@@ -170,7 +170,14 @@ class CodecChain:
             seed=scenario.seed,
             source_size=(width, height),
             face_region=scenario.engine.face_region,
+            mbc=scenario.engine.mbc,
+            fps=fps,
         )
+        self.refresh = None  # the model-aided refresh's coders (`uma.sim.refresh`)
+        if description is not None and scenario.engine.mbc.refresh.enabled:
+            from uma.sim.refresh import RefreshChain
+
+            self.refresh = RefreshChain(scenario.engine.mbc.refresh, source_size=(width, height))
         if description is not None:
             from uma.mbc import StreamConfig
 
@@ -313,6 +320,37 @@ class CodecChain:
         if pictures:
             self.receiver_last = pictures[max(pictures)]
         return pictures
+
+    def engine_refresh(self, picture: np.ndarray, order):
+        """Code the refresh `order` (`uma.engine.refresh.RefreshOrder`) of `picture`, the
+        frame the model codec just coded: (bytes, intra), or None."""
+        if self.refresh is None:
+            return None
+        # The engine knows the last picture the receiver decoded before this stretch on the
+        # model codec (its reports say which), once the receiver is on it.
+        on_model = self.receiver_codec and spec(self.receiver_codec).role is Role.MODEL
+        receiver_picture = self.context.background if on_model else None
+        return self._timed(
+            "refresh", self.refresh.engine_code, self.engine_encoder, picture, order,
+            receiver_picture=receiver_picture,
+        )  # fmt: skip
+
+    def engine_adopt_refresh(self, frame: int) -> None:
+        """The receiver renders from refresh `frame` now: the engine's mirror follows."""
+        if self.refresh is not None:
+            self.refresh.engine_adopt(self.engine_encoder, frame)
+
+    def receiver_refresh(self, unit: EncodedUnit) -> np.ndarray | None:
+        """A refresh unit complete at the receiver: its picture, or None (undecodable)."""
+        if self.refresh is None:
+            return None
+        on_model = self.receiver_codec and spec(self.receiver_codec).role is Role.MODEL
+        mbc = self.receiver_decoder if on_model else None
+        return self._timed("refresh", self.refresh.receiver_decode, mbc, unit.frame, unit.data)
+
+    def receiver_refresh_frame(self) -> int:
+        """The refresh the receiver's model codec renders from (-1: none)."""
+        return getattr(self.receiver_decoder, "refresh_frame", -1)
 
     def engine_flush(self) -> Coded | None:
         """What the engine's encoder still holds (MBC's open packet) when it leaves its point."""

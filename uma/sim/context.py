@@ -27,7 +27,8 @@ class CodecContext:
     `description`: the model-based codec's content description (None: the run has none);
     `seed`: the run's seed, for the tracker's random restarts; `source_size`: (width, height)
     of the source; `stream`: the model codec's `uma.mbc.StreamConfig` (None without a
-    description); `face_region`: the scenario's `FaceRegionConfig` for the region codec.
+    description); `face_region`: the scenario's `FaceRegionConfig` for the region codec;
+    `mbc`: the scenario's `MbcConfig` (light, ring sizes, refresh).
     """
 
     description: Any = None
@@ -38,6 +39,8 @@ class CodecContext:
     background: np.ndarray | None = None
     selected: dict[int, Any] | None = None
     tracker: Any = None  # a tracker to reuse instead of making one (benchmarks)
+    mbc: Any = None  # the scenario's `engine.mbc` section (None: the codec's defaults)
+    fps: float = 25.0  # the source's frame rate
 
 
 def as_context(context: CodecContext | Mapping[str, Any] | None) -> CodecContext:

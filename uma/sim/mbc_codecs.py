@@ -27,6 +27,47 @@ def _luma(picture: np.ndarray) -> np.ndarray:
     return picture[: picture.shape[0] * 2 // 3]
 
 
+def scene_renderer(description, size: tuple[int, int], mbc=None):
+    """The receiver's `uma.mbc.SceneRenderer` for `description` at `size`, its rings as the
+    `engine.mbc` section `mbc` sizes them (None: the renderer's own)."""
+    from uma.face.scene import SceneMesh
+    from uma.mbc import SceneRenderer, description_reference
+    from uma.mbc import scene_render as defaults
+
+    renderer = SceneRenderer(description, size)
+    if mbc is None or (mbc.far_ring_head_radii, mbc.head_ring_outlines) == (
+        defaults.FAR_RING_HEAD_RADII,
+        defaults.HEAD_RING_OUTLINES,
+    ):
+        return renderer
+    # The renderer takes its ring sizes from module constants; rebuild its mesh with these.
+    width, height = renderer.size
+    renderer.scene = SceneMesh.build(
+        description.model, description.params, (height, width),
+        far_ring_scale=mbc.far_ring_head_radii, head_ring_scale=mbc.head_ring_outlines,
+    )  # fmt: skip
+    renderer._strips = len(renderer.scene.triangles) - len(description.model.triangles)
+    renderer.set_reference(*description_reference(description, renderer.size))
+    return renderer
+
+
+def face_from_description(mbc, frame: int, refresh_frame: int, fps: float) -> bool:
+    """Whether the rendered face's own triangles come from the description's texture at
+    `frame`, rendering from the refresh of `refresh_frame` (-1: none; the `engine.mbc` section
+    `mbc` says where): the refresh picture's face while it is recent (`recent`: within
+    `face_recent_ms`; `picture`: always), else the description's (its pose there is exact)."""
+    refresh = getattr(mbc, "refresh", None)
+    if refresh_frame < 0 or refresh is None or refresh.face == "description":
+        return True
+    if refresh.face == "picture":
+        return False
+    return (frame - refresh_frame) * 1000.0 / fps > refresh.face_recent_ms
+
+
+def _light_on(context) -> bool:
+    return context.mbc is None or context.mbc.light
+
+
 def _packets_coded(packets, width: int, height: int, **more) -> Coded:
     """MBC packets as one coded unit (empty when the frame was buffered for the next)."""
     return Coded(
@@ -54,23 +95,47 @@ class MbcPointEncoder:
         self.width, self.height = source_size
         if self.tracks:
             self.tracker = context.tracker or FaceTracker(description, rng=context.seed)
-        units = FaceUnits.of(description.model, description.params, light=True)
-        self.stream = ParameterEncoder(units, context.stream)
+        self.light = _light_on(context)
+        self.units = FaceUnits.of(description.model, description.params, light=self.light)
+        self.stream = ParameterEncoder(self.units, context.stream)
         self.description = description
+        self.mbc = context.mbc
+        self.fps = float(source_fps)
         self.mirror = None  # the receiver's renderer as this encoder expects it
+        self.refresh_frame = -1  # the refresh the mirror renders from (-1: none)
+        self.first_params: np.ndarray | None = None  # the stream's first pose, as decoded
+        self._face_from_description = True
 
-    def set_reference(self, picture: np.ndarray, params: np.ndarray) -> None:
+    def set_reference(
+        self, picture: np.ndarray, params: np.ndarray, *, refresh_frame: int = -1
+    ) -> None:
         """Measure light against `picture` (YUV 4:2:0) with the model at `params` on it, as the
         receiver renders: by default the picture this encoder initialised on (the receiver's is
-        the last it showed, at the stream's first pose); the model-aided refresh calls this and
-        `MbcUnitDecoder.set_reference` with the same picture and pose."""
-        from uma.mbc import SceneRenderer
+        the last it showed, at the stream's first pose); the model-aided refresh calls this
+        with the refresh of `refresh_frame` the receiver took, its picture and pose, and the
+        face's own triangles then come from where `engine.mbc.refresh.face` says."""
         from uma.video import resize_yuv420
 
-        self.mirror = SceneRenderer(self.description, (self.width, self.height))
+        if self.mirror is None:
+            self.mirror = scene_renderer(self.description, (self.width, self.height), self.mbc)
         picture = resize_yuv420(np.ascontiguousarray(picture), self.width, self.height)
         self.mirror.set_reference(picture, params)
+        self.refresh_frame = refresh_frame
+        self._face_from_description = True
         self.mirror.set_face_source(True)
+
+    def _face_source(self, frame: int) -> None:
+        """The mirror's face from where the receiver's comes at `frame`."""
+        wanted = face_from_description(self.mbc, frame, self.refresh_frame, self.fps)
+        if wanted != self._face_from_description:
+            self._face_from_description = wanted
+            self.mirror.set_face_source(wanted)
+
+    def decoded_params(self) -> np.ndarray | None:
+        """The geometry of the last set pushed, as the receiver decodes it (None: none yet)."""
+        if self.stream.decoded is None:
+            return None
+        return self.units.split(self.stream.decoded)[0]
 
     def _light(self, picture: np.ndarray, params: np.ndarray) -> tuple[float, float]:
         """The face's light on `picture` against what the receiver will render."""
@@ -106,8 +171,14 @@ class MbcPointEncoder:
             )
         if intra:
             self.stream.request_intra()
-        light = self._light(picture, result.params)
-        packets = self.stream.push(frame, np.append(result.params, light))
+        values = result.params
+        if self.light:
+            if self.mirror is not None:
+                self._face_source(frame)
+            values = np.append(values, self._light(picture, result.params))
+        packets = self.stream.push(frame, values)
+        if self.first_params is None:
+            self.first_params = self.decoded_params()
         return _packets_coded(
             packets,
             self.width,
@@ -192,15 +263,22 @@ class MbcUnitDecoder:
     from the description's own. `set_reference` replaces the picture (the model-aided refresh)."""
 
     def __init__(self, *, context) -> None:
-        from uma.mbc import FaceUnits, ParameterDecoder, SceneRenderer
+        from uma.mbc import FaceUnits, ParameterDecoder
         from uma.video import resize_yuv420
 
         context = as_context(context)
         description = context.description
         width, height = context.source_size
-        self.units = FaceUnits.of(description.model, description.params, light=True)
+        light = _light_on(context)
+        self.units = FaceUnits.of(description.model, description.params, light=light)
         self.decoder = ParameterDecoder(self.units, context.stream)
-        self.renderer = SceneRenderer(description, (width, height))
+        self.renderer = scene_renderer(description, (width, height), context.mbc)
+        self.mbc = context.mbc
+        self.fps = float(context.fps)
+        self._face_from_description = context.background is not None
+        self.params_by_frame: dict[int, np.ndarray] = {}  # decoded poses, for refreshes
+        self.refresh_waiting: tuple[int, np.ndarray] | None = None  # a refresh without its pose
+        self.refresh_frame = -1  # the refresh rendered from (-1: none)
         background = context.background
         self._pending = None
         if background is not None:
@@ -215,6 +293,40 @@ class MbcUnitDecoder:
         self.renderer.set_reference(picture, params)
         self._pending = None
 
+    def refresh(self, frame: int, picture: np.ndarray) -> bool:
+        """A model-aided refresh of `frame` decoded: render from it at the pose the stream
+        decoded for `frame` (kept waiting until that pose arrives). True when taken now."""
+        self.refresh_waiting = (frame, picture)
+        return self._take_refresh()
+
+    def _take_refresh(self) -> bool:
+        from uma.mbc import SceneError
+
+        frame, picture = self.refresh_waiting
+        params = self.params_by_frame.get(frame)
+        if params is None:
+            # Packets carry frames in order: once a later pose came, this one was lost.
+            if self.params_by_frame and frame < max(self.params_by_frame):
+                self.refresh_waiting = None
+            return False
+        self.refresh_waiting = None
+        try:
+            self.set_reference(picture, params)
+        except SceneError:
+            return False  # the old reference stays
+        self.refresh_frame = frame
+        self._face_source(frame)
+        return True
+
+    def _face_source(self, frame: int) -> None:
+        """The face's own triangles at `frame` from where `engine.mbc.refresh.face` says."""
+        if self.refresh_frame < 0:
+            return
+        wanted = face_from_description(self.mbc, frame, self.refresh_frame, self.fps)
+        if wanted != self._face_from_description:
+            self._face_from_description = wanted
+            self.renderer.set_face_source(wanted)
+
     def decode(self, unit: EncodedUnit) -> dict[int, np.ndarray]:
         from uma.mbc import PacketError
 
@@ -227,7 +339,13 @@ class MbcUnitDecoder:
         pictures = {}
         for frame, (_, values) in zip(frames[-len(out.frames) :], out.frames, strict=False):
             params, light = self.units.split(values)
+            self.params_by_frame[frame] = params
             if self._pending is not None:
                 self.set_reference(self._pending, params)
+            if self.refresh_waiting is not None and self.refresh_waiting[0] == frame:
+                self._take_refresh()
+            self._face_source(frame)
             pictures[frame], _ = self.renderer.render(params, light)
+        for old in [f for f in self.params_by_frame if f < max(pictures or [0]) - 100]:
+            del self.params_by_frame[old]
         return pictures

@@ -35,6 +35,8 @@ class EncodedUnit:
     keyframe: bool
     data: bytes
     frames: tuple[int, ...] = ()  # every frame the unit carries when several (MBC packets)
+    # A model-aided refresh (`uma.sim.refresh`): its own chain, `unit_seq` counts refreshes.
+    refresh: bool = False
 
 
 @dataclass(frozen=True)

@@ -156,7 +156,8 @@ def model_point(codec: str, scenario: Scenario, ladder, source) -> tuple[Operati
             fps=min(config.fps, float(source.fps)),
             width=source.width,
             height=source.height,
-            compute_ms=config.encode_ms,
+            # Quantise and range-code, and with light on fit it against the receiver's view.
+            compute_ms=config.encode_ms + (config.light_ms if config.light else 0.0),
             compute_us_per_evaluation=config.track_us_per_evaluation,
             label=f"{codec} {config.rate_kbps:g}k {source.width}x{source.height}",
         ),

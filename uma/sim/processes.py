@@ -102,7 +102,10 @@ def engine_process(env: simpy.Environment, world: World):
                 )
             )
             world.description_sent_bits += chunk.size_bits
+        if decision.refresh_adopted is not None:
+            world.codec.engine_adopt_refresh(decision.refresh_adopted)
         if not decision.send or picture is None:
+            _release_refresh(world)
             continue
         point = decision.point
         if world.codec.engine_point not in (-1, decision.rung):
@@ -118,6 +121,8 @@ def engine_process(env: simpy.Environment, world: World):
         engine.on_coded(
             index, env.now, rung=decision.rung, reinitialised=out.reinitialised, failure=out.failure
         )
+        if decision.refresh is not None and not out.failure:
+            compute_s += _code_refresh(world, picture, decision, index)
         yield env.timeout(compute_s)
         if not out.failure:
             # A frame a buffering encoder holds for its next packet is sent; its bits count
@@ -128,6 +133,39 @@ def engine_process(env: simpy.Environment, world: World):
             log["sent"][index] = 1
         if out.data:
             _send(world, out, decision.rung, index)
+        _release_refresh(world)
+
+
+def _code_refresh(world: World, picture: np.ndarray, decision, index: int) -> float:
+    """Code the model-aided refresh the engine ordered and queue it in the engine (or tell
+    the engine it is not sent); returns its modelled compute seconds (`encode_ms`: coding it,
+    decoding it again and judging it against the mirror)."""
+    coded = world.codec.engine_refresh(picture, decision.refresh)
+    config = world.codec.refresh.config
+    world.refresh_compute_s += config.encode_ms / 1000.0
+    if coded is None:  # not worth sending: the engine is told so
+        world.engine.on_refresh_coded([], world.env.now, intra=False)
+        return config.encode_ms / 1000.0
+    data, intra = coded
+    height, width = picture.shape[0] * 2 // 3, picture.shape[1]
+    unit = EncodedUnit(
+        unit_seq=world.next_refresh_seq, frame=index, codec=decision.codec, rung=decision.rung,
+        width=width, height=height, keyframe=intra, data=data, refresh=True,
+    )  # fmt: skip
+    world.next_refresh_seq += 1
+    packets = packetize(unit, first_seq=-1, payload_bytes=config.packet_bytes, sent_s=world.env.now)
+    world.engine.on_refresh_coded(
+        [(packet, packet.size_bits) for packet in packets], world.env.now, intra=intra
+    )
+    return config.encode_ms / 1000.0
+
+
+def _release_refresh(world: World) -> None:
+    """Offer the downlink the refresh packets the engine lets out now."""
+    now_s = world.env.now
+    for packet, seq in world.engine.on_refresh_pace(now_s):
+        world.downlink.offer(replace(packet, seq=seq, sent_s=now_s))
+        world.refresh_bits += packet.size_bits
 
 
 def _send(world: World, out, rung: int, index: int) -> None:

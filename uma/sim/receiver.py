@@ -66,6 +66,16 @@ class ReceiverState:
     description_done_s: float | None = None
     # The access technology the receiver is on now (its reports carry it); None: not told.
     technology: Callable[[], str] | None = None
+    # The model-aided refresh: decode a complete refresh unit (its picture, None when it cannot),
+    # and the refresh the model codec renders from now (reports carry it). A refresh chain of
+    # its own: an intra refresh, then each predicted from the one before.
+    decode_refresh: Callable[[EncodedUnit], np.ndarray | None] | None = None
+    refresh_frame: Callable[[], int] | None = None
+    refresh_assembling: dict[int, list] = field(default_factory=dict)
+    refresh_expected: int = 0
+    refresh_broken: bool = True
+    refresh_decoded: int = 0
+    refresh_lost: int = 0
 
     def on_packet(self, packet: Packet) -> None:
         now_s = self.now()
@@ -85,6 +95,9 @@ class ReceiverState:
             if packet.chunk >= 0:
                 self._description_chunk(packet, now_s)
             return  # padding: counted and seen by the estimator, nothing to decode
+        if unit.refresh:
+            self._refresh_packet(packet, unit)
+            return
         if unit.unit_seq < self.expected_unit:
             return  # a reordered packet of a unit the chain has passed: too late to use
         # The link is FIFO: a packet of a later unit means earlier incomplete units are lost.
@@ -116,6 +129,38 @@ class ReceiverState:
             self.log["decoded"][frame] = 1
             if self.on_decoded is not None:
                 self.on_decoded(frame, now_s)
+
+    def _refresh_packet(self, packet: Packet, unit: EncodedUnit) -> None:
+        if unit.unit_seq < self.refresh_expected:
+            return
+        for seq in [s for s in self.refresh_assembling if s < unit.unit_seq]:
+            del self.refresh_assembling[seq]  # FIFO: a later refresh's packet, this one is lost
+            self.refresh_lost += 1
+            self.refresh_broken = True
+        entry = self.refresh_assembling.setdefault(unit.unit_seq, [unit, 0])
+        entry[1] += 1
+        if entry[1] < packet.count:
+            return
+        del self.refresh_assembling[unit.unit_seq]
+        if not unit.keyframe and (self.refresh_broken or unit.unit_seq != self.refresh_expected):
+            self._refresh_broken(unit)
+            return
+        picture = self.decode_refresh(unit) if self.decode_refresh is not None else None
+        if picture is None:
+            self._refresh_broken(unit)
+            return
+        self.refresh_broken = False
+        self.refresh_expected = unit.unit_seq + 1
+        self.refresh_decoded += 1
+        # The best picture the receiver has of that instant, if it is still to be shown.
+        self.decoded[unit.frame] = picture
+
+    def _refresh_broken(self, unit: EncodedUnit) -> None:
+        """The refresh chain is broken (the last good reference stays): ask for an intra one."""
+        self.refresh_broken = True
+        self.refresh_expected = unit.unit_seq + 1
+        now_s = self.now()
+        self.request_keyframe(KeyframeRequest(sent_s=now_s, frame=unit.frame, refresh=True))
 
     def _description_chunk(self, packet: Packet, now_s: float) -> None:
         # The engine sends the description's chunks round and round until a report says it
@@ -162,6 +207,7 @@ class ReceiverState:
             remb_kbps=self.bwe.estimate_kbps if self.bwe is not None else None,
             description_complete=self.description_done_s is not None,
             technology=self.technology() if self.technology is not None else "",
+            refresh_frame=self.refresh_frame() if self.refresh_frame is not None else -1,
         )
         self.bits = self.packets = self.lost = 0
         self.owd_sum_s = 0.0

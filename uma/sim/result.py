@@ -49,6 +49,10 @@ class RunResult:
     description_wait_s: float = 0.0  # time MBC was wanted but the description not there
     description: object = None  # the content description MBC used, if any
     face_boxes: tuple = ()  # the face box (`uma.face.Box` or None) of each source frame read
+    refresh_bits: int = 0  # the model-aided refresh on the wire, headers included
+    refresh_compute_s: float = 0.0  # its modelled engine compute
+    refresh_decoded: int = 0  # refreshes the receiver decoded
+    refresh_lost: int = 0  # refreshes the receiver saw lost or could not decode
 
 
 def collect_result(
@@ -95,4 +99,8 @@ def collect_result(
         description_wait_s=outcome.description_wait_s,
         description=description,
         face_boxes=tuple(world.face_boxes),
+        refresh_bits=world.refresh_bits,
+        refresh_compute_s=world.refresh_compute_s,
+        refresh_decoded=world.receiver.refresh_decoded,
+        refresh_lost=world.receiver.refresh_lost,
     )

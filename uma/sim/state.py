@@ -66,6 +66,11 @@ class World:
     model_compute_s: float = 0.0
     description_sent_bits: int = 0
     pacer_kick: simpy.Event | None = None  # wakes `pacer_process` when a unit is queued
+    # The model-aided refresh: units numbered apart from the others, bits on the wire
+    # (headers included) and the engine compute modelled for them.
+    next_refresh_seq: int = 0
+    refresh_bits: int = 0
+    refresh_compute_s: float = 0.0
 
     def kick_pacer(self) -> None:
         """Something was queued in the engine's pacer: let it look now."""

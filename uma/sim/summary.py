@@ -37,6 +37,8 @@ def run_metrics(result: RunResult) -> dict[str, Any]:
     body |= switching_metrics(result)
     if result.scenario.engine.switching.policy != "none":
         body["shown_s_by_codec"] = shown_seconds_by_codec(result)
+    if result.scenario.engine.mbc.refresh.enabled:
+        body |= refresh_metrics(result)
     return head | body | playout_metrics(result)
 
 
@@ -80,6 +82,24 @@ def switching_metrics(result: RunResult) -> dict[str, Any]:
         "sender_mbc_ms_per_frame": round(result.sender_mbc_compute_ms / result.log.frames, 3)
         if result.log.frames
         else 0.0,
+    }
+
+
+def refresh_metrics(result: RunResult) -> dict[str, Any]:
+    """The model-aided refresh's rate (on the wire, headers included: not in `bits_sent` or
+    `kbps_mbc`, which are the codecs' own), its compute and what the receiver made of it."""
+    counts = result.engine_counts or {}
+    return {
+        "kbps_refresh": round(result.refresh_bits / result.duration_s / 1000.0, 3),
+        "refresh_bits": int(result.refresh_bits),
+        "refreshes": counts.get("refreshes", 0),
+        "refresh_intra": counts.get("refresh_intra", 0),
+        "refresh_dropped": counts.get("refresh_dropped", 0),
+        "refresh_skipped": counts.get("refresh_skipped", 0),
+        "refresh_decoded": result.refresh_decoded,
+        "refresh_lost": result.refresh_lost,
+        "refresh_adopted": counts.get("refresh_adopted", 0),
+        "engine_refresh_compute_s": round(result.refresh_compute_s, 3),
     }
 
 
@@ -134,6 +154,12 @@ def _codec_lines(metrics: dict[str, Any]) -> list[str]:
             f"{spec(name).label} {kbps or 0:g} kbit/s, on screen {shown.get(name, 0.0):g} s"
         )
     lines = [f"  codecs    {'; '.join(cells)}"] if cells else []
+    if "kbps_refresh" in metrics:
+        lines.append(
+            f"  refresh   {metrics['kbps_refresh']:g} kbit/s beside the model codec, "
+            f"{metrics['refreshes']} refreshes ({metrics['refresh_intra']} intra), "
+            f"{metrics['refresh_adopted']} taken by the receiver"
+        )
     for tech, row in sorted((metrics.get("by_technology") or {}).items()):
         face = [
             f"{label} {row[key]:g}{unit}"

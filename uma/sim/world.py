@@ -171,6 +171,9 @@ def run_scenario(
         base_delay_window_s=scenario.receiver.base_delay_window_s,
         technology=lambda: capacity.technology_at(env.now),
     )
+    if codec.refresh is not None:
+        receiver.decode_refresh = codec.receiver_refresh
+        receiver.refresh_frame = codec.receiver_refresh_frame
     downlink = Downlink(
         env=env,
         capacity=capacity,

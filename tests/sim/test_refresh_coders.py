@@ -1,0 +1,219 @@
+"""The model-aided refresh in the world: its coders (the engine's mirror is the receiver's
+picture), the receiver's refresh chain, and the model codec's reference after a refresh, a
+lost refresh and a corrupt one."""
+
+import numpy as np
+import pytest
+
+from uma.config.codecs import MbcConfig, RefreshConfig
+from uma.engine.refresh import RefreshOrder
+from uma.metrics.framelog import FrameLog
+from uma.sim.packets import EncodedUnit, packetize
+from uma.sim.receiver import ReceiverState
+from uma.sim.refresh import RefreshChain, RefreshDecoder, RefreshEncoder, refresh_size
+
+SIZE = (176, 144)
+
+
+@pytest.fixture(scope="module")
+def head():
+    import cv2
+
+    from uma.face.talking_head import Motion, TalkingHeadSource
+
+    source = TalkingHeadSource(*SIZE, seed=2, motion=Motion(noise_std=0.0))
+    frames = {
+        i: cv2.cvtColor(source.render_bgr(i), cv2.COLOR_BGR2YUV_I420)
+        for i in (0, 6, 8, 10, 20, 30, 40)
+    }
+    return source, frames
+
+
+def test_refresh_size_is_even_and_scaled():
+    assert refresh_size((352, 288), 1.0) == (352, 288)
+    assert refresh_size((352, 288), 0.5) == (176, 144)
+    assert refresh_size((176, 144), 0.3) == (52, 44)
+
+
+def test_the_engines_mirror_is_exactly_what_the_receiver_decodes(head):
+    source, frames = head
+    config = RefreshConfig(enabled=True, preset="ultrafast")
+    encoder = RefreshEncoder(config, source_size=SIZE)
+    decoder = RefreshDecoder(source_size=SIZE)
+    sizes = []
+    for i, index in enumerate((0, 10, 20)):
+        order = RefreshOrder(index, 12.0, 1.0, intra=i == 0)
+        data, intra = encoder.encode(frames[index], order, source.params_at(index))
+        assert intra == (i == 0)
+        sizes.append(8 * len(data))
+        picture = decoder.decode(data)
+        kept, params = encoder.kept[index]
+        assert np.array_equal(picture, kept)
+        assert np.array_equal(params, source.params_at(index))
+    assert max(sizes) <= 1.1 * 12000  # about its bits a frame each, the VBV one frame
+    assert encoder.taken(20) is not None and sorted(encoder.kept) == [20]
+    assert decoder.decode(b"\x00\x00\x01\x65garbage") is None  # corrupt: no picture
+
+
+class Clock:
+    t = 0.0
+
+    def __call__(self):
+        return self.t
+
+
+def _refresh_unit(seq, frame, data, key):
+    return EncodedUnit(seq, frame, "mbc", 0, SIZE[0], SIZE[1], key, data, refresh=True)
+
+
+def test_a_lost_refresh_leaves_the_reference_and_asks_for_an_intra_one(head):
+    source, frames = head
+    config = RefreshConfig(enabled=True, preset="ultrafast")
+    encoder = RefreshEncoder(config, source_size=SIZE)
+    taken = []
+    clock, requests = Clock(), []
+    decoder = RefreshDecoder(source_size=SIZE)
+
+    def decode_refresh(unit):
+        picture = decoder.decode(unit.data)
+        if picture is not None:
+            taken.append(unit.frame)
+        return picture
+
+    receiver = ReceiverState(
+        log=FrameLog(50), decode=lambda unit: {}, request_keyframe=requests.append, now=clock,
+        decode_refresh=decode_refresh, refresh_frame=lambda: taken[-1] if taken else -1,
+    )  # fmt: skip
+    seq = 0
+
+    def send(refresh_seq, index, *, intra, drop=()):
+        nonlocal seq
+        data, key = encoder.encode(frames[index], RefreshOrder(index, 12.0, 1.0, intra), None)
+        packets = packetize(_refresh_unit(refresh_seq, index, data, key), first_seq=seq,
+                            payload_bytes=200, sent_s=clock.t)  # fmt: skip
+        seq += len(packets)
+        for packet in packets:
+            if packet.index not in drop:
+                receiver.on_packet(packet)
+
+    send(0, 0, intra=True)
+    assert taken == [0] and requests == []
+    send(1, 10, intra=False, drop=(0,))  # a packet lost: the refresh never completes
+    send(2, 20, intra=False)  # the chain is broken: not decoded, an intra one asked for
+    assert taken == [0] and receiver.refresh_lost == 1
+    assert [r.refresh for r in requests] == [True]
+    assert receiver.make_report(0.1).refresh_frame == 0  # still the last good one
+    send(3, 30, intra=True)
+    assert taken == [0, 30] and receiver.make_report(0.1).refresh_frame == 30
+    assert 30 in receiver.decoded  # the best picture of that instant, if still to be shown
+
+
+def test_the_model_codecs_receiver_renders_from_each_refresh_taken(head):
+    from uma.mbc import FaceUnits, ParameterEncoder, StreamConfig
+    from uma.sim.mbc_codecs import MbcUnitDecoder
+
+    source, frames = head
+    mbc = MbcConfig(refresh=RefreshConfig(enabled=True, preset="ultrafast", face="picture"))
+    context = {
+        "description": source.description, "source_size": SIZE, "mbc": mbc,
+        "stream": StreamConfig(frames_per_packet=4), "background": frames[0],
+    }  # fmt: skip
+    decoder = MbcUnitDecoder(context=context)
+    chain = RefreshChain(mbc.refresh, source_size=SIZE)
+    units = FaceUnits.of(source.model, source.description.params, light=True)
+    stream = ParameterEncoder(units, context["stream"])
+    packets = []
+    for i in range(1, 13):
+        packets += stream.push(i, np.append(source.params_at(i), (1.0, 0.0)))
+    poses = {}
+    for seq, packet in enumerate(packets):
+        carried = tuple(range(packet.first_frame, packet.first_frame + packet.count))
+        unit = EncodedUnit(seq, carried[-1], "mbc", 0, *SIZE, packet.intra, packet.to_bytes(),
+                           carried)  # fmt: skip
+        decoder.decode(unit)
+        poses.update({f: decoder.params_by_frame[f] for f in carried})
+    data, _ = chain.encoder.encode(frames[6], RefreshOrder(6, 16.0, 1.0, True), poses[6])
+    before = decoder.renderer.reference.copy()
+    assert chain.receiver_decode(decoder, 6, data) is not None
+    assert decoder.refresh_frame == 6
+    assert np.array_equal(decoder.renderer.reference, chain.encoder.kept[6][0])
+    assert np.array_equal(decoder.renderer.reference_params, poses[6])
+    assert not np.array_equal(decoder.renderer.reference, before)
+    # A corrupt refresh unit changes nothing: the last good reference stays.
+    kept = decoder.renderer.reference.copy()
+    assert chain.receiver_decode(decoder, 9, b"\x00\x00\x01\x65\xff" * 40) is None
+    assert decoder.refresh_frame == 6 and np.array_equal(decoder.renderer.reference, kept)
+    # A refresh whose pose is still to come waits for it; one whose pose was lost is let go.
+    assert not decoder.refresh(40, frames[40])
+    assert decoder.refresh_frame == 6 and decoder.refresh_waiting[0] == 40
+    del decoder.params_by_frame[8]
+    assert not decoder.refresh(8, frames[8])
+    assert decoder.refresh_waiting is None and decoder.refresh_frame == 6
+
+
+def test_the_face_comes_from_the_refresh_while_it_is_recent():
+    from uma.sim.mbc_codecs import face_from_description
+
+    def mbc(face):
+        return MbcConfig(refresh=RefreshConfig(face=face, face_recent_ms=2000.0))
+
+    assert face_from_description(mbc("recent"), 100, -1, 25.0)  # no refresh yet
+    assert not face_from_description(mbc("recent"), 150, 100, 25.0)  # 2 s: still recent
+    assert face_from_description(mbc("recent"), 151, 100, 25.0)
+    assert not face_from_description(mbc("picture"), 1000, 100, 25.0)
+    assert face_from_description(mbc("description"), 100, 100, 25.0)
+    assert face_from_description(None, 100, 100, 25.0)
+
+
+def test_a_refresh_no_better_than_the_receivers_picture_is_not_sent(head):
+    from types import SimpleNamespace
+
+    from uma.mbc import FaceUnits
+
+    source, frames = head
+    config = RefreshConfig(enabled=True, preset="ultrafast", min_gain_db=0.5)
+    units = FaceUnits.of(source.model, source.description.params, light=True)
+    params = source.params_at(10)
+
+    def encoder_showing(picture):
+        mirror = SimpleNamespace(render=lambda p, light: (picture, None))
+        stream = SimpleNamespace(decoded=np.append(params, (1.0, 0.0)))
+        return SimpleNamespace(
+            mirror=mirror, stream=stream, units=units, description=source.description,
+            decoded_params=lambda: params, refresh_frame=0,
+        )  # fmt: skip
+
+    order = RefreshOrder(10, 8.0, 1.0, True)
+    chain = RefreshChain(config, source_size=SIZE)
+    # The receiver already shows the frame itself: an 8 kbit refresh cannot beat it.
+    assert chain.engine_code(encoder_showing(frames[10]), frames[10], order) is None
+    assert chain.encoder.encoder is None and 10 not in chain.encoder.kept  # next: intra
+    # It shows an old picture of another pose: the refresh is sent, and starts intra.
+    coded = chain.engine_code(encoder_showing(frames[40]), frames[10], order)
+    assert coded is not None and coded[1] is True
+    assert chain.gain_db(encoder_showing(frames[40]), frames[10], 10) > 0.5
+    # Before the receiver took a refresh, the mirror is not its picture: the check is against
+    # the receiver's own (the last picture it decoded, at the stream's first pose); sent when
+    # that is not known yet, or when the first refresh of a stretch always goes.
+    first = encoder_showing(frames[40])
+    first.refresh_frame, first.first_params, first.mbc = -1, params, None
+    assert chain.engine_code(first, frames[10], order, receiver_picture=frames[10]) is None
+    assert chain.engine_code(first, frames[10], order, receiver_picture=None) is not None
+    always = RefreshChain(config.model_copy(update={"first_always": True}), source_size=SIZE)
+    coded = always.engine_code(first, frames[10], order, receiver_picture=frames[10])
+    assert coded is not None
+
+
+def test_the_run_summary_says_what_the_refresh_sent():
+    from uma.sim.summary import format_summary
+
+    metrics = {
+        "scenario": "s", "seed": 1, "frames": 10, "video": "176x144@25", "source": "x",
+        "switches": 0, "handovers": 0, "keyframe_requests": 0, "kbps_mbc": 0.6,
+        "shown_s_by_codec": {"mbc": 1.0}, "switching": "threshold",
+    }  # fmt: skip
+    assert "refresh" not in format_summary(metrics, "out")
+    metrics |= {"kbps_refresh": 1.747, "refreshes": 16, "refresh_intra": 2, "refresh_adopted": 12}
+    line = [x for x in format_summary(metrics, "out").splitlines() if "refresh" in x]
+    assert line == ["  refresh   1.747 kbit/s beside the model codec, 16 refreshes (2 intra), "
+                    "12 taken by the receiver"]  # fmt: skip
