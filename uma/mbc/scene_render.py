@@ -97,6 +97,7 @@ class SceneRenderer:
         *,
         talking_head_scene: bool = False,
         head_ring_outlines: float | None = None,
+        far_ring_head_radii: float | None = None,
     ):
         width, height = (int(v) for v in size)
         if width < 2 or height < 2 or width % 2 or height % 2:
@@ -104,13 +105,16 @@ class SceneRenderer:
         ring = HEAD_RING_OUTLINES if head_ring_outlines is None else float(head_ring_outlines)
         if not (np.isfinite(ring) and ring > 1.0):
             raise SceneError(f"head ring: expected more than 1 face-outline radius, got {ring}")
+        far = FAR_RING_HEAD_RADII if far_ring_head_radii is None else float(far_ring_head_radii)
+        if far is not None and not (np.isfinite(far) and far > 1.0):
+            raise SceneError(f"far ring: expected more than 1 head-ring radius, got {far}")
         self.size = (width, height)
         self.description = description
         self.scene = SceneMesh.build(
             description.model,
             description.params,
             (height, width),
-            far_ring_scale=None if talking_head_scene else FAR_RING_HEAD_RADII,
+            far_ring_scale=None if talking_head_scene else far,
             head_ring_scale=HEAD_RING_SCALE if talking_head_scene else ring,
         )
         self._strips = len(self.scene.triangles) - len(description.model.triangles)

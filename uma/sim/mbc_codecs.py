@@ -30,25 +30,14 @@ def _luma(picture: np.ndarray) -> np.ndarray:
 def scene_renderer(description, size: tuple[int, int], mbc=None):
     """The receiver's `uma.mbc.SceneRenderer` for `description` at `size`, its rings as the
     `engine.mbc` section `mbc` sizes them (None: the renderer's own)."""
-    from uma.face.scene import SceneMesh
-    from uma.mbc import SceneRenderer, description_reference
-    from uma.mbc import scene_render as defaults
+    from uma.mbc import SceneRenderer
 
-    renderer = SceneRenderer(description, size)
-    if mbc is None or (mbc.far_ring_head_radii, mbc.head_ring_outlines) == (
-        defaults.FAR_RING_HEAD_RADII,
-        defaults.HEAD_RING_OUTLINES,
-    ):
-        return renderer
-    # The renderer takes its ring sizes from module constants; rebuild its mesh with these.
-    width, height = renderer.size
-    renderer.scene = SceneMesh.build(
-        description.model, description.params, (height, width),
-        far_ring_scale=mbc.far_ring_head_radii, head_ring_scale=mbc.head_ring_outlines,
+    if mbc is None:
+        return SceneRenderer(description, size)
+    return SceneRenderer(
+        description, size, head_ring_outlines=mbc.head_ring_outlines,
+        far_ring_head_radii=mbc.far_ring_head_radii,
     )  # fmt: skip
-    renderer._strips = len(renderer.scene.triangles) - len(description.model.triangles)
-    renderer.set_reference(*description_reference(description, renderer.size))
-    return renderer
 
 
 def face_from_description(mbc, frame: int, refresh_frame: int, fps: float) -> bool:
