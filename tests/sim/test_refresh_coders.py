@@ -217,3 +217,17 @@ def test_the_run_summary_says_what_the_refresh_sent():
     line = [x for x in format_summary(metrics, "out").splitlines() if "refresh" in x]
     assert line == ["  refresh   1.747 kbit/s beside the model codec, 16 refreshes (2 intra), "
                     "12 taken by the receiver"]  # fmt: skip
+
+
+def test_the_receivers_renderer_takes_engine_mbc_ring_sizes(head):
+    from uma.sim.mbc_codecs import scene_renderer
+
+    description = head[0].description
+    default = scene_renderer(description, SIZE, MbcConfig())
+    wider = scene_renderer(description, SIZE, MbcConfig(head_ring_outlines=1.8))
+    farther = scene_renderer(description, SIZE, MbcConfig(far_ring_head_radii=2.5))
+    assert np.array_equal(
+        default.scene.head_ring, scene_renderer(description, SIZE).scene.head_ring
+    )
+    assert not np.array_equal(default.scene.head_ring, wider.scene.head_ring)
+    assert not np.array_equal(default.scene.far_ring_px, farther.scene.far_ring_px)
