@@ -170,6 +170,8 @@ def _row(result, metrics: dict[str, Any]) -> dict[str, Any]:
 
     # the full-frame ladder's rate, whichever codec it is (kbps_h264 stays H.264's own)
     row["kbps_video"] = metrics.get(f"kbps_{metric_key(result.scenario.engine.codec)}")
+    # the model-aided refresh's own rate (None when the engine does not refresh)
+    row["kbps_refresh"] = metrics.get("kbps_refresh")
     row["codec"] = result.scenario.engine.codec
     row["switch_lag_s"] = switch_lag_s(result)
     row["switches"] = metrics["codec_switches"]
@@ -297,7 +299,7 @@ def format_table(result: dict[str, Any]) -> str:
     lines = [f"uma bench headline (every engine plays out {result['playout']})"]
     head = (
         f"  {'engine':<8}{'frozen':>7}{'fps':>6}{'PSNR':>6}{'SSIM':>7}{'face dB':>8}"
-        f"{'face SSIM':>10}{'p95 ms':>8}{'video':>7}{'MBC':>6}{'sw':>4}{'init':>5}"
+        f"{'face SSIM':>10}{'p95 ms':>8}{'video':>7}{'MBC':>6}{'refr':>6}{'sw':>4}{'init':>5}"
         f"{'MDE':>6}{'descr s':>8}{'lag s':>6}"
     )
     for name, rows in result["scenarios"].items():
@@ -309,6 +311,7 @@ def format_table(result: dict[str, Any]) -> str:
                 f"{_fmt(row['ssim'], '7.3f')}{_fmt(row['psnr_face_db'], '8.1f')}"
                 f"{_fmt(row['ssim_face'], '10.3f')}{_fmt(row['delay_p95_ms'], '8.0f')}"
                 f"{_fmt(row['kbps_video'], '7.1f')}{_fmt(row['kbps_mbc'], '6.2f')}"
+                f"{_fmt(row.get('kbps_refresh'), '6.2f')}"
                 f"{row['switches']:>4}{row['inits']:>5}{_fmt(row['init_mde_px'], '6.2f')}"
                 f"{_fmt(row['description_delivered_s'], '8.1f')}"
                 f"{_fmt(row['switch_lag_s'], '6.1f')}"
