@@ -23,7 +23,7 @@ TEST_WORKERS ?= auto
 test: install
 	$(BIN)/python -m pytest -q -m "not slow" -n $(TEST_WORKERS) --dist loadfile --durations=15
 
-# The regression gate on the repository's baselines: seven short scenarios (about 30 s).
+# The regression gate on the repository's baselines: eight short scenarios (about 35 s).
 regress: install
 	$(BIN)/uma regress tests/baselines/suite.yaml
 
