@@ -3,11 +3,12 @@ one or more scenarios run to that instant (docs/refresh-gprs.png).
 
 Units: times in seconds.
 
-    python -m uma.sim.snapshot SCENARIO [SCENARIO ...] --at-s 75 --out docs/refresh-gprs.png
+    python -m uma.report.snapshot SCENARIO [SCENARIO ...] --at-s 75 --out docs/refresh-gprs.png
 
 Each scenario is simulated until the instant `at_s` is displayed (the run stops there); the
 picture is the source frame of that instant, then each run's shown picture labelled with its
-scenario's name, the codec shown and whether the display was frozen, and its face-box PSNR.
+scenario's name, the codec shown and whether the display was frozen, and its face-box PSNR and SSIM (luma, limited range, over the source's face box of
+`uma/face/region.py`, scored by `uma.metrics.region_scores` as the simulation scores it).
 """
 
 from __future__ import annotations
@@ -65,14 +66,11 @@ def _label(image: np.ndarray, lines: list[str]) -> None:
                     cv2.LINE_AA)  # fmt: skip
 
 
-def _face_psnr_db(source: np.ndarray, picture: np.ndarray, box) -> float | None:
-    if box is None:
-        return None
+def _face_scores(source: np.ndarray, picture: np.ndarray, box) -> tuple[float, float]:
+    from uma.metrics import region_scores
+
     height = source.shape[0] * 2 // 3
-    a = source[:height][box.y : box.y + box.height, box.x : box.x + box.width].astype(float)
-    b = picture[:height][box.y : box.y + box.height, box.x : box.x + box.width].astype(float)
-    mse = float(np.mean((a - b) ** 2))
-    return 99.0 if mse == 0 else 10.0 * np.log10(255.0**2 / mse)
+    return region_scores(source[:height], picture[:height], box)
 
 
 def snapshot_png(scenarios, at_s: float, out: str | Path, *, labels=None) -> Path:
@@ -95,19 +93,19 @@ def snapshot_png(scenarios, at_s: float, out: str | Path, *, labels=None) -> Pat
             if box is not None:
                 cv2.rectangle(source, (box.x, box.y), (box.x + box.width, box.y + box.height),
                               (0, 200, 0), 1)  # fmt: skip
-        psnr = None
+        scores = None
         if picture is not None:
             from uma.video import resize_yuv420
 
             picture = resize_yuv420(picture, width, height)  # a lower rung is shown upscaled
-            psnr = _face_psnr_db(frame, picture, box)
+            scores = _face_scores(frame, picture, box)
         panel = np.zeros_like(source) if picture is None else _bgr(picture, width, height)
         name = labels[k] if labels else scenario.name
         index = int(round(at_s * scenario.source.fps))
         state = "frozen" if shown != index else "live"
         lines = [name, f"shows frame {shown} ({state})"]
-        if psnr is not None:
-            lines.append(f"face {psnr:.1f} dB")
+        if scores is not None and np.isfinite(scores[0]):
+            lines.append(f"face {scores[0]:.1f} dB / {scores[1]:.3f}")
         _label(panel, lines)
         panels.append(panel)
     ok, png = cv2.imencode(".png", np.hstack([source, *panels]))
@@ -123,7 +121,7 @@ def main(argv: list[str] | None = None) -> int:
     from uma.config import load_scenario
     from uma.errors import UmaError
 
-    parser = argparse.ArgumentParser(prog="python -m uma.sim.snapshot", description=__doc__)
+    parser = argparse.ArgumentParser(prog="python -m uma.report.snapshot", description=__doc__)
     parser.add_argument("scenarios", nargs="+", help="scenario YAML files")
     parser.add_argument("--at-s", type=float, required=True, help="display instant, seconds")
     parser.add_argument("--out", required=True, help="PNG to write")
