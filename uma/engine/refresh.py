@@ -6,8 +6,8 @@ Units: times in seconds, rates in kbit/s, sizes in bits.
 While the engine is on the model codec, the budget (safety x estimate) leaves `spare` =
 budget - the model point's rate, the budget never above what the link delivered over the
 estimator's last window (the estimate overshoots a slow link while the model codec's probe
-pads: GSM's 9.6 kbit/s read as 20; what arrived does not). A refresh is H.264 of the whole picture; an intra one
-starts a stream sized to what `share` x spare carries in `interval_ms` (within
+pads: GSM's 9.6 kbit/s read as 20; what arrived does not). A refresh is H.264 of the whole
+picture; an intra one starts a stream sized to what `share` x spare carries in `interval_ms` (within
 `min_frame_bits` and `max_frame_bits`), and the refreshes after it are predicted from the one
 before at that size. The spare rate sets how often: the next is ordered once the last has
 left and its bits at `share` x spare would have taken as long, never sooner than
