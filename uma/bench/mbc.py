@@ -12,7 +12,8 @@ and light into packets; the decoder decodes them, and the receiver's `SceneRende
 whole reference (frame 0, the last full picture the receiver had, at the pose tracked on it)
 to each decoded pose, in colour. Displays: the rendering at the tracker's unquantised
 parameters, at the decoded ones, the same stream from the other reference (the description's
-picture) and with the face from the description (the simulation's choice), the frozen display (frame 0 held: what H.264 shows in an outage), and H.264 at the
+picture) and with the face from the description (the simulation's choice), the frozen
+display (frame 0 held: what H.264 shows in an outage), and H.264 at the
 ladder's lowest and second rungs (real libx264, decoded, upscaled, each picture held until
 the next). Where the tracker has no face the last good picture stays. Each is scored over the
 face box of `uma.face.region` (as the simulation scores), the whole frame and the model's own

@@ -13,7 +13,8 @@ the parameter stream decoded for its frame (no pose travels with it), once its b
 arrived over a channel of the refresh's rate (`uma.mbc.refresh`) and that pose has been
 decoded; until the first one the receiver renders from what it held before (the clip's frame
 0, as the plain MBC does). Every frame is the scene rendered from the newest reference the
-encoder adopted (`RefreshSpec.choose`) at the decoded pose, relit by light measured against that same reference: the encoder mirrors the
+encoder adopted (`RefreshSpec.choose`) at the decoded pose, relit by light measured against
+that same reference: the encoder mirrors the
 receiver (it knows what it sent and when it arrives) and the receiver replays the same switches.
 A refresh frame the tracker found no face on is not coded.
 """

@@ -48,7 +48,8 @@ class RefreshConfig(Section):
     own triangles come from once a refresh is the reference: the refresh picture itself
     (`picture`), the description's texture (`description`), or the refresh picture's for
     `face_recent_ms` after its frame and the description's after that (`recent`: a head that
-    moved far from the refresh's pose is drawn better from the exact description). `preset`: libx264's (a picture
+    moved far from the refresh's pose is drawn better from the exact description). `preset`:
+    libx264's (a picture
     every interval, so a slower preset than the ladder's costs little). A refresh is sent only
     when, over the face box, it beats by `min_gain_db` what the engine's mirror of the
     receiver renders at that frame (a sharp old reference of a still scene can be better than

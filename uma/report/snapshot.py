@@ -7,8 +7,9 @@ Units: times in seconds.
 
 Each scenario is simulated until the instant `at_s` is displayed (the run stops there); the
 picture is the source frame of that instant, then each run's shown picture labelled with its
-scenario's name, the codec shown and whether the display was frozen, and its face-box PSNR and SSIM (luma, limited range, over the source's face box of
-`uma/face/region.py`, scored by `uma.metrics.region_scores` as the simulation scores it).
+scenario's name, the codec shown and whether the display was frozen, and its face-box PSNR
+and SSIM (luma, limited range, over the source's face box of `uma/face/region.py`, scored by
+`uma.metrics.region_scores` as the simulation scores it).
 """
 
 from __future__ import annotations
