@@ -29,12 +29,9 @@ Settings for conversational video over a bottleneck, and why:
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from fractions import Fraction
-
-import numpy as np
 
 from uma.errors import VideoError
+from uma.video.pyav_codec import EncodedFrame, PyavDecoder, PyavEncoder, check_rung
 
 __all__ = ["H264Encoder", "H264Decoder", "EncodedFrame", "nal_unit_types", "NAL_IDR", "PRESETS"]
 
@@ -54,19 +51,6 @@ PRESETS = (
 )
 
 
-@dataclass(frozen=True)
-class EncodedFrame:
-    """One encoded picture: an Annex B access unit, its presentation index and key-frame flag."""
-
-    data: bytes
-    pts: int
-    is_keyframe: bool
-
-    @property
-    def size_bits(self) -> int:
-        return 8 * len(self.data)
-
-
 def nal_unit_types(data: bytes) -> list[int]:
     """The nal_unit_type of each NAL unit in an Annex B byte stream, in order."""
     types = []
@@ -77,7 +61,7 @@ def nal_unit_types(data: bytes) -> list[int]:
     return types
 
 
-class H264Encoder:
+class H264Encoder(PyavEncoder):
     """libx264 at a target rate; `encode` returns exactly one encoded frame per input frame.
 
     One encoder serves one rung (size, frame rate, rate): a rung change makes a new encoder,
@@ -97,13 +81,8 @@ class H264Encoder:
         keyint_frames: int = 250,
         vbv_frames: float = 4.0,
     ) -> None:
-        import av
-
         where = "H.264 encoder"
-        if width <= 0 or height <= 0 or width % 2 or height % 2:
-            raise VideoError(f"{where}: expected an even positive size, got {width}x{height}")
-        if not fps > 0 or not rate_kbps > 0:
-            raise VideoError(f"{where}: expected positive fps and rate, got {fps}, {rate_kbps}")
+        check_rung(where, width, height, fps, rate_kbps)
         if preset not in PRESETS:
             raise VideoError(
                 f"{where}: preset: expected one of {', '.join(PRESETS)}, got {preset!r}"
@@ -119,72 +98,27 @@ class H264Encoder:
             )
         if not vbv_frames >= 1:
             raise VideoError(f"{where}: vbv_frames: expected at least 1, got {vbv_frames!r}")
-        self.width, self.height, self.fps, self.rate_kbps = width, height, float(fps), rate_kbps
         self.preset, self.tune = preset, tune
         self.keyint_frames, self.vbv_frames = int(keyint_frames), float(vbv_frames)
         # x264 reads whole kbit (a decimal is an "Error parsing option" and truncated): pass whole
         # kbit, rounded down so the cap never exceeds the target, and keep what x264 uses.
         self.vbv_maxrate_kbit = max(1, math.floor(rate_kbps))
         self.vbv_bufsize_kbit = max(1, math.floor(rate_kbps * vbv_frames / fps))
-        rate = Fraction(fps).limit_denominator(1001)
-        context = av.CodecContext.create("libx264", "w")
-        context.width = width
-        context.height = height
-        context.pix_fmt = "yuv420p"
-        context.time_base = 1 / rate
-        context.framerate = rate
-        context.bit_rate = int(round(rate_kbps * 1000))
         self.x264_params = params = (
             f"vbv-maxrate={self.vbv_maxrate_kbit}:vbv-bufsize={self.vbv_bufsize_kbit}:"
             f"keyint={self.keyint_frames}:repeat-headers=1:annexb=1"
         )
-        context.options = {
+        options = {
             "preset": preset,
             "tune": tune,
             "x264-params": params,
             "forced-idr": "1",
             "threads": "1",
         }
-        try:
-            context.open()
-        except av.FFmpegError as err:
-            raise VideoError(f"{where}: libx264 refused the settings ({err})") from None
-        self._context = context
-        self._picture_i = av.video.frame.PictureType.I
-        self._pts = 0
-
-    def encode(self, frame: np.ndarray, *, force_idr: bool = False) -> EncodedFrame:
-        """Encode one YUV 4:2:0 frame of the encoder's size; `force_idr` makes it an IDR."""
-        import av
-
-        expected = (self.height * 3 // 2, self.width)
-        if frame.shape != expected or frame.dtype != np.uint8:
-            raise VideoError(
-                f"H.264 encoder: expected a {expected} uint8 frame, got {frame.shape} {frame.dtype}"
-            )
-        picture = av.VideoFrame.from_ndarray(np.ascontiguousarray(frame), format="yuv420p")
-        picture.pts = self._pts
-        if force_idr:
-            picture.pict_type = self._picture_i
-        try:
-            packets = self._context.encode(picture)
-        except av.FFmpegError as err:
-            raise VideoError(
-                f"H.264 encoder: libx264 failed on frame {self._pts} ({err})"
-            ) from None
-        if len(packets) != 1:
-            # zerolatency promises no delay; anything else would break the simulation's timing
-            raise VideoError(
-                f"H.264 encoder: expected 1 packet for frame {self._pts}, got {len(packets)}"
-            )
-        self._pts += 1
-        packet = packets[0]
-        return EncodedFrame(
-            data=bytes(packet), pts=picture.pts, is_keyframe=bool(packet.is_keyframe)
-        )
+        super().__init__(where, "libx264", width, height, fps, rate_kbps, options)
 
 
-class H264Decoder:
+class H264Decoder(PyavDecoder):
     """FFmpeg's H.264 decoder; `decode` gives the picture of one access unit, or None.
 
     The decoder follows size changes in the stream (a new rung starts with an IDR carrying its
@@ -194,37 +128,7 @@ class H264Decoder:
     error, and the decoder stays usable: the next IDR decodes.
     """
 
+    UNIT = "access unit"
+
     def __init__(self, *, conceal: bool = True) -> None:
-        import av
-
-        self.conceal = conceal
-        self.concealed_frames = 0
-        self._context = av.CodecContext.create("h264", "r")
-        # one thread: frame threading would delay output by a frame per thread
-        self._context.thread_count = 1
-
-    def decode(self, data: bytes) -> np.ndarray | None:
-        """Decode one Annex B access unit to a YUV 4:2:0 frame of the stream's current size.
-
-        None when the unit yields no picture. Empty data raises `VideoError` (an empty packet
-        would otherwise flush and end the decoder).
-        """
-        import av
-
-        if not data:
-            raise VideoError("H.264 decoder: empty access unit (0 bytes)")
-        try:
-            frames = self._context.decode(av.Packet(data))
-        except av.FFmpegError as err:
-            raise VideoError(f"H.264 decoder: corrupt bitstream ({err})") from None
-        if not frames:
-            return None
-        frame = frames[-1]
-        if frame.is_corrupt:
-            self.concealed_frames += 1
-            if not self.conceal:
-                raise VideoError(
-                    f"H.264 decoder: corrupt bitstream (picture {self.concealed_frames} "
-                    "needed error concealment)"
-                )
-        return frame.to_ndarray(format="yuv420p")
+        super().__init__("H.264 decoder", "h264", conceal=conceal)

@@ -1,25 +1,46 @@
-"""What the VP8 and AV1 codecs share: one PyAV encoder context per rung, one decoder context.
+"""What the full-frame codecs (H.264, VP8, AV1) share: one PyAV encoder context per rung, one
+decoder context, the encoded frame.
 
-Units: rates in kbit/s, frame rates in frames/s. Frames are planar YUV 4:2:0 arrays of shape
-(H * 3 // 2, W), uint8, as everywhere in uma. The classes here have exactly the interface of
-`uma.video.h264` (`encode(frame, force_idr=...) -> EncodedFrame`, `decode(data) -> array | None`),
-so a codec module only chooses the library and its options.
+Units: rates in kbit/s, frame rates in frames/s, sizes in bits (`size_bits`) or bytes (`data`).
+Frames are planar YUV 4:2:0 arrays of shape (H * 3 // 2, W), uint8, as everywhere in uma. Every
+codec has this interface (`encode(frame, force_idr=...) -> EncodedFrame`,
+`decode(data) -> array | None`), so a codec module only chooses the library and its options.
 """
 
 from __future__ import annotations
 
 import contextlib
 from collections.abc import Callable
-from dataclasses import asdict
+from dataclasses import asdict, dataclass
 from fractions import Fraction
 from typing import Any
 
 import numpy as np
 
 from uma.errors import ConfigError, VideoError
-from uma.video.h264 import EncodedFrame
 
-__all__ = ["PyavEncoder", "PyavDecoder", "CodecSettings", "check_rung", "check_keyint_vbv"]
+__all__ = [
+    "EncodedFrame",
+    "PyavEncoder",
+    "PyavDecoder",
+    "CodecSettings",
+    "check_rung",
+    "check_keyint_vbv",
+]
+
+
+@dataclass(frozen=True)
+class EncodedFrame:
+    """One encoded picture (for H.264 an Annex B access unit), its presentation index and
+    key-frame flag."""
+
+    data: bytes
+    pts: int
+    is_keyframe: bool
+
+    @property
+    def size_bits(self) -> int:
+        return 8 * len(self.data)
 
 
 def check_rung(where: str, width: int, height: int, fps: float, rate_kbps: float) -> None:
@@ -164,6 +185,8 @@ class PyavDecoder:
     error, and the decoder stays usable: the next key frame decodes.
     """
 
+    UNIT = "packet"  # what one `decode` call takes, in messages
+
     def __init__(
         self, name: str, library: str, *, conceal: bool = True, options: dict | None = None
     ) -> None:
@@ -186,7 +209,7 @@ class PyavDecoder:
         import av
 
         if not data:
-            raise VideoError(f"{self.name}: empty packet (0 bytes)")
+            raise VideoError(f"{self.name}: empty {self.UNIT} (0 bytes)")
         try:
             frames = self._context.decode(av.Packet(data))
         except av.FFmpegError as err:
