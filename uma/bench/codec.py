@@ -22,6 +22,8 @@ from typing import Any
 
 import numpy as np
 
+from uma.bench.timing import median_ms
+
 __all__ = [
     "run_codec_bench",
     "format_table",
@@ -60,15 +62,6 @@ def _frames(video: Path | None, count: int) -> tuple[list[np.ndarray], str]:
         name = "pattern"
     iterator = iter(source.frames())
     return [next(iterator) for _ in range(count)], name
-
-
-def _median_ms(fn, repeats: int = 30) -> float:
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - start)
-    return float(np.median(times) * 1000.0)
 
 
 def run_codec_bench(*, video: Path | None, frames: int = 300) -> dict[str, Any]:
@@ -110,11 +103,11 @@ def run_codec_bench(*, video: Path | None, frames: int = 300) -> dict[str, Any]:
         "rungs": rungs,
         "encode_fps": round(len(clip) / encode_s, 1),
         "decode_fps": round(len(clip) / decode_s, 1),
-        "ssim_ms_float32": round(_median_ms(lambda: ssim(ref, test)), 3),
+        "ssim_ms_float32": round(median_ms(lambda: ssim(ref, test)), 3),
         "ssim_ms_uint8": round(
-            _median_ms(lambda: structural_similarity(ref, test, data_range=255)), 3
+            median_ms(lambda: structural_similarity(ref, test, data_range=255)), 3
         ),
-        "psnr_ms": round(_median_ms(lambda: psnr_db(ref, test)), 3),
+        "psnr_ms": round(median_ms(lambda: psnr_db(ref, test)), 3),
     }
 
 

@@ -10,11 +10,12 @@ source's size (bilinear), with the face box OpenCV's Haar detector finds in the 
 from __future__ import annotations
 
 import math
-import time
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from uma.bench.timing import median_ms
 
 __all__ = ["quality_pairs", "run_quality_bench", "format_table"]
 
@@ -69,15 +70,6 @@ def quality_pairs(
     return pairs
 
 
-def _median_ms(fn, repeats: int) -> float:
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - start)
-    return float(np.median(times) * 1000.0)
-
-
 def _agreement(pairs) -> dict[str, Any]:
     from skimage.metrics import structural_similarity
 
@@ -123,15 +115,15 @@ def _timings(ref: np.ndarray, tst: np.ndarray, box, repeats: int) -> dict[str, f
         structural_similarity(ref32[crop], tst32[crop], data_range=255.0)
 
     return {
-        "ssim_ms": round(_median_ms(lambda: ssim(ref, tst), repeats), 3),
+        "ssim_ms": round(median_ms(lambda: ssim(ref, tst), repeats), 3),
         "skimage_float32_ms": round(
-            _median_ms(lambda: structural_similarity(ref32, tst32, data_range=255.0), repeats), 3
+            median_ms(lambda: structural_similarity(ref32, tst32, data_range=255.0), repeats), 3
         ),
         "skimage_uint8_ms": round(
-            _median_ms(lambda: structural_similarity(ref, tst, data_range=255), repeats), 3
+            median_ms(lambda: structural_similarity(ref, tst, data_range=255), repeats), 3
         ),
-        "frame_scores_ms": round(_median_ms(lambda: frame_scores(ref, tst, box), repeats), 3),
-        "old_frame_and_face_ms": round(_median_ms(old_frame_scores, repeats), 3),
+        "frame_scores_ms": round(median_ms(lambda: frame_scores(ref, tst, box), repeats), 3),
+        "old_frame_and_face_ms": round(median_ms(old_frame_scores, repeats), 3),
     }
 
 
