@@ -151,3 +151,17 @@ def test_malformed_wfm_names_file_and_line(tmp_path, text, message):
 def test_missing_model_file(tmp_path):
     with pytest.raises(FaceError, match="no such"):
         load_model(tmp_path / "none.yaml")
+
+
+def test_load_model_reads_a_file_again_once_it_changed(tmp_path):
+    from uma.face import load_model
+    from uma.face.model import default_model_path
+
+    path = tmp_path / "model.yaml"
+    text = default_model_path().read_text()
+    path.write_text(text)
+    first = load_model(path)
+    assert load_model(path) is first  # read once
+    path.write_text(text + "\n# edited\n")  # another size: the file changed
+    again = load_model(path)
+    assert again is not first and np.array_equal(again.vertices, first.vertices)

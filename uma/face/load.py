@@ -22,12 +22,13 @@ def load_model(path: str | Path | None = None) -> FaceModel:
         stat = path.stat()
     except OSError:
         return _read(path)  # the reader names what is wrong with it
-    return _read_once(path, stat.st_mtime_ns, stat.st_size)
+    # keyed by the resolved path too: the same relative name in another directory is another file
+    return _read_once(path, path.resolve(), stat.st_mtime_ns, stat.st_size)
 
 
 @lru_cache(maxsize=8)
-def _read_once(path: Path, mtime_ns: int, size: int) -> FaceModel:
-    return _read(path)
+def _read_once(path: Path, resolved: Path, mtime_ns: int, size: int) -> FaceModel:
+    return _read(path)  # `path` as the caller gave it, for the messages
 
 
 def _read(path: Path) -> FaceModel:
