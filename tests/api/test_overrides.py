@@ -64,6 +64,18 @@ def test_a_bad_override_is_one_config_error_naming_the_key(scenario_file, overri
     assert "\n" not in str(caught.value)
 
 
+def test_numpy_scalars_and_tuples_are_taken_as_yaml_numbers_and_lists(scenario_file):
+    import numpy as np
+
+    scenario = resolve(
+        scenario_file,
+        {"route": ({"technology": "GSM", "duration_s": np.float32(1.5)},)},
+        seed=np.int64(4),
+    )
+    assert scenario.seed == 4 and type(scenario.seed) is int
+    assert scenario.route[0].duration_s == 1.5 and len(scenario.route) == 1
+
+
 def test_a_bad_key_in_the_file_still_cites_the_file(tmp_path):
     path = tmp_path / "bad.yaml"
     path.write_text("name: bad\nroute:\n  - {technology: 3G, duration_s: -1}\n")

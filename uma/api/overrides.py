@@ -64,9 +64,23 @@ def _parsed_keys(
     return parsed
 
 
+def _plain(value: Any) -> Any:
+    """`value` as YAML would give it: numpy scalars as Python numbers, tuples as lists."""
+    import numpy as np
+
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, list | tuple):
+        return [_plain(item) for item in value]
+    if isinstance(value, Mapping):
+        return {key: _plain(item) for key, item in value.items()}
+    return value
+
+
 def _absolute(key_path: tuple, value: Any) -> Any:
     from uma.experiments.keypaths import PATH_KEYS
 
+    value = _plain(value)
     if key_path[-1] in PATH_KEYS and isinstance(value, str | Path) and str(value):
         path = Path(value).expanduser()
         return str(path if path.is_absolute() else path.resolve())
