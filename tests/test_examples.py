@@ -13,7 +13,7 @@ def test_quickstart_writes_its_plot(tmp_path):
     png = tmp_path / "q.png"
     env = {**os.environ, "PYTHONPATH": str(ROOT), "MPLBACKEND": "Agg"}
     done = subprocess.run(
-        [sys.executable, str(ROOT / "examples" / "quickstart.py"), str(png), "--duration-s", "4"],
+        [sys.executable, str(ROOT / "examples" / "quickstart.py"), str(png), "--duration-s", "2"],
         capture_output=True,
         text=True,
         env=env,

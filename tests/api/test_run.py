@@ -7,6 +7,7 @@ import pytest
 from scenario_text import TINY
 
 import uma
+from uma.api import RESULT_FILES
 from uma.errors import ConfigError, OutputError
 
 
@@ -67,7 +68,7 @@ def test_read_run_round_trip(shared, tmp_path):
     assert back.frames.equals(run.frames) and back.events.equals(run.events)
     assert back.metrics == run.metrics
     assert back.scenario == run.scenario
-    for name in uma.api.RESULT_FILES:
+    for name in RESULT_FILES:
         assert back.file_bytes(name) == run.file_bytes(name)
 
 
@@ -99,7 +100,34 @@ def test_save_replaces_an_earlier_run_whole(shared, tmp_path):
     (target / "frames.csv").write_text("frame\n")  # damaged since
     run.save(target)
     assert (target / "frames.csv").read_bytes() == run.file_bytes("frames.csv")
-    assert sorted(p.name for p in target.iterdir()) == sorted(uma.api.RESULT_FILES)
+    assert sorted(p.name for p in target.iterdir()) == sorted(RESULT_FILES)
+
+
+def test_a_save_that_fails_leaves_the_earlier_run_whole_and_no_leftovers(
+    shared, tmp_path, monkeypatch
+):
+    import uma.atomic
+
+    run, _, _ = shared
+    target = tmp_path / "earlier"
+    run.save(target)
+    (target / "metrics.json").write_text('{"an": "earlier run"}\n')
+    before = {name: (target / name).read_bytes() for name in RESULT_FILES}
+
+    def disk_full(folder):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(uma.atomic, "_fsync_tree", disk_full)
+    with pytest.raises(OutputError, match="No space left"):
+        run.save(target)
+    assert {name: (target / name).read_bytes() for name in RESULT_FILES} == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["earlier"]
+
+
+def test_file_bytes_names_the_files_it_has(shared):
+    run, _, _ = shared
+    with pytest.raises(ConfigError, match="Run.file_bytes: expected one of scenario.yaml"):
+        run.file_bytes("timeline.png")
 
 
 def test_save_into_a_file_is_an_output_error(shared, tmp_path):
