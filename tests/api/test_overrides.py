@@ -120,6 +120,7 @@ def test_any_key_path_the_schema_lacks_is_refused_naming_it(scenario_file, parts
         (lambda f: uma.run(f, overrides=[("seed", 1)]), r"^uma.run: expected overrides= a map"),
         (lambda f: uma.run(f, out=""), r"^uma.run\(out=...\): expected a folder path"),
         (lambda f: uma.run(f, out=f), r"^uma.run\(out=...\): expected a folder for the results"),
+        (lambda f: uma.run(f, progress="yes"), r"^uma.run\(progress=...\): expected True or"),
         (lambda f: uma.read_run(None), r"^uma.read_run: expected a folder path"),
         (lambda f: uma.read_run(f), r"expected a results folder"),
         (lambda f: uma.read_sweep(f.parent), r"found no sweep.parquet"),

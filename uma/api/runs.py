@@ -194,6 +194,7 @@ def run(
     seed: int | None = None,
     out: str | os.PathLike | None = None,
     overrides: Mapping[str, Any] | None = None,
+    progress: bool = False,
     **keys: Any,
 ) -> Run:
     """Simulate `scenario` (a file path or a `Scenario`), changed by key-path overrides.
@@ -202,7 +203,7 @@ def run(
     keyword arguments set top-level keys (`duration_s=6`); `seed` sets `seed`. All are validated
     as the YAML file is, and a bad one is a `ConfigError` naming the key (`uma.run
     (engine.codec): ...`). With `out` the results folder is written too, as `uma run --out`
-    writes it (checked before the run starts).
+    writes it (checked before the run starts). With `progress`, a progress bar (tqdm) on stderr.
     """
     from uma.api.overrides import override_pairs, resolve_scenario
     from uma.atomic import prepare_out_dir
@@ -217,17 +218,32 @@ def run(
         out_dir = prepare_out_dir(
             folder_path(out, "uma.run(out=...)"), what="uma.run(out=...)", replaceable=RUN_FILES
         )
-    return _simulate(resolved, out_dir)
+    if not isinstance(progress, bool):
+        raise ConfigError(f"uma.run(progress=...): expected True or False, got {progress!r:.60}")
+    return _simulate(resolved, out_dir, progress=progress)
 
 
-def _simulate(scenario: Scenario, out_dir: Path | None) -> Run:
+def _simulate(scenario: Scenario, out_dir: Path | None, *, progress: bool = False) -> Run:
     """Run `scenario`; its files written by the CLI's own writer, into `out_dir` or a temp folder."""
     import tempfile
 
     from uma.sim import run_scenario
     from uma.sim.summary import save_run
 
-    result = run_scenario(scenario)
+    if progress:
+        import sys
+
+        from tqdm import tqdm
+
+        with tqdm(unit="frame", desc=scenario.name, file=sys.stderr, leave=False) as bar:
+
+            def told(done: int, total: int) -> None:
+                bar.total = total
+                bar.update(done - bar.n)
+
+            result = run_scenario(scenario, progress=told)
+    else:
+        result = run_scenario(scenario)
     if out_dir is not None:
         save_run(result, out_dir)
         return Run(_read_files(out_dir), folder=out_dir, scenario=result.scenario)
