@@ -166,6 +166,21 @@ def test_read_run_names_what_is_wrong_with_a_folder(shared, tmp_path):
         uma.read_run(sweep)
 
 
+def test_read_run_refuses_a_fifo_or_device_without_blocking(shared, tmp_path):
+    import os
+
+    run, _, _ = shared
+    folder = run.save(tmp_path / "odd")
+    (folder / "frames.csv").unlink()
+    os.mkfifo(folder / "frames.csv")
+    with pytest.raises(ConfigError, match=r"frames.csv: expected a result file, got a folder"):
+        uma.read_run(folder)
+    (folder / "frames.csv").unlink()
+    (folder / "frames.csv").symlink_to("/dev/zero")
+    with pytest.raises(ConfigError, match=r"frames.csv: expected a result file"):
+        uma.read_run(folder)
+
+
 def test_a_read_run_without_its_scenario_file_is_refused(shared, tmp_path):
     run, _, _ = shared
     folder = run.save(tmp_path / "noscenario")

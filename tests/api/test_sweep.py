@@ -65,6 +65,14 @@ def test_a_damaged_table_is_a_config_error(tmp_path):
         uma.read_sweep(tmp_path)
 
 
+def test_a_fifo_for_a_table_is_refused_without_blocking(tmp_path):
+    import os
+
+    os.mkfifo(tmp_path / "sweep.parquet")
+    with pytest.raises(ConfigError, match=r"sweep.parquet: expected a sweep table in Parquet, got"):
+        uma.read_sweep(tmp_path)
+
+
 def test_a_sweep_into_one_runs_folder_is_refused(swept, tmp_path):
     _, folder = swept
     run_dir = tmp_path / "run"

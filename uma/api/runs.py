@@ -26,6 +26,8 @@ if TYPE_CHECKING:
 __all__ = ["Run", "run", "read_run", "folder_path", "RESULT_FILES"]
 
 RESULT_FILES = ("scenario.yaml", "metrics.json", "frames.csv", "events.csv")
+# frames.csv takes about 200 bytes a frame: 512 MiB is some 30 hours at 25 frames/s.
+MAX_FILE_BYTES = 512 * 1024 * 1024
 
 
 def folder_path(value: Any, what: str, expected: str = "a folder path") -> Path:
@@ -151,16 +153,25 @@ def _same_files(folder: Path, files: Mapping[str, bytes]) -> bool:
 
 
 def _read_files(folder: Path) -> dict[str, bytes]:
+    """The result files' bytes: each a regular file (a FIFO would block) of bounded size."""
+    import stat
+
     files = {}
     for name in RESULT_FILES:
+        path = folder / name
         try:
-            files[name] = (folder / name).read_bytes()
+            if not stat.S_ISREG(path.stat().st_mode):
+                raise ConfigError(f"{path}: expected a result file, got a folder or device")
+            with path.open("rb") as handle:
+                files[name] = handle.read(MAX_FILE_BYTES + 1)
         except FileNotFoundError:
-            raise ConfigError(
-                f"{folder / name}: missing; expected the results of a finished run"
-            ) from None
+            raise ConfigError(f"{path}: missing; expected the results of a finished run") from None
         except OSError as err:
-            raise ConfigError(f"{folder / name}: cannot read ({err.strerror or err})") from None
+            raise ConfigError(f"{path}: cannot read ({err.strerror or err})") from None
+        if len(files[name]) > MAX_FILE_BYTES:
+            raise ConfigError(
+                f"{path}: expected at most {MAX_FILE_BYTES} bytes (a result file), got more"
+            )
     return files
 
 
@@ -180,8 +191,9 @@ def read_run(folder: str | os.PathLike) -> Run:
             f"{path}: a sweep's results folder, not one run's; read its table with "
             f"uma.read_sweep, or one run with uma.read_run on its points/<hash> folder"
         )
+    files = _read_files(path)  # first: refuses a FIFO or device before anything reads it
     check_run_files(path)  # line-numbered messages for a damaged frames.csv or events.csv
-    run_ = Run(_read_files(path), folder=path)
+    run_ = Run(files, folder=path)
     run_.metrics  # noqa: B018  parsed now: a damaged file fails here, not at first use
     run_._frames  # noqa: B018
     run_._events  # noqa: B018

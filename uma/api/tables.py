@@ -70,10 +70,14 @@ def events_frame(data: bytes, where: Path) -> pd.DataFrame:
 
 def sweep_frame(path: Path) -> pd.DataFrame:
     """A sweep's `sweep.parquet` as a DataFrame; `ConfigError` naming the file if unreadable."""
+    import stat
+
     import pandas as pd
     import pyarrow
 
     try:
+        if not stat.S_ISREG(path.stat().st_mode):  # a FIFO would block the reader
+            raise ConfigError(f"{path}: expected a sweep table in Parquet, got a folder or device")
         return pd.read_parquet(path, engine="pyarrow")
     except FileNotFoundError:
         raise ConfigError(
