@@ -1,7 +1,7 @@
 """The tiny scenario file the API tests share."""
 
 import pytest
-from scenario_text import TINY
+from api_scenario import TINY
 
 
 @pytest.fixture

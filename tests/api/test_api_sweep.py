@@ -1,7 +1,7 @@
 """`uma.sweep` and `uma.read_sweep` on a two-point sweep: the table is the sweep's Parquet file."""
 
 import pytest
-from scenario_text import TINY
+from api_scenario import TINY
 
 import uma
 from uma.errors import ConfigError

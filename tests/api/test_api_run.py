@@ -4,7 +4,7 @@ import json
 
 import numpy as np
 import pytest
-from scenario_text import TINY
+from api_scenario import TINY
 
 import uma
 from uma.api import RESULT_FILES
