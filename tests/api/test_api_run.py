@@ -36,6 +36,16 @@ def test_run_applies_the_overrides_and_returns_the_metrics(shared):
     assert run.folder is None and "tiny" in repr(run)
 
 
+def test_summary_is_what_the_command_line_prints(shared, capsys):
+    from uma.cli import main
+
+    run, folder, _ = shared
+    out = folder / "printed"
+    assert main(["run", str(folder / "adaptive.yaml"), "--out", str(out)]) == 0
+    assert uma.read_run(out).summary() == capsys.readouterr().out.rstrip("\n")
+    assert run.summary().endswith("results   (not saved)")
+
+
 def test_the_files_are_the_ones_the_command_line_writes(shared):
     run, _, cli = shared
     for name in ("metrics.json", "frames.csv", "events.csv"):

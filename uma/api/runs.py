@@ -131,6 +131,12 @@ class Run:
                 (staging / name).write_bytes(data)
         return out
 
+    def summary(self) -> str:
+        """The lines `uma run` prints after a run (rates, quality, freezes, engine, codecs)."""
+        from uma.sim.summary import format_summary
+
+        return format_summary(self.metrics, self.folder or "(not saved)")
+
     def timeline(self) -> Figure:
         """The timeline `uma report` draws (rates, delay, quality, queues) as a matplotlib Figure."""
         import tempfile
