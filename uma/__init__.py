@@ -1,21 +1,55 @@
 """uma: a video conference over a roaming mobile downlink, simulated with real codecs and traces.
 
-Sub-packages hold one job each (see README.md): `traces` (bandwidth traces and routes), `video`
-(H.264 over PyAV, frame sources), `face` (wireframe model and renderer), `fit` (SAABs and
-Gauss-Newton), `engine` (pure UMA decisions), `sim` (the SimPy world), `metrics`, `bench`, `cli`.
-Import those directly; this top level stays light so `uma --help` is instant.
+The Python API (docs/api.md): `uma.run(scenario, seed=..., out=..., overrides=..., **keys)`
+returns a `uma.Run` (`.metrics`, `.frames`, `.events`, `.scenario`, `.timeline()`, `.save()`);
+`uma.read_run(folder)`, `uma.sweep(experiment)`, `uma.read_sweep(folder)`. They live in
+`uma.api` and are imported at first use, so `import uma` (and `uma --help`) stays instant.
+
+Sub-packages hold one job each (docs/architecture.md): `traces`, `video`, `face`, `fit`,
+`engine`, `sim`, `metrics`, `experiments`, `report`, `bench`, `cli`.
 """
 
-from uma.errors import ConfigError, FaceError, RunError, TraceError, UmaError, VideoError
+from uma.errors import (
+    ConfigError,
+    FaceError,
+    OutputError,
+    RunError,
+    TraceError,
+    UmaError,
+    VideoError,
+)
 
 __version__ = "0.1.0"
 
+_API = frozenset({"Run", "run", "read_run", "sweep", "read_sweep"})
+
 __all__ = [
+    "run",
+    "read_run",
+    "sweep",
+    "read_sweep",
+    "Run",
     "UmaError",
     "ConfigError",
     "TraceError",
     "VideoError",
     "FaceError",
     "RunError",
+    "OutputError",
     "__version__",
 ]
+
+
+def __getattr__(name: str):
+    """The API's names, imported from `uma.api` at first use (it pulls in pandas and SimPy)."""
+    if name in _API:
+        import importlib
+
+        value = getattr(importlib.import_module("uma.api"), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'uma' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | _API)

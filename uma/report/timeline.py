@@ -18,7 +18,7 @@ import numpy as np
 from uma.codecs import REGISTRY, metric_key, model_names
 from uma.report.results import RunFiles, read_run
 
-__all__ = ["draw_timeline", "TECH_COLOURS"]
+__all__ = ["draw_timeline", "timeline_figure", "TECH_COLOURS"]
 
 TECH_COLOURS = {
     "WLAN": "#cfe8cf",
@@ -189,3 +189,8 @@ def draw_timeline(results_dir: str | Path, out_png: str | Path | None = None) ->
     fig.savefig(buffer, format="png")
     atomic_write_bytes(out, buffer.getvalue())
     return out
+
+
+def timeline_figure(results_dir: str | Path):
+    """The timeline of `results_dir` as a matplotlib `Figure` (not drawn to a file), for notebooks."""
+    return _figure(read_run(results_dir))
