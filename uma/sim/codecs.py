@@ -297,15 +297,16 @@ class CodecChain:
     def engine_encode(
         self, picture: np.ndarray, index: int, *, force_idr: bool, frame: int = -1
     ) -> Coded:
+        """Code `picture` at point `index`, intra when `force_idr` (the engine's decision: it
+        asks for intra on a change of point, which starts a new encoder here)."""
         point = self.points[index]
         if index != self.engine_point:
-            # A new point is a new stream: new codec, size or rate, starting intra.
+            # A new point is a new stream: new codec, size or rate.
             if self.pending_mbc is not None and spec(point.codec).role is Role.MODEL:
                 self.engine_encoder, self.pending_mbc = self.pending_mbc, None
             else:
                 self.engine_encoder = self._timed(point.codec, self._make_encoder, index)
             self.engine_point = index
-            force_idr = True
         return self._timed(
             point.codec, self.engine_encoder.encode, picture, intra=force_idr, frame=frame
         )
@@ -323,7 +324,7 @@ class CodecChain:
 
     def engine_refresh(self, picture: np.ndarray, order):
         """Code the refresh `order` (`uma.engine.refresh.RefreshOrder`) of `picture`, the
-        frame the model codec just coded: (bytes, intra), or None."""
+        frame the model codec just coded: (bytes, intra, gain_db), or None."""
         if self.refresh is None:
             return None
         # The engine knows the last picture the receiver decoded before this stretch on the
@@ -334,6 +335,11 @@ class CodecChain:
             "refresh", self.refresh.engine_code, self.engine_encoder, picture, order,
             receiver_picture=receiver_picture,
         )  # fmt: skip
+
+    def engine_discard_refresh(self, frame: int) -> None:
+        """The engine does not send the refresh of `frame` just coded."""
+        if self.refresh is not None:
+            self.refresh.discard(frame)
 
     def engine_adopt_refresh(self, frame: int) -> None:
         """The receiver renders from refresh `frame` now: the engine's mirror follows."""

@@ -157,6 +157,7 @@ def run_scenario(
             chunk_bits=8 * (payload_bytes + HEADER_BYTES),
         ),
         technology_priors_kbps=technology_priors_kbps(scenario),
+        payload_bytes=payload_bytes,
     )
     props = _link_props(scenario)
     world_ref: list[World] = []
@@ -224,8 +225,7 @@ def run_scenario(
     env.process(engine_process(env, world))
     env.process(downlink_process(env, downlink))
     env.process(report_process(env, world))
-    if scenario.engine.pacer.enabled:
-        env.process(pacer_process(env, world))
+    env.process(pacer_process(env, world))
     display = env.process(display_process(env, world))
     env.run(until=display)
     for index, (psnr, similarity, face_psnr, face_ssim) in quality.finish().items():
