@@ -83,25 +83,16 @@ def build_parts(
     declared = model.declared()
     declared += [Tally(f"{spec(name).config_section}_failures", 0) for name in names(Role.REGION)]
     delivery = Delivery(
-        bits=description.bits,
-        chunks=description.chunks,
-        chunk_bits=description.chunk_bits,
-        share=model_config.description_share,
-        codec=model_name,
-    )
+        bits=description.bits, chunks=description.chunks, chunk_bits=description.chunk_bits,
+        share=model_config.description_share, codec=model_name,
+    )  # fmt: skip
     switcher = Switcher(
         SWITCHING[config.switching.policy],
         switch_settings(config, ladder=config.codec, model=model_name),
-        ladder=ladder,
-        model=model,
-        description=delivery,
-        coverage=coverage,
-    )
-    refresh_config = getattr(model_config, "refresh", None)
-    refresh = None
-    if refresh_config is not None and refresh_config.enabled:
-        refresh = RefreshPlanner(refresh_config)
-        declared += [Tally(key, 0) for key in RefreshPlanner.COUNTS]
+        ladder=ladder, model=model, description=delivery, coverage=coverage,
+    )  # fmt: skip
+    refresh = _refresh(model_config)
+    declared += [Tally(key, 0) for key in RefreshPlanner.COUNTS] if refresh else []
     outbox = Outbox(config.pacer, payload_bytes=payload_bytes, source_fps=source_fps)
     handover = Handover(technology_priors_kbps or {}) if config.handover.enabled else None
     keyframes = Keyframes(keyframe_min_interval_s)
@@ -118,3 +109,9 @@ def build_parts(
         ladder, model, model_config, delivery, switcher, refresh, outbox, handover, keyframes,
         position, sender, estimator, tuple(declared),
     )  # fmt: skip
+
+
+def _refresh(model_config) -> RefreshPlanner | None:
+    """The refresh's planner when the model codec's section enables it."""
+    refresh = getattr(model_config, "refresh", None)
+    return RefreshPlanner(refresh) if refresh is not None and refresh.enabled else None
