@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from uma.codecs import model_names, spec
 from uma.config.scenario import Scenario
 from uma.engine.points import OperatingPoint
 from uma.sim.coded import Coded
@@ -55,29 +56,30 @@ class CodecChain:
         height: int, fps: float, account: bool = False, description=None,
     ) -> None:  # fmt: skip
         self.points, self.clock = points, CodecClock(account)
-        mbc = scenario.engine.mbc
+        section = getattr(scenario.engine, spec(model_names()[0]).config_section)
         self.context = CodecContext(
             description=description, seed=scenario.seed, source_size=(width, height),
-            face_region=scenario.engine.face_region, mbc=mbc, fps=fps,
+            face_region=scenario.engine.face_region, fps=fps,
+            **{spec(model_names()[0]).config_section: section},
         )  # fmt: skip
         self.refresh = None  # the model-aided refresh's two ends (`uma.sim.refresh`)
-        if description is not None and mbc.refresh.enabled:
+        if description is not None and section.refresh.enabled:
             from uma.sim.refresh import RefreshChain
 
-            self.refresh = RefreshChain(mbc.refresh, source_size=(width, height))
-        sender_mbc = uplink_mbc = None
+            self.refresh = RefreshChain(section.refresh, source_size=(width, height))
+        tracker = params = None
         if description is not None:
             from uma.mbc import StreamConfig
 
-            self.context.stream = StreamConfig(frames_per_packet=mbc.frames_per_packet)
+            self.context.stream = StreamConfig(frames_per_packet=section.frames_per_packet)
             # The customisation scheme: `adaptation` (the engine tracks the face in the
             # picture it decodes) or `selection` (the sender tracks, and sends them up too).
-            if mbc.scheme == "selection":
-                sender_mbc, uplink_mbc = selection_coders(self.context, description, mbc)
+            if section.scheme == "selection":
+                tracker, params = selection_coders(self.context, description, section)
         size = {"width": width, "height": height, "fps": fps, "clock": self.clock}
-        self.sender = SenderCoder(scenario, mbc=sender_mbc, **size)
+        self.sender = SenderCoder(scenario, tracker=tracker, **size)
         self.engine = EngineCoder(
-            scenario, ladder, points, self.context, uplink_mbc=uplink_mbc, refresh=self.refresh,
+            scenario, ladder, points, self.context, uplink_params=params, refresh=self.refresh,
             **size,
         )  # fmt: skip
         self.receiver = ReceiverCoder(self.context, clock=self.clock, refresh=self.refresh)
@@ -89,10 +91,6 @@ class CodecChain:
     @property
     def codec_seconds(self) -> dict[str, float]:
         return self.clock.codec_seconds
-
-    @property
-    def sender_mbc(self) -> SenderMbc | None:
-        return self.sender.mbc
 
     @property
     def engine_point(self) -> int:

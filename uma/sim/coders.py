@@ -54,26 +54,26 @@ class CodecClock:
 
 class SenderCoder:
     """The sender: the camera in the uplink codec at `sender.rate_kbps`; with the selection
-    scheme (`mbc` a `SenderMbc`), the parameters of its own tracker ride along."""
+    scheme (`tracker` a `SenderMbc`), the parameters of its own tracker ride along."""
 
     def __init__(self, scenario, *, width: int, height: int, fps: float, clock: CodecClock,
-                 mbc: SenderMbc | None = None) -> None:  # fmt: skip
+                 tracker: SenderMbc | None = None) -> None:  # fmt: skip
         sender = scenario.sender
         self.codec = uplink_name()
         self.encoder = video_class(self.codec, "video_encoder")(
             width, height, fps, sender.rate_kbps, preset=sender.preset,
             keyint_frames=sender.keyint_frames,
         )  # fmt: skip
-        self.clock, self.mbc = clock, mbc
+        self.clock, self.tracker = clock, tracker
 
     def encode(self, frame: np.ndarray):
         return self.clock.timed(self.codec, self.encoder.encode, frame)
 
     def side_data(self, frame: np.ndarray, index: int) -> bytes | None:
         """Selection: the sender's parameter packet for source frame `index` (None otherwise)."""
-        if self.mbc is None:
+        if self.tracker is None:
             return None
-        return self.clock.timed(model_names()[0], self.mbc.encode, frame, frame=index)
+        return self.clock.timed(model_names()[0], self.tracker.encode, frame, frame=index)
 
 
 class EngineCoder:
@@ -81,12 +81,12 @@ class EngineCoder:
 
     def __init__(
         self, scenario, ladder, points: tuple[OperatingPoint, ...], context: CodecContext, *,
-        width: int, height: int, fps: float, clock: CodecClock, uplink_mbc=None, refresh=None,
+        width: int, height: int, fps: float, clock: CodecClock, uplink_params=None, refresh=None,
     ) -> None:  # fmt: skip
         self.scenario, self.ladder, self.points, self.context = scenario, ladder, points, context
         self.width, self.height, self.fps, self.clock = width, height, fps, clock
         self.decoder = video_class(uplink_name(), "video_decoder")()
-        self.uplink_mbc = uplink_mbc  # selection: the decoder of the sender's parameters
+        self.uplink_params = uplink_params  # selection: the decoder of the sender's parameters
         self.refresh = refresh  # the refresh's two ends (`uma.sim.refresh.RefreshChain`)
         self._settings: dict[str, Any] = {}  # encoder settings of other codecs' ladders
         self.encoder = None
@@ -98,7 +98,7 @@ class EngineCoder:
 
     def receive_side(self, data: bytes | None, index: int) -> None:
         """Selection: decode the parameters the sender sent up with frame `index`."""
-        if self.uplink_mbc is None:
+        if self.uplink_params is None:
             return
         from uma.mbc import PacketError
 
@@ -107,7 +107,7 @@ class EngineCoder:
         if not data:
             return
         try:
-            out = self.uplink_mbc.decode(data)
+            out = self.uplink_params.decode(data)
         except PacketError:
             return
         if out.frames:
@@ -115,7 +115,7 @@ class EngineCoder:
 
     def make_encoder(self, index: int):
         point = self.points[index]
-        factory = encoder_factory(point.codec, selection=self.uplink_mbc is not None)
+        factory = encoder_factory(point.codec, selection=self.uplink_params is not None)
         return factory(
             point, source_size=(self.width, self.height), source_fps=self.fps,
             settings=self.settings(point.codec), context=self.context,
@@ -219,8 +219,8 @@ class ReceiverCoder:
         """A refresh unit complete: its picture, or None (undecodable)."""
         if self.refresh is None:
             return None
-        mbc = self.decoder if self.on_model else None
-        return self.clock.timed("refresh", self.refresh.receiver_decode, mbc, unit.frame,
+        model = self.decoder if self.on_model else None
+        return self.clock.timed("refresh", self.refresh.receiver_decode, model, unit.frame,
                                 unit.data)  # fmt: skip
 
     def refresh_frame(self) -> int:
@@ -228,14 +228,14 @@ class ReceiverCoder:
         return getattr(self.decoder, "refresh_frame", -1)
 
 
-def selection_coders(context: CodecContext, description, mbc_config):
+def selection_coders(context: CodecContext, description, section):
     """The selection scheme's two ends: the sender's tracker and the engine's decoder of its
-    parameters (it sets `context.selected`)."""
+    parameters (it sets `context.selected`); `section` is the model codec's configuration."""
     from uma.mbc import FaceUnits, ParameterDecoder
 
     sender = SenderMbc(
-        context, init_us_per_evaluation=mbc_config.init_us_per_evaluation,
-        track_us_per_evaluation=mbc_config.track_us_per_evaluation,
+        context, init_us_per_evaluation=section.init_us_per_evaluation,
+        track_us_per_evaluation=section.track_us_per_evaluation,
     )  # fmt: skip
     units = FaceUnits.of(description.model, description.params)
     uplink = ParameterDecoder(units, replace(context.stream, frames_per_packet=1))
