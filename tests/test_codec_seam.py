@@ -23,7 +23,7 @@ ROOT = Path(uma.__file__).parent
 CODEC_MODULES = {"mbc_codecs.py", "face_region.py", "refresh.py", "context.py"}
 # Benchmarks outside the engine engineer's rooms that still name codecs (issue 25): the
 # codec bench copies the registry's names and colours (uma/bench/codec.py, the hardening
-# engineer's), the others key their JSON by codec (CONVENTIONS.md fixes `h264`, `av1`,
+# engineer's), the others key their JSON by codec (the bench conventions fix `h264`, `av1`,
 # `av1+mbc` as keys) or bench one codec itself. Each is to read the registry instead.
 BENCH_KNOWN = {
     "codec.py", "codec_ffmpeg.py", "face_rung.py", "face_rung_run.py", "headline.py",
