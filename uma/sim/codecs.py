@@ -5,8 +5,9 @@ Units: pictures are planar YUV 4:2:0 arrays (H * 3 // 2, W) uint8; sizes in pixe
 `CodecChain` wires the three roles (`uma.sim.coders`: the sender's, the engine's and the
 receiver's coders, each looking its classes up in the registry through
 `uma.sim.coder_factories`) over one shared `CodecContext`, and the model-aided refresh's two
-ends between the engine's and the receiver's. The world and `uma bench sim` call it; the
-coders' factories are re-exported here.
+ends between the engine's and the receiver's; with an `UplinkMemo` (`uma.sim.uplink`) the
+sender's stream and the engine's decode of it are taken from it where it has them. The world
+and `uma bench sim` call it; the coders' factories are re-exported here.
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ from uma.sim.coders import CodecClock, EngineCoder, ReceiverCoder, SenderCoder, 
 from uma.sim.context import CodecContext
 from uma.sim.mbc_codecs import MbcPointEncoder, MbcUnitDecoder, SelectedMbcEncoder, SenderMbc
 from uma.sim.packets import EncodedUnit
+from uma.sim.uplink import UplinkMemo
 
 __all__ = [
     "CodecChain",
@@ -54,6 +56,7 @@ class CodecChain:
     def __init__(
         self, scenario: Scenario, ladder, points: tuple[OperatingPoint, ...], *, width: int,
         height: int, fps: float, account: bool = False, description=None,
+        uplink: UplinkMemo | None = None,
     ) -> None:  # fmt: skip
         self.points, self.clock = points, CodecClock(account)
         section = getattr(scenario.engine, spec(model_names()[0]).config_section)
@@ -77,10 +80,10 @@ class CodecChain:
             if section.scheme == "selection":
                 tracker, params = selection_coders(self.context, description, section)
         size = {"width": width, "height": height, "fps": fps, "clock": self.clock}
-        self.sender = SenderCoder(scenario, tracker=tracker, **size)
+        self.sender = SenderCoder(scenario, tracker=tracker, memo=uplink, **size)
         self.engine = EngineCoder(
             scenario, ladder, points, self.context, uplink_params=params, refresh=self.refresh,
-            **size,
+            memo=uplink, **size,
         )  # fmt: skip
         self.receiver = ReceiverCoder(self.context, clock=self.clock, refresh=self.refresh)
 

@@ -28,8 +28,9 @@ from uma.sim.coder_factories import DECODERS, encoder_factory, video_class
 from uma.sim.context import CodecContext
 from uma.sim.mbc_codecs import SenderMbc
 from uma.sim.packets import EncodedUnit
+from uma.sim.uplink import UplinkMemo, UplinkReceiver, UplinkSender, settings_key
 
-__all__ = ["CodecClock", "SenderCoder", "EngineCoder", "ReceiverCoder"]
+__all__ = ["CodecClock", "SenderCoder", "EngineCoder", "ReceiverCoder", "compute_uplink"]
 
 
 class CodecClock:
@@ -57,13 +58,16 @@ class SenderCoder:
     scheme (`tracker` a `SenderMbc`), the parameters of its own tracker ride along."""
 
     def __init__(self, scenario, *, width: int, height: int, fps: float, clock: CodecClock,
-                 tracker: SenderMbc | None = None) -> None:  # fmt: skip
+                 tracker: SenderMbc | None = None, memo: UplinkMemo | None = None) -> None:  # fmt: skip
         sender = scenario.sender
         self.codec = uplink_name()
         self.encoder = video_class(self.codec, "video_encoder")(
             width, height, fps, sender.rate_kbps, preset=sender.preset,
             keyint_frames=sender.keyint_frames,
         )  # fmt: skip
+        if memo is not None:  # the stream computed once (`uma.sim.uplink`)
+            start = settings_key(self.codec, sender, width=width, height=height, fps=fps)
+            self.encoder = UplinkSender(self.encoder, memo, start)
         self.clock, self.tracker = clock, tracker
 
     def encode(self, frame: np.ndarray):
@@ -82,10 +86,12 @@ class EngineCoder:
     def __init__(
         self, scenario, ladder, points: tuple[OperatingPoint, ...], context: CodecContext, *,
         width: int, height: int, fps: float, clock: CodecClock, uplink_params=None, refresh=None,
+        memo: UplinkMemo | None = None,
     ) -> None:  # fmt: skip
         self.scenario, self.ladder, self.points, self.context = scenario, ladder, points, context
         self.width, self.height, self.fps, self.clock = width, height, fps, clock
         self.decoder = video_class(uplink_name(), "video_decoder")()
+        self.uplink = None if memo is None else UplinkReceiver(self.decoder, memo)
         self.uplink_params = uplink_params  # selection: the decoder of the sender's parameters
         self.refresh = refresh  # the refresh's two ends (`uma.sim.refresh.RefreshChain`)
         self._settings: dict[str, Any] = {}  # encoder settings of other codecs' ladders
@@ -94,6 +100,8 @@ class EngineCoder:
         self.pending_model = None  # the model codec's encoder an initialisation prepares
 
     def decode(self, encoded) -> np.ndarray | None:
+        if self.uplink is not None:  # the picture from the memo, or decoded and kept there
+            return self.clock.timed(uplink_name(), self.uplink.decode, encoded)
         return self.clock.timed(uplink_name(), self.decoder.decode, encoded.data)
 
     def receive_side(self, data: bytes | None, index: int) -> None:
@@ -241,3 +249,13 @@ def selection_coders(context: CodecContext, description, section):
     uplink = ParameterDecoder(units, replace(context.stream, frames_per_packet=1))
     context.selected = {}
     return sender, uplink
+
+
+def compute_uplink(memo: UplinkMemo, scenario, frames, *, width: int, height: int, fps: float):
+    """Code `frames` as the sender would and decode them as the engine would, into `memo`
+    (what a run of them then takes from it instead of coding)."""
+    sender = SenderCoder(scenario, width=width, height=height, fps=fps, clock=CodecClock(False),
+                         memo=memo)  # fmt: skip
+    receiver = UplinkReceiver(video_class(uplink_name(), "video_decoder")(), memo)
+    for frame in frames:
+        receiver.decode(sender.encode(frame))

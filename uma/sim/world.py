@@ -36,6 +36,7 @@ from uma.sim.receiver import ReceiverState
 from uma.sim.result import RunResult, collect_result
 from uma.sim.sources import open_source
 from uma.sim.state import World
+from uma.sim.uplink import UplinkMemo
 
 __all__ = ["RunResult", "run_scenario", "build_capacity"]
 
@@ -107,6 +108,7 @@ def run_scenario(
     account: bool = False,
     source=None,
     on_display: Callable[[int, np.ndarray, int, np.ndarray | None], None] | None = None,
+    uplink: UplinkMemo | None = None,
 ) -> RunResult:
     """Simulate `scenario`; `progress(done, total)` is told of each displayed frame.
 
@@ -114,7 +116,8 @@ def run_scenario(
     `uma bench sim`; they are measured, never used by the simulation. `source` replaces the
     scenario's frame source (a benchmark passes frames it prepared beforehand).
     `on_display(index, source, shown, picture)` sees each display instant's source frame and
-    the picture shown (None before the first), for `uma report --video`.
+    the picture shown (None before the first), for `uma report --video`. `uplink`: a memo of
+    the sender's stream (`uma.sim.uplink`) to take it from and add to; results are the same.
     """
     route_rng, loss_rng, feedback_rng = (
         np.random.default_rng(s) for s in np.random.SeedSequence(scenario.seed).spawn(3)
@@ -131,7 +134,7 @@ def run_scenario(
     env = simpy.Environment()
     codec = CodecChain(
         scenario, ladder, points, width=source.width, height=source.height, fps=fps,
-        account=account, description=plan.description,
+        account=account, description=plan.description, uplink=uplink,
     )  # fmt: skip
     quality = QualityMeter(scenario.metrics, width=source.width, height=source.height)
     face_boxes = FaceBoxes(source)
