@@ -6,8 +6,10 @@ fixed and keeps `frames.csv`, `events.csv` and `metrics.json` under `DIR/<name>/
 each file byte for byte with the recorded one, printing the first differing line and exiting 1
 on any difference. Run from the repository root with the checkout on `PYTHONPATH`.
 
-The set: the regression suite's scenarios, the default switching commute cut to 70 s (it reaches
-GPRS, so the model-based codec is used), and short scenarios that between them use every codec
+The set: the regression suite's scenarios (VP8 among them), the switching commute cut to 70 s (it
+reaches GPRS, so the model-based codec is used), the default commute with the refresh cut to 90 s
+(it reaches GSM, so the model codec and its refresh both run), the rate-control commute (pacer,
+handover awareness, delay-trend estimator) cut to 70 s, and short scenarios that between them use every codec
 and path of the engine: face-region rungs with MBC below them (and a failed face search),
 the selection scheme, WebRTC's estimator with padding and predictive switching, and oracle
 switching, and a switch MBC must refuse (no description). `--only NAME` runs a subset (repeatable).
@@ -34,6 +36,9 @@ SCENARIOS: dict[str, tuple[str | None, dict, int]] = {
     "talking-head-3g": ("tests/baselines/talking-head-3g.yaml", {}, 5),
     "faults": ("tests/baselines/faults.yaml", {}, 6),
     "switching-70s": ("scenarios/stockholm-uppsala-switching.yaml", {"duration_s": 70.0}, 1),
+    "default-refresh-90s": ("scenarios/stockholm-uppsala.yaml", {"duration_s": 90.0}, 1),
+    "ratecontrol-70s": ("scenarios/stockholm-uppsala-ratecontrol.yaml", {"duration_s": 70.0}, 1),
+    "vp8-3g": ("tests/baselines/vp8-3g.yaml", {}, 4),
     "selection": ("scenarios/wlan-gsm-wlan-selection.yaml", {}, 1),
     "face-mbc": (
         None,

@@ -26,6 +26,7 @@ metrics and the report ask the registry for a trait instead of naming codecs:
 - `colour`: its colour in plots; `always_reported`: `metrics.json` gives its bits even when a
   run does not use it (the keys every earlier result file has; other codecs' keys appear when
   they are on the run's ladder).
+- `uplink`: the sender codes its camera with it (one codec: `uplink_name()`).
 
 Adding a full-frame codec is its classes in `uma.video`, one `CodecSpec` in `REGISTRY`, its
 ladder file and its tests (docs/adding-a-codec.md).
@@ -44,6 +45,7 @@ __all__ = [
     "names",
     "full_frame_names",
     "model_names",
+    "uplink_name",
     "metric_key",
 ]
 
@@ -72,6 +74,7 @@ class CodecSpec:
     video_decoder: str | None = None
     codes_with: str | None = None
     always_reported: bool = False
+    uplink: bool = False
 
     @property
     def metric_key(self) -> str:
@@ -91,6 +94,7 @@ REGISTRY: dict[str, CodecSpec] = {
             video_encoder="H264Encoder",
             video_decoder="H264Decoder",
             always_reported=True,
+            uplink=True,
         ),
         CodecSpec(
             "vp8",
@@ -154,6 +158,11 @@ def full_frame_names() -> tuple[str, ...]:
 
 def model_names() -> tuple[str, ...]:
     return names(Role.MODEL)
+
+
+def uplink_name() -> str:
+    """The full-frame codec the sender codes its camera with over the good uplink."""
+    return next(n for n, s in REGISTRY.items() if s.uplink)
 
 
 def metric_key(name: str) -> str:

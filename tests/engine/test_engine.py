@@ -1,7 +1,7 @@
 import pytest
 
 from uma.config import EngineConfig, EstimatorConfig, FeedbackConfig
-from uma.engine import KeyframeRequest, ReceiverReport, UmaEngine
+from uma.engine import CodedReport, KeyframeRequest, ReceiverReport, SendPacket, UmaEngine
 from uma.engine.points import OperatingPoint
 
 RATES = (30.0, 100.0, 300.0, 1000.0)
@@ -21,6 +21,21 @@ def make_engine(**engine_kw):
     )
 
 
+def in_flight(engine: UmaEngine, sizes_bits: list[int]) -> list[SendPacket]:
+    """Packets of `sizes_bits` through the engine's send path (numbered, in flight)."""
+    packets = [
+        SendPacket("padding", None, i, len(sizes_bits), s, -1) for i, s in enumerate(sizes_bits)
+    ]
+    return engine.outbox.number(packets)
+
+
+def coded(engine: UmaEngine, decision, now_s: float, **outcome) -> list:
+    """Report that the world coded `decision`'s frame (an intra picture when it was asked)."""
+    keyframe = outcome.pop("keyframe", decision.keyframe)
+    report = CodedReport(decision.frame, decision.rung, keyframe=keyframe, **outcome)
+    return engine.on_coded(report, now_s)
+
+
 def test_starts_at_rung_the_initial_estimate_carries():
     assert make_engine().rung == 2
 
@@ -37,8 +52,9 @@ def test_frame_rate_decimation_keeps_the_right_share():
 def test_keyframe_request_forces_idr_once_and_respects_min_interval():
     engine = make_engine(policy="fixed", fixed_rung=3)
     engine.on_keyframe_request(KeyframeRequest(sent_s=1.0, frame=3), 1.0)
-    assert engine.on_frame(25, 1.0).force_idr
-    engine.on_keyframe_sent(1.0)  # the world reports the IDR left
+    decision = engine.on_frame(25, 1.0)
+    assert decision.force_idr and decision.keyframe
+    coded(engine, decision, 1.0)  # the world reports the IDR left
     assert not engine.on_frame(26, 1.04).force_idr
     engine.on_keyframe_request(KeyframeRequest(sent_s=1.1, frame=5), 1.1)
     assert not engine.on_frame(27, 1.1).force_idr  # too soon after the last IDR
@@ -49,15 +65,19 @@ def test_keyframe_request_survives_a_frame_that_was_never_coded():
     # The engine could not decode the picture, so no IDR left: the request must stay pending.
     engine = make_engine(policy="fixed", fixed_rung=3)
     engine.on_keyframe_request(KeyframeRequest(sent_s=1.0, frame=3), 1.0)
-    assert engine.on_frame(25, 1.0).force_idr  # ...but the world had no picture to code
-    assert engine.on_frame(26, 1.04).force_idr
-    engine.on_keyframe_sent(1.04)
-    assert not engine.on_frame(27, 1.08).force_idr
+    assert engine.on_frame(25, 1.0, decoded=False).force_idr  # ...no picture to code
+    decision = engine.on_frame(26, 1.04)
+    assert decision.force_idr
+    coded(engine, decision, 1.04, keyframe=False)  # the coder made no IDR: still pending
+    decision = engine.on_frame(27, 1.08)
+    assert decision.force_idr
+    coded(engine, decision, 1.08)
+    assert not engine.on_frame(28, 1.5).force_idr
 
 
 def test_switch_down_forces_idr_and_is_logged():
     engine = make_engine()
-    engine.on_packets_sent([8000] * 10)
+    in_flight(engine, [8000] * 10)
     report = ReceiverReport(
         sent_s=0.1,
         interval_s=0.1,
@@ -76,7 +96,7 @@ def test_switch_down_forces_idr_and_is_logged():
 def test_backlog_skips_frames_until_reports_catch_up():
     engine = make_engine(policy="fixed", fixed_rung=3)
     assert engine.on_frame(0, 0.0).send
-    engine.on_packets_sent([12_000] * 20)  # 240 kbit outstanding, more than 0.3 s at 400 kbit/s
+    in_flight(engine, [12_000] * 20)  # 240 kbit outstanding, more than 0.3 s at 400 kbit/s
     decision = engine.on_frame(1, 0.04)
     assert decision.scheduled and not decision.send and decision.reason == "backlog"
     report = ReceiverReport(
@@ -96,7 +116,7 @@ def test_backlog_skips_frames_until_reports_catch_up():
 def test_backlogged_engine_still_probes_and_presumes_old_packets_lost():
     engine = make_engine(policy="fixed", fixed_rung=3)
     assert engine.on_frame(0, 0.0).send
-    engine.on_packets_sent([12_000] * 20)
+    in_flight(engine, [12_000] * 20)
     assert not engine.on_frame(1, 0.5).send
     assert engine.on_frame(25, 1.0).send  # probe after a second without sending
     engine.on_frame(26, 2.5)  # no report progress for over 2 s: presumed lost
@@ -124,7 +144,7 @@ def _report(now_s, *, bits=20000, packets=2, highest_seq=0):
 
 def test_silent_feedback_decays_the_estimate_but_keeps_its_window():
     engine = make_engine(stale_reports=3)
-    engine.on_packets_sent([8000, 8000])
+    in_flight(engine, [8000, 8000])
     for i in range(10):
         engine.on_report(_report(i / 10, highest_seq=1), i / 10)
     before = engine.estimator
@@ -144,7 +164,7 @@ def test_stale_threshold_is_configurable():
 
 def test_report_naming_a_sequence_never_sent_is_clamped():
     engine = make_engine()
-    engine.on_packets_sent([8000, 8000])
+    in_flight(engine, [8000, 8000])
     engine.on_report(_report(0.1, highest_seq=99), 0.1)
     assert engine.inflight.highest_seq == 1 and engine.outstanding_bits == 0
     engine.on_frame(3, 0.12)
@@ -220,7 +240,8 @@ def test_tracking_failure_falls_back_to_h264():
     engine.on_frame(0, 0.0, capacity_kbps=10.0)
     engine.on_init_done(True, 0.05, evaluations=600)
     assert engine.on_frame(2, 0.08, capacity_kbps=10.0).codec == "mbc"
-    engine.on_track_failed("face left the picture", 0.1)
+    third = engine.on_frame(3, 0.09, capacity_kbps=10.0)
+    coded(engine, third, 0.1, failure="face left the picture")
     decision = engine.on_frame(4, 0.16, capacity_kbps=10.0)  # 5 frames/s: frame 4 is sent
     assert decision.codec == "h264" and decision.rung == 1 and decision.force_idr
 

@@ -1,7 +1,7 @@
 """The face-region rungs on the rate ladder: climbed like any rung, left when no face is found."""
 
 from uma.config import EngineConfig, EstimatorConfig, FeedbackConfig
-from uma.engine import UmaEngine
+from uma.engine import CodedReport, UmaEngine
 from uma.engine.points import OperatingPoint, rate_indices
 from uma.engine.policy import PolicyView, throughput_policy
 
@@ -64,8 +64,9 @@ def test_policies_climb_the_face_rungs_like_any_rung():
 
 def test_no_face_moves_to_the_lowest_full_frame_rung_and_blocks_the_face_rungs():
     e = engine(13.0, retry_ms=2000.0)
-    assert e.on_frame(4, 0.16).point.codec == "h264-face"
-    e.on_track_failed("no face detected", 0.2)
+    decision = e.on_frame(4, 0.16)
+    assert decision.point.codec == "h264-face"
+    e.on_coded(CodedReport(4, decision.rung, keyframe=True, failure="no face detected"), 0.2)
     assert e.rung == 3
     assert [ev.kind for ev in e.events][-2:] == ["face_region_failed", "fallback"]
     assert "no face detected" in e.events[-2].detail
@@ -119,5 +120,5 @@ def test_mbc_refused_falls_back_to_the_lowest_rung_of_the_ladder_the_face_rung()
     assert decision.point.codec == "h264-face" and decision.rung == 1
     assert "mbc_refused" in [ev.kind for ev in e.events]
     # With no face either, the full-frame rung: the face rungs leave the ladder.
-    e.on_track_failed("no face detected", 3.3)
+    e.on_coded(CodedReport(4, decision.rung, keyframe=True, failure="no face detected"), 3.3)
     assert e.on_frame(9, 3.4).rung == 3

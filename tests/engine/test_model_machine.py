@@ -1,22 +1,15 @@
 """The model codec's sub-machine: its one transition table, and what it says while wanted."""
 
 import pytest
+from recorded import Recorded
 
 from uma.engine.model import TRANSITIONS, ModelEvent, ModelMachine, ModelState, Want
 
 
 def machine(unavailable=""):
-    events = []
-    counts = {}
-    m = ModelMachine(
-        "mbc",
-        unavailable=unavailable,
-        retry_s=2.0,
-        ladder_label="H.264",
-        emit=lambda t, kind, detail: events.append((t, kind, detail)),
-        counts=counts,
-    )
-    return m, events, counts
+    m = Recorded(ModelMachine("mbc", unavailable=unavailable, retry_s=2.0, ladder_label="H.264"))
+    m.keep(m.part.declared())
+    return m, m.events, m.counts
 
 
 def test_the_table_has_one_path_to_on_and_abandon_from_everywhere():
@@ -39,8 +32,12 @@ def test_start_initialise_use_then_a_lost_track_blocks_for_retry():
     assert m.want(0.0, description_ready=True) is Want.START
     m.start(0.0, 12.0)
     assert m.want(0.1, description_ready=True) is Want.LADDER  # initialising
-    assert not m.init_done(True, 0.2, reason="ok", evaluations=5)
-    assert m.want(0.3, description_ready=True) is Want.MODEL and m.state is ModelState.ON
+    m.init_done(True, 0.2, reason="ok", evaluations=5)
+    assert m.state is ModelState.READY
+    assert m.want(0.3, description_ready=True) is Want.MODEL
+    assert m.state is ModelState.READY  # a query changes nothing
+    m.use()
+    assert m.state is ModelState.ON
     assert m.track_failed("face left", 1.0)
     assert m.want(1.5, description_ready=True) is Want.LOWEST  # blocked until 3.0
     assert m.want(3.1, description_ready=True) is Want.START
@@ -51,7 +48,9 @@ def test_start_initialise_use_then_a_lost_track_blocks_for_retry():
 
 def test_refused_once_without_a_description_and_waits_for_delivery():
     m, events, counts = machine("no content description")
-    assert all(m.want(t, description_ready=True) is Want.LOWEST for t in (0.0, 1.0, 2.0))
+    for t in (0.0, 1.0, 2.0):
+        assert m.want(t, description_ready=True) is Want.LOWEST
+        m.refuse(t)
     assert [kind for _, kind, _ in events] == ["mbc_refused"]
     assert events[0][2] == "no content description; lowest H.264 rung"
     assert counts["mbc_refused"] == 1

@@ -2,8 +2,10 @@
 when its packets leave."""
 
 import pytest
+from recorded import Recorded
 
 from uma.config.codecs import RefreshConfig
+from uma.engine.records import Tally
 from uma.engine.refresh import (
     REFRESH_TRANSITIONS,
     RefreshEvent,
@@ -16,13 +18,9 @@ FPS = 25.0
 
 
 def planner(**config):
-    events, counts = [], {}
-    plan = RefreshPlanner(
-        RefreshConfig(enabled=True, **config),
-        emit=lambda t, kind, detail: events.append((t, kind, detail)),
-        counts=counts,
-    )
-    return plan, events, counts
+    plan = Recorded(RefreshPlanner(RefreshConfig(enabled=True, **config)))
+    plan.keep([Tally(key, 0) for key in RefreshPlanner.COUNTS])
+    return plan, plan.events, plan.counts
 
 
 def frame(plan, index, *, budget_kbps=30.0, on_model=True, model_kbps=4.8):
@@ -41,7 +39,7 @@ def test_off_the_model_codec_and_disabled_nothing_is_ordered():
     plan, _, _ = planner()
     assert frame(plan, 0, on_model=False) is None
     assert plan.state is RefreshState.OFF
-    disabled = RefreshPlanner(RefreshConfig(), emit=lambda *a: None, counts={})
+    disabled = Recorded(RefreshPlanner(RefreshConfig()))
     assert frame(disabled, 0) is None and disabled.state is RefreshState.OFF
 
 

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from uma.config.codecs import MbcConfig, RefreshConfig
-from uma.engine.refresh import RefreshOrder
+from uma.engine.decisions import DiscardRefresh, RefreshCoded
+from uma.engine.refresh import RefreshOrder, RefreshPlanner
 from uma.metrics.framelog import FrameLog
 from uma.sim.packets import EncodedUnit, packetize
 from uma.sim.receiver import ReceiverState
@@ -185,23 +186,30 @@ def test_a_refresh_no_better_than_the_receivers_picture_is_not_sent(head):
 
     order = RefreshOrder(10, 8.0, 1.0, True)
     chain = RefreshChain(config, source_size=SIZE)
+    # The coder measures the gain; the engine's planner decides (`min_gain_db`).
+    plan = RefreshPlanner(config)
+
+    def worth(coded):
+        report = RefreshCoded(10, None, len(coded[0]), coded[1], coded[2])
+        return not any(isinstance(a, DiscardRefresh) for a in plan.on_coded(report, 0.4))
+
     # The receiver already shows the frame itself: an 8 kbit refresh cannot beat it.
-    assert chain.engine_code(encoder_showing(frames[10]), frames[10], order) is None
+    coded = chain.engine_code(encoder_showing(frames[10]), frames[10], order)
+    assert not worth(coded)
+    chain.discard(10)
     assert chain.encoder.encoder is None and 10 not in chain.encoder.kept  # next: intra
     # It shows an old picture of another pose: the refresh is sent, and starts intra.
     coded = chain.engine_code(encoder_showing(frames[40]), frames[10], order)
-    assert coded is not None and coded[1] is True
-    assert chain.gain_db(encoder_showing(frames[40]), frames[10], 10) > 0.5
+    assert worth(coded) and coded[1] is True and coded[2] > 0.5
     # Before the receiver took a refresh, the mirror is not its picture: the check is against
     # the receiver's own (the last picture it decoded, at the stream's first pose); sent when
     # that is not known yet, or when the first refresh of a stretch always goes.
     first = encoder_showing(frames[40])
     first.refresh_frame, first.first_params, first.mbc = -1, params, None
-    assert chain.engine_code(first, frames[10], order, receiver_picture=frames[10]) is None
-    assert chain.engine_code(first, frames[10], order, receiver_picture=None) is not None
+    assert not worth(chain.engine_code(first, frames[10], order, receiver_picture=frames[10]))
+    assert worth(chain.engine_code(first, frames[10], order, receiver_picture=None))
     always = RefreshChain(config.model_copy(update={"first_always": True}), source_size=SIZE)
-    coded = always.engine_code(first, frames[10], order, receiver_picture=frames[10])
-    assert coded is not None
+    assert worth(always.engine_code(first, frames[10], order, receiver_picture=frames[10]))
 
 
 def test_the_run_summary_says_what_the_refresh_sent():

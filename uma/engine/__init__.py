@@ -1,12 +1,19 @@
 """The UMA engine's decisions as pure code: estimators, policies and the engine's parts (no SimPy)."""
 
 from uma.engine.decisions import (
-    DescriptionChunk,
+    AdoptRefresh,
+    CodedReport,
+    DiscardRefresh,
     EngineEvent,
     EngineOutcome,
     FrameDecision,
+    Initialise,
+    OutgoingUnit,
     PaceDecision,
-    UnitSent,
+    RefreshCoded,
+    SendPacket,
+    Tally,
+    WakePacer,
 )
 from uma.engine.engine import UmaEngine
 from uma.engine.estimator import (
@@ -34,7 +41,15 @@ __all__ = [
     "FrameDecision",
     "EngineEvent",
     "EngineOutcome",
-    "UnitSent",
+    "SendPacket",
+    "Initialise",
+    "AdoptRefresh",
+    "DiscardRefresh",
+    "WakePacer",
+    "Tally",
+    "CodedReport",
+    "OutgoingUnit",
+    "RefreshCoded",
     "PaceDecision",
     "Pacer",
     "PacedPacket",
@@ -42,7 +57,6 @@ __all__ = [
     "Handover",
     "handover_estimate",
     "delay_trend_ms_per_s",
-    "DescriptionChunk",
     "DescriptionPlan",
     "ModelState",
     "ModelEvent",

@@ -12,10 +12,8 @@ it is complete (a lost chunk comes again). The model codec is used only once tha
 
 from __future__ import annotations
 
-from collections.abc import Callable
-
-from uma.engine.decisions import DescriptionChunk
-from uma.engine.inflight import InFlight
+from uma.engine.decisions import SendPacket
+from uma.engine.records import EngineEvent
 
 __all__ = ["Delivery"]
 
@@ -32,14 +30,12 @@ class Delivery:
         chunk_bits: int,
         share: float,
         codec: str,
-        emit: Callable[[float, str, str], None],
     ) -> None:
         self.bits = bits
         self.chunks = chunks
         self.chunk_bits = chunk_bits
         self.share = share
         self.codec = codec  # the model codec it is for: its events carry the name
-        self.emit = emit
         self.acked_s: float | None = None if bits else 0.0
         self.wait_from_s: float | None = None
         self.wait_s = 0.0
@@ -51,17 +47,20 @@ class Delivery:
         """The description still has to reach the receiver."""
         return self.acked_s is None
 
-    def on_report(self, complete: bool, now_s: float) -> None:
-        if complete and self.acked_s is None:
-            self.acked_s = now_s
-            self.emit(now_s, "description_delivered", f"{self.bits} bits")
-            self.stop_wait(now_s)
+    def on_report(self, complete: bool, now_s: float) -> list[EngineEvent]:
+        if not complete or self.acked_s is not None:
+            return []
+        self.acked_s = now_s
+        self.stop_wait(now_s)
+        return [EngineEvent(now_s, "description_delivered", f"{self.bits} bits")]
 
-    def wait(self, now_s: float) -> None:
+    def wait(self, now_s: float) -> list[EngineEvent]:
         """The model codec is wanted but the description is not there: count the time."""
-        if self.wait_from_s is None:
-            self.wait_from_s = now_s
-            self.emit(now_s, f"{self.codec}_waiting_description", "description not delivered")
+        if self.wait_from_s is not None:
+            return []
+        self.wait_from_s = now_s
+        detail = "description not delivered"
+        return [EngineEvent(now_s, f"{self.codec}_waiting_description", detail)]
 
     def stop_wait(self, now_s: float) -> None:
         if self.wait_from_s is not None:
@@ -79,24 +78,24 @@ class Delivery:
         point_rate_kbps: float,
         fps: float,
         backlog_bits: float,
-        inflight: InFlight,
-    ) -> tuple[DescriptionChunk, ...]:
-        """The chunks to send in this frame interval (each counted in flight as it is chosen)."""
+        outstanding_bits: int,
+    ) -> list[SendPacket]:
+        """The chunks to send in this frame interval (not yet numbered), while the credit lasts
+        and, unless the model codec waits, the bits in flight (`outstanding_bits`, each chunk
+        added as it is chosen) stay below `backlog_bits`."""
         if not self.pending:
-            return ()
+            return []
         waiting = self.wait_from_s is not None
         if waiting:
             credit_kbps = budget_kbps  # the model codec waits for it: all the budget
         else:
             credit_kbps = max(budget_kbps - point_rate_kbps, self.share * budget_kbps)
         self.credit_bits += credit_kbps * 1000.0 / fps
-        out = []
-        while self.credit_bits >= self.chunk_bits and (
-            waiting or inflight.outstanding_bits < backlog_bits
-        ):
+        out: list[SendPacket] = []
+        while self.credit_bits >= self.chunk_bits and (waiting or outstanding_bits < backlog_bits):
             chunk = self.next_chunk % self.chunks
+            out.append(SendPacket("description", None, chunk, self.chunks, self.chunk_bits, -1))
             self.next_chunk += 1
             self.credit_bits -= self.chunk_bits
-            seq = inflight.on_sent([self.chunk_bits])
-            out.append(DescriptionChunk(seq, chunk, self.chunks, self.chunk_bits))
-        return tuple(out)
+            outstanding_bits += self.chunk_bits
+        return out

@@ -16,6 +16,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 from uma.engine.estimator import EstimatorState
+from uma.engine.records import EngineEvent
 
 __all__ = ["Handover", "handover_estimate"]
 
@@ -48,3 +49,16 @@ class Handover:
         first = self.technology is None
         self.technology = technology
         return None if first else self.priors_kbps.get(technology)
+
+    def take_prior(
+        self, state: EstimatorState, technology: str | None, *, now_s: float, config
+    ) -> tuple[EstimatorState, list[EngineEvent]]:
+        """The estimate after a report naming `technology` (`config`: `engine.estimator`):
+        on a change, that technology's prior capacity, and the event saying so."""
+        prior_kbps = self.on_report(technology)
+        if prior_kbps is None:
+            return state, []
+        state = handover_estimate(
+            state, prior_kbps, now_s=now_s, min_kbps=config.min_kbps, max_kbps=config.max_kbps
+        )
+        return state, [EngineEvent(now_s, "handover_prior", f"{technology} {prior_kbps:.1f} kbps")]

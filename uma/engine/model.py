@@ -17,8 +17,9 @@ counts (`<codec>_refused`).
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from enum import Enum
+
+from uma.engine.records import EngineEvent, Tally
 
 __all__ = ["ModelState", "ModelEvent", "TRANSITIONS", "ModelMachine", "Want"]
 
@@ -61,18 +62,10 @@ class Want(Enum):
 
 
 class ModelMachine:
-    """The model codec `name`'s state, its blocking, and the counts of what happened."""
+    """The model codec `name`'s state and its blocking. Its transitions return the actions
+    they cause (events and counts); `want` only looks."""
 
-    def __init__(
-        self,
-        name: str,
-        *,
-        unavailable: str,
-        retry_s: float,
-        ladder_label: str,
-        emit: Callable[[float, str, str], None],
-        counts: dict[str, int],
-    ) -> None:
+    def __init__(self, name: str, *, unavailable: str, retry_s: float, ladder_label: str) -> None:
         self.name = name
         self.ladder_label = ladder_label  # the rate ladder's codec, as events name it
         self.state = ModelState.OFF
@@ -81,10 +74,11 @@ class ModelMachine:
         self.blocked_until_s = float("-inf")
         self.blocked_reason = ""
         self.blocked_logged = False
-        self.emit = emit
-        self.counts = counts
-        for key in ("inits", "init_failures", "track_failures", f"{name}_refused"):
-            counts.setdefault(key, 0)
+
+    def declared(self) -> list[Tally]:
+        """The counts a run reports even when nothing happened."""
+        keys = ("inits", "init_failures", "track_failures", f"{self.name}_refused")
+        return [Tally(key, 0) for key in keys]
 
     def fire(self, event: ModelEvent) -> None:
         key = (self.state, event)
@@ -96,64 +90,75 @@ class ModelMachine:
         return (self.state, event) in TRANSITIONS
 
     def want(self, now_s: float, *, description_ready: bool) -> Want:
-        """The policy wants the model codec at `now_s`: what to do for this frame."""
-        if self.state is ModelState.ON:
-            return Want.MODEL
-        if self.state is ModelState.READY:
-            self.fire(ModelEvent.USE)
+        """What to do for a frame at `now_s` while the policy wants the model codec (a query:
+        `use`, `refuse` or `start` carry it out)."""
+        if self.state in (ModelState.ON, ModelState.READY):
             return Want.MODEL
         if self.state is ModelState.INITIALISING:
             return Want.LADDER
+        if self._refusal(now_s):
+            return Want.LOWEST
+        return Want.START if description_ready else Want.WAIT
+
+    def _refusal(self, now_s: float) -> str:
         reason = self.unavailable
         if not reason and now_s < self.blocked_until_s:
             reason = self.blocked_reason
-        if not reason and not description_ready:
-            return Want.WAIT
-        if reason:
-            if not self.blocked_logged:
-                self.blocked_logged = True
-                self.counts[f"{self.name}_refused"] += 1
-                detail = f"{reason}; lowest {self.ladder_label} rung"
-                self.emit(now_s, f"{self.name}_refused", detail)
-            return Want.LOWEST
-        return Want.START
+        return reason
 
-    def start(self, now_s: float, budget_kbps: float) -> None:
+    def use(self) -> None:
+        """The first frame on the model codec's point once it is ready."""
+        if self.state is ModelState.READY:
+            self.fire(ModelEvent.USE)
+
+    def refuse(self, now_s: float) -> list:
+        """The model codec is wanted but refused or blocked: say why, once."""
+        if self.blocked_logged:
+            return []
+        self.blocked_logged = True
+        detail = f"{self._refusal(now_s)}; lowest {self.ladder_label} rung"
+        return [Tally(f"{self.name}_refused"), EngineEvent(now_s, f"{self.name}_refused", detail)]
+
+    def start(self, now_s: float, budget_kbps: float) -> list:
         self.fire(ModelEvent.START)
-        self.counts["inits"] += 1
-        self.emit(now_s, f"{self.name}_init_start", f"budget {budget_kbps:.1f} kbps")
+        detail = f"budget {budget_kbps:.1f} kbps"
+        return [Tally("inits"), EngineEvent(now_s, f"{self.name}_init_start", detail)]
 
-    def leave(self, now_s: float) -> None:
+    def leave(self, now_s: float) -> list:
         """The policy wants the rate ladder: abandon an initialisation under way."""
+        out = []
         if self.state in (ModelState.INITIALISING, ModelState.READY):
-            self.emit(now_s, f"{self.name}_init_abandoned", "budget recovered")
+            out.append(EngineEvent(now_s, f"{self.name}_init_abandoned", "budget recovered"))
         self.fire(ModelEvent.ABANDON)
         self.blocked_logged = False
+        return out
 
-    def init_done(self, ok: bool, now_s: float, *, reason: str, evaluations: int) -> bool:
-        """An initialisation finished; True when it failed (the engine falls back)."""
+    def init_done(self, ok: bool, now_s: float, *, reason: str, evaluations: int) -> list:
+        """An initialisation finished: its actions (none when none was under way); a failure
+        blocks the model codec (`failed` tells the engine to fall back)."""
         if self.state is not ModelState.INITIALISING:
-            return False
+            return []
         if ok:
             self.fire(ModelEvent.INIT_OK)
-            self.emit(now_s, f"{self.name}_init_done", f"{evaluations} evaluations; {reason}")
-            return False
+            detail = f"{evaluations} evaluations; {reason}"
+            return [EngineEvent(now_s, f"{self.name}_init_done", detail)]
         self.fire(ModelEvent.INIT_FAILED)
-        self.counts["init_failures"] += 1
-        self._block(now_s, f"initialisation failed: {reason}", f"{self.name}_init_failed")
-        return True
+        kind = f"{self.name}_init_failed"
+        return [
+            Tally("init_failures"),
+            self._block(now_s, f"initialisation failed: {reason}", kind),
+        ]
 
-    def track_failed(self, reason: str, now_s: float) -> bool:
-        """The tracker lost the face; True when the model codec was on (the engine falls back)."""
+    def track_failed(self, reason: str, now_s: float) -> list:
+        """The tracker lost the face: its actions (none when the model codec was not on)."""
         if self.state is not ModelState.ON:
-            return False
+            return []
         self.fire(ModelEvent.TRACK_FAILED)
-        self.counts["track_failures"] += 1
-        self._block(now_s, f"tracking failed: {reason}", f"{self.name}_track_failed")
-        return True
+        kind = f"{self.name}_track_failed"
+        return [Tally("track_failures"), self._block(now_s, f"tracking failed: {reason}", kind)]
 
-    def _block(self, now_s: float, reason: str, kind: str) -> None:
+    def _block(self, now_s: float, reason: str, kind: str) -> EngineEvent:
         self.blocked_until_s = now_s + self.retry_s
         self.blocked_reason = reason
         self.blocked_logged = True
-        self.emit(now_s, kind, reason)
+        return EngineEvent(now_s, kind, reason)

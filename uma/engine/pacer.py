@@ -25,6 +25,7 @@ dropped packet is never counted lost by the receiver.
 
 from __future__ import annotations
 
+import math
 from collections import deque
 from dataclasses import dataclass
 from typing import Any
@@ -87,13 +88,14 @@ class Pacer:
     def release(
         self, now_s: float, rate_kbps: float, *, network_delay_s: float, hold: bool = False
     ) -> PacerRelease:
-        """Send what the bucket allows at `now_s` at `rate_kbps`; drop what is too late. With
+        """Send what the bucket allows at `now_s` at `rate_kbps` (inf: everything); drop what
+        is too late. With
         `hold` (the feedback is silent: an outage or a handover gap) nothing leaves, the bucket
         does not fill, and deadlines are still judged at `rate_kbps`."""
         rate_bps = max(rate_kbps, 1e-3) * 1000.0
         burst_bits = rate_bps * self.burst_s
-        if self.last_s is None:
-            self.tokens_bits = burst_bits  # an idle pacer's bucket is full
+        if self.last_s is None or math.isinf(rate_bps):
+            self.tokens_bits = burst_bits  # an idle pacer's bucket is full; unlimited: always
         elif hold:
             self.tokens_bits = min(self.tokens_bits, 0.0)
         else:

@@ -30,7 +30,7 @@ from uma.codecs import Role, spec
 from uma.engine.inflight import InFlight
 from uma.engine.points import OperatingPoint
 
-__all__ = ["backlogged", "padding_bits", "frame_fits"]
+__all__ = ["backlogged", "padding_bits", "frame_fits", "held"]
 
 
 def backlogged(
@@ -68,18 +68,18 @@ def frame_fits(
 
 
 def padding_bits(
-    engine, point: OperatingPoint, interval_s: float, *, sent_bits: int
+    config, estimator, point: OperatingPoint, interval_s: float, *, sent_bits: int, probe: bool
 ) -> float | None:
-    """Bits of padding `engine` (`UmaEngine`) sends behind a unit of `sent_bits` covering
-    `interval_s` at `point`; None when no padding is due, and at most 0 when the unit already
-    fills the interval's share of the estimate."""
-    config, estimator, model_config = engine.config, engine.estimator, engine.model_config
+    """Bits of padding to send behind a unit of `sent_bits` covering `interval_s` at `point`
+    (`config` an `EngineConfig`, `estimator` its `EstimatorState`, `probe` the model codec's
+    section's); None when no padding is due, and at most 0 when the unit already fills the
+    interval's share of the estimate."""
     limit_kbps = float("inf")
     if config.estimator.kind == "webrtc":
         pass
     elif (
         spec(point.codec).role is Role.MODEL
-        and model_config.probe
+        and probe
         and config.policy != "oracle"
         and estimator.queue_delay_ms <= config.estimator.queue_low_ms
     ):
@@ -90,3 +90,19 @@ def padding_bits(
     else:
         return None
     return min(estimator.estimate_kbps, limit_kbps) * 1000.0 * interval_s - sent_bits
+
+
+def held(
+    config, point: OperatingPoint, now_s: float, inflight: InFlight, seen_kbps: float, *,
+    queued_bits: int, paced: bool, source_fps: float,
+) -> bool:  # fmt: skip
+    """Hold a frame at `point`: too much in flight, or (frame sizing on, with the pacer) it
+    would not drain in time."""
+    out = backlogged(config, point, now_s, inflight, seen_kbps, queued_bits=queued_bits)
+    fit = config.pacer.fit_frames
+    if fit > 0 and paced and not out:
+        out = not frame_fits(
+            point, queued_bits=queued_bits, slack_frames=fit,
+            rate_kbps=seen_kbps * config.pacer.rate_factor, fps=min(point.fps, source_fps),
+        )  # fmt: skip
+    return out

@@ -5,16 +5,23 @@ Units: times in seconds, sizes in bits.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 
 from uma.codecs import Role, model_names, names, spec
 from uma.config.scenario import EngineConfig
 from uma.engine.description import Delivery
+from uma.engine.estimator import EstimatorState, initial_estimate
+from uma.engine.handover import Handover
+from uma.engine.inflight import Keyframes
 from uma.engine.ladder import Ladder
 from uma.engine.model import ModelMachine
 from uma.engine.points import OperatingPoint
-from uma.engine.policy import SWITCHING, switch_settings
+from uma.engine.policy import POLICIES, SWITCHING, switch_settings
+from uma.engine.position import Position
+from uma.engine.records import Tally
+from uma.engine.refresh import RefreshPlanner
+from uma.engine.sending import Outbox
+from uma.engine.sendside import SendSide
 from uma.engine.switching import Switcher
 
 __all__ = ["DescriptionPlan", "EngineParts", "build_parts"]
@@ -32,12 +39,21 @@ class DescriptionPlan:
 
 @dataclass(frozen=True)
 class EngineParts:
+    """Each part owns its state; `declared` are the counts a run reports even at 0."""
+
     ladder: Ladder
     model: ModelMachine
     model_config: object  # the model codec's config section
     description: Delivery
     switcher: Switcher
-    counts: dict[str, int]
+    refresh: RefreshPlanner | None
+    outbox: Outbox
+    handover: Handover | None
+    keyframes: Keyframes
+    position: Position
+    sender: SendSide
+    estimator: EstimatorState
+    declared: tuple[Tally, ...]
 
 
 def build_parts(
@@ -48,39 +64,54 @@ def build_parts(
     model_unavailable: str,
     coverage: tuple[tuple[float, str], ...],
     description: DescriptionPlan,
-    emit: Callable[[float, str, str], None],
+    technology_priors_kbps: dict[str, float] | None,
+    payload_bytes: int,
+    keyframe_min_interval_s: float,
 ) -> EngineParts:
-    """The parts of an engine on `points`; they report events through `emit`."""
+    """The parts of an engine on `points`."""
     ladder = Ladder(points, codec=config.codec, source_fps=source_fps)
     model_name = ladder.model_codec or model_names()[0]
     model_config = getattr(config, spec(model_name).config_section)
     if ladder.model_point is None and not model_unavailable:
         model_unavailable = f"no {model_name} operating point on the ladder"
-    counts: dict[str, int] = {}
     model = ModelMachine(
         model_name,
         unavailable=model_unavailable,
         retry_s=config.switching.retry_ms / 1000.0,
         ladder_label=spec(config.codec).label,
-        emit=emit,
-        counts=counts,
     )
-    for name in names(Role.REGION):
-        counts[f"{spec(name).config_section}_failures"] = 0
+    declared = model.declared()
+    declared += [Tally(f"{spec(name).config_section}_failures", 0) for name in names(Role.REGION)]
     delivery = Delivery(
-        bits=description.bits,
-        chunks=description.chunks,
-        chunk_bits=description.chunk_bits,
-        share=model_config.description_share,
-        codec=model_name,
-        emit=emit,
-    )
+        bits=description.bits, chunks=description.chunks, chunk_bits=description.chunk_bits,
+        share=model_config.description_share, codec=model_name,
+    )  # fmt: skip
     switcher = Switcher(
         SWITCHING[config.switching.policy],
         switch_settings(config, ladder=config.codec, model=model_name),
-        ladder=ladder,
-        model=model,
-        description=delivery,
-        coverage=coverage,
-    )
-    return EngineParts(ladder, model, model_config, delivery, switcher, counts)
+        ladder=ladder, model=model, description=delivery, coverage=coverage,
+    )  # fmt: skip
+    refresh = _refresh(model_config)
+    declared += [Tally(key, 0) for key in RefreshPlanner.COUNTS] if refresh else []
+    outbox = Outbox(config.pacer, payload_bytes=payload_bytes, source_fps=source_fps)
+    handover = Handover(technology_priors_kbps or {}) if config.handover.enabled else None
+    keyframes = Keyframes(keyframe_min_interval_s)
+    estimator = initial_estimate(config.estimator)
+    position = Position(
+        config, points, ladder=ladder, switcher=switcher, policy=POLICIES[config.policy],
+        rung=ladder.initial(config, estimator.estimate_kbps),
+    )  # fmt: skip
+    sender = SendSide(
+        config, points, outbox=outbox, refresh=refresh, source_fps=source_fps,
+        probe=model_config.probe,
+    )  # fmt: skip
+    return EngineParts(
+        ladder, model, model_config, delivery, switcher, refresh, outbox, handover, keyframes,
+        position, sender, estimator, tuple(declared),
+    )  # fmt: skip
+
+
+def _refresh(model_config) -> RefreshPlanner | None:
+    """The refresh's planner when the model codec's section enables it."""
+    refresh = getattr(model_config, "refresh", None)
+    return RefreshPlanner(refresh) if refresh is not None and refresh.enabled else None

@@ -33,9 +33,11 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from collections.abc import Callable
-from dataclasses import dataclass
 from enum import Enum
+
+from uma.engine.decisions import DiscardRefresh, RefreshCoded, RefreshOrder
+from uma.engine.records import EngineEvent, Tally
+from uma.engine.sending import cut
 
 __all__ = ["RefreshState", "RefreshEvent", "REFRESH_TRANSITIONS", "RefreshOrder", "RefreshPlanner"]
 
@@ -64,39 +66,19 @@ REFRESH_TRANSITIONS: dict[tuple[RefreshState, RefreshEvent], RefreshState] = {
 }
 
 
-@dataclass(frozen=True)
-class RefreshOrder:
-    """Code a refresh of frame `frame` now: H.264 at `rate_kbps` and `fps` (so about
-    1000 x `rate_kbps` / `fps` bits a refresh, whatever the interval), intra when `intra`."""
-
-    frame: int
-    rate_kbps: float
-    fps: float
-    intra: bool
-
-
 class RefreshPlanner:
     """The refresh's state, its queue of packets (opaque to it) and the credit they leave on.
 
-    `config` is an `engine.mbc.refresh` section (`uma.config.codecs.RefreshConfig`); events go
-    to `emit(now_s, kind, detail)`, counts into `counts` (`refreshes`, `refresh_intra`,
+    `config` is an `engine.mbc.refresh` section (`uma.config.codecs.RefreshConfig`). Its
+    transitions return the events and counts they cause (`refreshes`, `refresh_intra`,
     `refresh_dropped`, `refresh_adopted`, `refresh_skipped`).
     """
 
-    def __init__(self, config, *, emit: Callable[[float, str, str], None], counts: dict) -> None:
+    COUNTS = ("refreshes", "refresh_intra", "refresh_dropped", "refresh_adopted", "refresh_skipped")
+
+    def __init__(self, config) -> None:
         self.config = config
         self.state = RefreshState.OFF
-        self.emit = emit
-        self.counts = counts
-        keys = (
-            "refreshes",
-            "refresh_intra",
-            "refresh_dropped",
-            "refresh_adopted",
-            "refresh_skipped",
-        )
-        for key in keys:
-            counts.setdefault(key, 0)
         self.queue: deque[tuple[object, int]] = deque()
         self.delays: deque[tuple[float, float]] = deque()  # (now_s, queue_ms), increasing
         self.credit_bits = 0.0
@@ -129,19 +111,26 @@ class RefreshPlanner:
         budget_kbps: float,
         model_kbps: float,
         received_kbps: float = math.inf,
-    ) -> RefreshOrder | None:
+    ) -> tuple[RefreshOrder | None, list]:
         """The engine sends `frame` at `now_s`, on the model codec's point or not: a refresh
-        to code with it, or None. The spare rate is the budget, never more than what the
-        link delivered lately (`received_kbps`), less the model point's rate."""
-        config = self.config
-        if not config.enabled:
-            return None
+        to code with it (or None), and the actions leaving the model codec caused. The spare
+        rate is the budget, never more than what the link delivered lately
+        (`received_kbps`), less the model point's rate."""
+        if not self.config.enabled:
+            return None, []
         if not on_model:
+            actions = []
             if self.state is not RefreshState.OFF:
-                self._drop(now_s, "left the model codec")
+                actions = self._drop(now_s, "left the model codec")
                 self.fire(RefreshEvent.LEAVE)
                 self.intra_due = True
-            return None
+            return None, actions
+        return self._order(frame, now_s, budget_kbps, model_kbps, received_kbps), []
+
+    def _order(
+        self, frame: int, now_s: float, budget_kbps: float, model_kbps: float, received_kbps: float
+    ) -> RefreshOrder | None:
+        config = self.config
         self.fire(RefreshEvent.ENTER)
         self.spare_kbps = max(0.0, min(budget_kbps, received_kbps) - model_kbps)
         if self.spare_kbps < config.min_spare_kbps:
@@ -168,25 +157,38 @@ class RefreshPlanner:
         self.last_coded_s = now_s
         return RefreshOrder(frame, self.frame_bits / 1000.0, 1.0, intra)
 
-    def coded(self, packets: list[tuple[object, int]], now_s: float, *, intra: bool) -> None:
-        """The refresh ordered was coded as `packets` ((packet, size_bits) each): they wait
-        for `pace`."""
+    def coded(self, packets: list[tuple[object, int]], now_s: float, *, intra: bool) -> list:
+        """The refresh ordered was coded as `packets` ((packet, size_bits) each; none: not
+        sent): they wait for `pace`."""
         if self.state is not RefreshState.WAITING:
-            return
-        if not packets:  # the world did not send it (no better than the receiver's picture)
-            self.counts["refresh_skipped"] += 1
-            return
+            return []
+        if not packets:  # not sent (no pose, or no better than the receiver's picture)
+            return [Tally("refresh_skipped")]
         self.queue.extend(packets)
         self.last_bits = float(sum(bits for _, bits in packets))
         kind = "intra" if intra else "predicted"
-        self.emit(
-            now_s, "refresh", f"{kind} {self.last_bits:.0f} bits; spare {self.spare_kbps:.1f} kbps"
-        )
-        self.counts["refreshes"] += 1
-        self.counts["refresh_intra"] += int(intra)
+        detail = f"{kind} {self.last_bits:.0f} bits; spare {self.spare_kbps:.1f} kbps"
         self.credit_bits = 0.0
         self.last_pace_s = now_s
         self.fire(RefreshEvent.CODED)
+        return [
+            EngineEvent(now_s, "refresh", detail),
+            Tally("refreshes"),
+            Tally("refresh_intra", int(intra)),
+        ]
+
+    def on_coded(self, coded: RefreshCoded | None, now_s: float) -> list:
+        """The refresh ordered, coded (None: it could not be, the model codec had no pose for
+        it): sent when it beats what the receiver renders by `min_gain_db`, else discarded."""
+        if coded is None:
+            return self.coded([], now_s, intra=False)
+        if coded.gain_db is not None and coded.gain_db < self.config.min_gain_db:
+            return [DiscardRefresh(coded.frame), *self.coded([], now_s, intra=False)]
+        packets = cut("refresh", coded.payload, coded.size_bytes,
+                      payload_bytes=self.config.packet_bytes)  # fmt: skip
+        return self.coded(
+            [(packet, packet.size_bits) for packet in packets], now_s, intra=coded.intra
+        )
 
     def pace(self, now_s: float, *, queue_delay_ms: float) -> list[tuple[object, int]]:
         """The refresh packets ((packet, size_bits) each) that leave at `now_s`: the credit the
@@ -224,25 +226,28 @@ class RefreshPlanner:
         bits, self.released_bits = self.released_bits, 0
         return bits
 
-    def request_intra(self, now_s: float) -> None:
+    def request_intra(self, now_s: float) -> list:
         """The receiver lost a refresh (or could not decode it): the next one is intra."""
         self.intra_due = True
+        return []
 
-    def on_ack(self, frame: int) -> None:
+    def on_ack(self, frame: int) -> list:
         """A report says the receiver renders from the refresh of `frame`."""
-        if frame > self.acked_frame:
-            self.acked_frame = frame
-            self.adopted = frame
-            self.counts["refresh_adopted"] += 1
+        if frame <= self.acked_frame:
+            return []
+        self.acked_frame = frame
+        self.adopted = frame
+        return [Tally("refresh_adopted")]
 
     def take_adopted(self) -> int | None:
         """The refresh the receiver took since the last call (None: none)."""
         frame, self.adopted = self.adopted, None
         return frame
 
-    def _drop(self, now_s: float, why: str) -> None:
-        if self.queue:
-            self.counts["refresh_dropped"] += 1
-            self.emit(now_s, "refresh_dropped", f"{len(self.queue)} packets; {why}")
-            self.queue.clear()
-            self.intra_due = True
+    def _drop(self, now_s: float, why: str) -> list:
+        if not self.queue:
+            return []
+        detail = f"{len(self.queue)} packets; {why}"
+        self.queue.clear()
+        self.intra_due = True
+        return [Tally("refresh_dropped"), EngineEvent(now_s, "refresh_dropped", detail)]

@@ -51,8 +51,9 @@ class Switcher:
         since_s: float,
         budget_kbps: float,
         budget_ahead_kbps: float | None,
-    ) -> tuple[int, int | None]:
-        """The point to be on, and the model point to start initialising now (or None)."""
+    ) -> tuple[int, int | None, list]:
+        """The point to be on, the model point to start initialising now (or None), and the
+        actions the choice caused."""
         now_s = view.now_s
         family = self.policy(
             SwitchView(
@@ -67,16 +68,17 @@ class Switcher:
         )
         if family != self.model.name:
             self.description.stop_wait(now_s)
-            self.model.leave(now_s)
-            return rate_policy(view), None
+            return rate_policy(view), None, self.model.leave(now_s)
         want = self.model.want(now_s, description_ready=not self.description.pending)
         if want is Want.MODEL:
-            return self.ladder.model_point, None
+            self.model.use()
+            return self.ladder.model_point, None, []
         if want is Want.LOWEST:
-            return self.ladder.allowed(now_s)[0], None
+            return self.ladder.allowed(now_s)[0], None, self.model.refuse(now_s)
         if want is Want.START:
-            self.model.start(now_s, budget_kbps)
-            return rate_policy(view), self.ladder.model_point
+            actions = self.model.start(now_s, budget_kbps)
+            return rate_policy(view), self.ladder.model_point, actions
+        actions = []
         if want is Want.WAIT:  # wanted, but the receiver cannot render it yet: time counted
-            self.description.wait(now_s)
-        return rate_policy(view), None
+            actions = self.description.wait(now_s)
+        return rate_policy(view), None, actions

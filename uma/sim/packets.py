@@ -1,11 +1,17 @@
 """What travels on the downlink: encoded frames ("units") cut into packets.
 
+The cutting itself is the engine's send path's (`uma.engine.sending`); these build the
+packets the world offers the downlink.
+
 Units: sizes in bits and bytes as named, times in seconds.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+
+from uma.engine.sending import HEADER_BYTES, padding_sizes_bits
+from uma.engine.sending import packet_sizes_bits as _unit_sizes_bits
 
 __all__ = [
     "EncodedUnit",
@@ -16,9 +22,6 @@ __all__ = [
     "padding_sizes_bits",
     "HEADER_BYTES",
 ]
-
-# IPv4 + UDP + RTP headers on every packet.
-HEADER_BYTES = 40
 
 
 @dataclass(frozen=True)
@@ -72,23 +75,8 @@ def packetize(
 
 
 def packet_sizes_bits(unit: EncodedUnit, *, payload_bytes: int) -> list[int]:
-    """The packet sizes `packetize` would produce, before sequence numbers are known."""
-    size = max(1, len(unit.data))
-    count = -(-size // payload_bytes)
-    return [8 * (min(payload_bytes, size - i * payload_bytes) + HEADER_BYTES) for i in range(count)]
-
-
-def padding_sizes_bits(bits: float, *, payload_bytes: int) -> list[int]:
-    """Sizes of the padding-only packets that carry about `bits` on the wire (headers included)."""
-    total_bytes = int(bits // 8)
-    if total_bytes <= HEADER_BYTES:
-        return []
-    full = payload_bytes + HEADER_BYTES
-    sizes = [8 * full] * (total_bytes // full)
-    rest = total_bytes - full * len(sizes)
-    if rest > HEADER_BYTES:
-        sizes.append(8 * rest)
-    return sizes
+    """The packet sizes `packetize` produces (`uma.engine.sending` cuts them)."""
+    return _unit_sizes_bits(len(unit.data), payload_bytes=payload_bytes)
 
 
 def padding_packets(sizes_bits: list[int], *, first_seq: int, sent_s: float) -> list[Packet]:

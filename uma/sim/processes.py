@@ -13,19 +13,21 @@ keep flowing on the rate ladder until it is done.
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 
 import numpy as np
 import simpy
 
-from uma.sim.packets import (
-    EncodedUnit,
-    Packet,
-    packet_sizes_bits,
-    packetize,
-    padding_packets,
-    padding_sizes_bits,
+from uma.engine.decisions import (
+    AdoptRefresh,
+    CodedReport,
+    DiscardRefresh,
+    Initialise,
+    OutgoingUnit,
+    RefreshCoded,
+    SendPacket,
+    WakePacer,
 )
+from uma.sim.packets import EncodedUnit, Packet
 from uma.sim.state import World
 
 __all__ = [
@@ -56,179 +58,133 @@ def sender_process(env: simpy.Environment, world: World):
 
 
 def engine_process(env: simpy.Environment, world: World):
-    """Decode the sender's stream, let the engine decide, carry out what it decided."""
+    """Decode the sender's stream, ask the engine, carry out what it returns. A frame takes
+    at most three calls: the decision, what coding it came to, and the unit once coded."""
     engine = world.engine
-    scenario = world.scenario
-    oracle = scenario.engine.policy == "oracle"
-    switching = scenario.engine.switching
-    lookahead_s = switching.oracle_lookahead_ms / 1000.0 if switching.policy == "oracle" else None
-    log = world.log
     while True:
         index, encoded, side_data = yield world.inbox.get()
         picture = world.codec.engine_decode(encoded)
         world.codec.engine_receive_side(side_data, index)
-        capacity_kbps = world.capacity.rate_kbps_at(env.now)
+        now_s = env.now
+        capacity_kbps = world.capacity.rate_kbps_at(now_s)
         decision = engine.on_frame(
-            index,
-            env.now,
-            capacity_kbps=capacity_kbps if oracle else None,
-            capacity_ahead_kbps=None
-            if lookahead_s is None
-            else world.capacity.min_rate_kbps(env.now, env.now + lookahead_s),
-        )
-        log["technology"][index] = world.capacity.technology_at(env.now)
-        log["capacity_kbps"][index] = capacity_kbps
-        log["estimate_kbps"][index] = decision.estimate_kbps
-        log["queue_bytes"][index] = world.downlink.queued_bytes
-        log["engine_queue_bytes"][index] = decision.queued_bits // 8
-        log["rung"][index] = decision.rung
-        log["scheduled"][index] = int(decision.scheduled)
-        if decision.initialise is not None:
-            if picture is None:
-                engine.on_init_done(False, env.now, reason="no decoded picture to start from")
-            else:
-                world.init_frames.append(index)
-                env.process(init_process(env, world, picture, decision.initialise, index))
-        for chunk in decision.description:
+            index, now_s, decoded=picture is not None, capacity_kbps=capacity_kbps,
+            lowest_kbps=world.capacity.min_rate_kbps,
+        )  # fmt: skip
+        _log_decision(world, index, decision, capacity_kbps)
+        carry_out(world, decision.actions, picture)
+        if not decision.send or picture is None:
+            continue
+        report, unit, compute_s = _code(world, picture, decision, index)
+        actions = engine.on_coded(report, env.now)
+        if report.refresh is not None and not any(isinstance(a, DiscardRefresh) for a in actions):
+            world.next_refresh_seq += 1
+        carry_out(world, actions)
+        yield env.timeout(compute_s)
+        carry_out(world, engine.on_sent(unit, env.now))
+
+
+def _log_decision(world: World, index: int, decision, capacity_kbps: float) -> None:
+    log = world.log
+    log["technology"][index] = world.capacity.technology_at(world.env.now)
+    log["capacity_kbps"][index] = capacity_kbps
+    log["estimate_kbps"][index] = decision.estimate_kbps
+    log["queue_bytes"][index] = world.downlink.queued_bytes
+    log["engine_queue_bytes"][index] = decision.queued_bits // 8
+    log["rung"][index] = decision.rung
+    log["scheduled"][index] = int(decision.scheduled)
+
+
+def carry_out(world: World, actions, picture: np.ndarray | None = None) -> None:
+    """Do what the engine returned: offer its packets, start an initialisation on
+    `picture`, keep the refresh coder's mirror in step, wake the pacer."""
+    env = world.env
+    for action in actions:
+        if isinstance(action, SendPacket):
+            chunk = action.index if action.kind == "description" else -1
             world.downlink.offer(
                 Packet(
-                    seq=chunk.seq,
-                    unit=None,
-                    index=chunk.chunk,
-                    count=chunk.count,
-                    size_bits=chunk.size_bits,
-                    sent_s=env.now,
-                    chunk=chunk.chunk,
-                )
+                    action.seq,
+                    action.payload,
+                    action.index,
+                    action.count,
+                    action.size_bits,
+                    env.now,
+                    chunk,
+                )  # fmt: skip
             )
-            world.description_sent_bits += chunk.size_bits
-        if decision.refresh_adopted is not None:
-            world.codec.engine_adopt_refresh(decision.refresh_adopted)
-        if not decision.send or picture is None:
-            _release_refresh(world)
-            continue
-        point = decision.point
-        if world.codec.engine_point not in (-1, decision.rung):
-            leftover = world.codec.engine_flush()  # a buffering encoder's open packet
-            if leftover is not None and leftover.data:
-                _send(world, leftover, world.codec.engine_point, index)
-        out = world.codec.engine_encode(
-            picture, decision.rung, force_idr=decision.force_idr, frame=index
-        )
-        if decision.force_idr and out.keyframe:
-            engine.on_keyframe_sent(env.now)
-        compute_s = world.compute_s(point, out)
-        engine.on_coded(
-            index, env.now, rung=decision.rung, reinitialised=out.reinitialised, failure=out.failure
-        )
-        if decision.refresh is not None and not out.failure:
-            compute_s += _code_refresh(world, picture, decision, index)
-        yield env.timeout(compute_s)
-        if not out.failure:
-            # A frame a buffering encoder holds for its next packet is sent; its bits count
-            # with the packet.
-            log["codec"][index] = point.codec
-            log["width"][index] = out.width
-            log["height"][index] = out.height
-            log["sent"][index] = 1
-        if out.data:
-            _send(world, out, decision.rung, index)
-        _release_refresh(world)
+            world.tally_sent(action.kind, action.size_bits)
+        elif isinstance(action, Initialise):
+            world.init_frames.append(action.frame)
+            env.process(init_process(env, world, picture, action.rung, action.frame))
+        elif isinstance(action, AdoptRefresh):
+            world.codec.engine_adopt_refresh(action.frame)
+        elif isinstance(action, DiscardRefresh):
+            world.codec.engine_discard_refresh(action.frame)
+        elif isinstance(action, WakePacer):
+            world.kick_pacer()
 
 
-def _code_refresh(world: World, picture: np.ndarray, decision, index: int) -> float:
-    """Code the model-aided refresh the engine ordered and queue it in the engine (or tell
-    the engine it is not sent); returns its modelled compute seconds (`encode_ms`: coding it,
-    decoding it again and judging it against the mirror)."""
+def _code(world: World, picture: np.ndarray, decision, index: int):
+    """Code the frame as decided (and the refresh ordered with it): the report for the
+    engine, the unit to send once coded (None: nothing), and the modelled compute seconds."""
+    codec, leftover = world.codec, None
+    if codec.engine_point not in (-1, decision.rung):
+        rest = codec.engine_flush()  # a buffering encoder's open packet
+        if rest is not None and rest.data:
+            leftover = _unit(world, rest, codec.engine_point, index)
+    out = codec.engine_encode(picture, decision.rung, force_idr=decision.keyframe, frame=index)
+    compute_s = world.compute_s(decision.point, out)
+    refresh = None
+    if decision.refresh is not None and not out.failure:
+        compute_s += codec.refresh.config.encode_ms / 1000.0
+        refresh = _code_refresh(world, picture, decision, index)
+    if not out.failure:
+        # A frame a buffering encoder holds for its next packet is sent; its bits count
+        # with the packet.
+        for key, value in (("codec", decision.codec), ("width", out.width),
+                           ("height", out.height), ("sent", 1)):  # fmt: skip
+            world.log[key][index] = value
+    report = CodedReport(
+        index, decision.rung, out.keyframe, out.reinitialised, out.failure, leftover, refresh
+    )
+    return report, _unit(world, out, decision.rung, index) if out.data else None, compute_s
+
+
+def _code_refresh(world: World, picture: np.ndarray, decision, index: int):
+    """Code the model-aided refresh the engine ordered: what it came to (None: no pose)."""
+    world.refresh_compute_s += world.codec.refresh.config.encode_ms / 1000.0
     coded = world.codec.engine_refresh(picture, decision.refresh)
-    config = world.codec.refresh.config
-    world.refresh_compute_s += config.encode_ms / 1000.0
-    if coded is None:  # not worth sending: the engine is told so
-        world.engine.on_refresh_coded([], world.env.now, intra=False)
-        return config.encode_ms / 1000.0
-    data, intra = coded
+    if coded is None:
+        return None
+    data, intra, gain_db = coded
     height, width = picture.shape[0] * 2 // 3, picture.shape[1]
     unit = EncodedUnit(
         unit_seq=world.next_refresh_seq, frame=index, codec=decision.codec, rung=decision.rung,
         width=width, height=height, keyframe=intra, data=data, refresh=True,
     )  # fmt: skip
-    world.next_refresh_seq += 1
-    packets = packetize(unit, first_seq=-1, payload_bytes=config.packet_bytes, sent_s=world.env.now)
-    world.engine.on_refresh_coded(
-        [(packet, packet.size_bits) for packet in packets], world.env.now, intra=intra
-    )
-    return config.encode_ms / 1000.0
+    return RefreshCoded(index, unit, len(data), intra, gain_db)
 
 
-def _release_refresh(world: World) -> None:
-    """Offer the downlink the refresh packets the engine lets out now."""
-    now_s = world.env.now
-    for packet, seq in world.engine.on_refresh_pace(now_s):
-        world.downlink.offer(replace(packet, seq=seq, sent_s=now_s))
-        world.refresh_bits += packet.size_bits
-
-
-def _send(world: World, out, rung: int, index: int) -> None:
-    """Put one coded unit of point `rung` on the downlink, and the padding the engine wants."""
-    payload_bytes = world.scenario.downlink.packet_bytes
+def _unit(world: World, out, rung: int, index: int) -> OutgoingUnit:
+    """One coded unit of point `rung`, numbered among the units, for the engine to send."""
     frames = out.frames or (index,)
     unit = EncodedUnit(
-        unit_seq=world.next_unit_seq,
-        frame=frames[-1],
-        codec=world.points[rung].codec,
-        rung=rung,
-        width=out.width,
-        height=out.height,
-        keyframe=out.keyframe,
-        data=out.data,
+        unit_seq=world.next_unit_seq, frame=frames[-1], codec=world.points[rung].codec,
+        rung=rung, width=out.width, height=out.height, keyframe=out.keyframe, data=out.data,
         frames=out.frames,
-    )
+    )  # fmt: skip
     world.next_unit_seq += 1
-    sizes = packet_sizes_bits(unit, payload_bytes=payload_bytes)
-    paced = world.scenario.engine.pacer.enabled
-    if paced:
-        # Numbered and stamped when the pacer lets them out.
-        packets = packetize(unit, first_seq=-1, payload_bytes=payload_bytes, sent_s=world.env.now)
-        sent = world.engine.on_unit_queued(
-            [(packet, packet.size_bits) for packet in packets],
-            rung=rung,
-            frames=frames,
-            keyframe=unit.keyframe,
-            now_s=world.env.now,
-        )
-    else:
-        sent = world.engine.on_unit_sent(sizes, rung=rung, frames=len(frames))
-        for packet in packetize(
-            unit, first_seq=sent.first_seq, payload_bytes=payload_bytes, sent_s=world.env.now
-        ):
-            world.downlink.offer(packet)
-    if sent.padding_bits is not None:
-        padding = padding_sizes_bits(sent.padding_bits, payload_bytes=payload_bytes)
-        if padding and paced:
-            packets = padding_packets(padding, first_seq=-1, sent_s=world.env.now)
-            world.engine.on_padding_queued(
-                [(packet, packet.size_bits) for packet in packets], world.env.now
-            )
-        elif padding:
-            first_seq = world.engine.on_packets_sent(padding)
-            for packet in padding_packets(padding, first_seq=first_seq, sent_s=world.env.now):
-                world.downlink.offer(packet)
-            world.padding_bits += sum(padding)
     world.log["keyframe"][frames[0]] = int(unit.keyframe)
     world.log["size_bits"][frames[-1]] = 8 * len(unit.data)
-    if paced:
-        world.kick_pacer()
+    return OutgoingUnit(unit, len(unit.data), rung, frames, unit.keyframe)
 
 
 def pacer_process(env: simpy.Environment, world: World):
     """Let out what the engine's pacer releases, when it says, or when something is queued."""
-    oracle = world.scenario.engine.policy == "oracle"
     while True:
-        decision = world.engine.on_pace(
-            env.now, capacity_kbps=world.capacity.rate_kbps_at(env.now) if oracle else None
-        )
-        for packet, seq in decision.sent:
-            world.downlink.offer(replace(packet, seq=seq, sent_s=env.now))
+        decision = world.engine.on_pace(env.now, capacity_kbps=world.capacity.rate_kbps_at(env.now))
+        carry_out(world, decision.sent)
         world.pacer_kick = env.event()
         if math.isinf(decision.next_s):
             yield world.pacer_kick
@@ -244,8 +200,11 @@ def init_process(env: simpy.Environment, world: World, picture: np.ndarray, rung
     compute_s = world.init_compute_s(result.evaluations)
     world.model_compute_s += compute_s
     yield env.timeout(compute_s)
-    world.engine.on_init_done(
-        bool(result), env.now, reason=result.reason, evaluations=result.evaluations
+    carry_out(
+        world,
+        world.engine.on_init_done(
+            bool(result), env.now, reason=result.reason, evaluations=result.evaluations
+        ),
     )
 
 

@@ -45,7 +45,7 @@ class ReceiverState:
     assembling: dict[int, list] = field(default_factory=dict)  # unit_seq -> [unit, packets got]
     expected_unit: int = 0
     broken: bool = False
-    codec: str = "h264"  # the codec of the current reference chain
+    codec: str = ""  # the codec of the current reference chain ("": none yet)
     last_request_s: float = float("-inf")
     decoded: dict[int, np.ndarray] = field(default_factory=dict)  # frame -> picture
     # Report counters since the previous report.

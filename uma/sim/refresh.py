@@ -120,19 +120,21 @@ class RefreshChain:
         self, mbc_encoder, picture: np.ndarray, order: RefreshOrder, *, receiver_picture=None
     ):
         """Code the refresh `order` names of `picture`, which `mbc_encoder` (the engine's
-        model codec) has just coded: (bytes, intra), or None when it has no pose for it or
-        the refresh would not beat what the receiver renders now by `min_gain_db`.
+        model codec) has just coded: (bytes, intra, gain_db), or None when it has no pose for
+        it. `gain_db` is how much it beats what the receiver renders now (`gain_db`; None:
+        nothing to compare): whether that is worth sending is the engine's decision
+        (`uma.engine.refresh`), and `discard` forgets one that is not.
         `receiver_picture`: the picture the receiver's model codec started its stretch from
         (the last it decoded before; None: not known yet)."""
         params = getattr(mbc_encoder, "decoded_params", lambda: None)()
         if params is None:
             return None
         data, intra = self.encoder.encode(picture, order, params)
-        gain_db = self.gain_db(mbc_encoder, picture, order.frame, receiver_picture)
-        if gain_db is not None and gain_db < self.config.min_gain_db:
-            self.encoder.discard(order.frame)
-            return None
-        return data, intra
+        return data, intra, self.gain_db(mbc_encoder, picture, order.frame, receiver_picture)
+
+    def discard(self, frame: int) -> None:
+        """The refresh of `frame` just coded is not sent: the next one starts intra."""
+        self.encoder.discard(frame)
 
     def _receiver_view(self, mbc_encoder, receiver_picture):
         """What the receiver renders from before its first refresh: `receiver_picture` at

@@ -37,11 +37,11 @@ class RunResult:
     points: tuple = ()  # the engine's operating points (`uma.engine.points.OperatingPoint`)
     engine_counts: dict | None = None  # MBC inits, failures, refusals (`UmaEngine.counts`)
     codec_seconds: dict | None = None  # with `account`: wall-clock codec seconds per codec
-    mbc_init_frames: tuple[int, ...] = ()  # frames on which MBC initialisations started
-    mbc_inits: tuple = ()  # (frame, fitted parameters or None) of each initialisation
-    engine_mbc_compute_s: float = 0.0  # modelled engine compute for MBC (inits included)
-    sender_mbc_bits: int = 0  # selection: parameter bits the sender sent up
-    sender_mbc_compute_ms: float = 0.0  # selection: the sender's modelled tracking compute
+    model_init_frames: tuple[int, ...] = ()  # frames the model codec's initialisations began
+    model_inits: tuple = ()  # (frame, fitted parameters or None) of each initialisation
+    engine_model_compute_s: float = 0.0  # modelled engine compute for it (inits included)
+    sender_model_bits: int = 0  # selection: parameter bits the sender sent up
+    sender_model_compute_ms: float = 0.0  # selection: the sender's modelled tracking compute
     description_bytes: int = 0  # the content description delivered to the receiver
     description_sent_bits: int = 0  # on the wire, headers and repeats included
     description_delivered_s: float | None = None  # when its last chunk reached the receiver
@@ -53,6 +53,15 @@ class RunResult:
     refresh_compute_s: float = 0.0  # its modelled engine compute
     refresh_decoded: int = 0  # refreshes the receiver decoded
     refresh_lost: int = 0  # refreshes the receiver saw lost or could not decode
+
+    # The names `uma bench sim` and `uma bench headline` read (issue 25: to move to the above).
+    @property
+    def mbc_init_frames(self) -> tuple[int, ...]:
+        return self.model_init_frames
+
+    @property
+    def mbc_inits(self) -> tuple:
+        return self.model_inits
 
 
 def collect_result(
@@ -68,7 +77,7 @@ def collect_result(
     """The `RunResult` of the finished run in `world` (`uma.sim.state.World`), whose engine
     left `outcome`."""
     codec = world.codec
-    sender = codec.sender_mbc
+    sender = codec.sender.tracker
     return RunResult(
         scenario=world.scenario,
         log=world.log,
@@ -87,11 +96,11 @@ def collect_result(
         points=world.points,
         engine_counts=dict(outcome.counts),
         codec_seconds=dict(codec.codec_seconds),
-        mbc_init_frames=tuple(world.init_frames),
-        mbc_inits=tuple(world.inits),
-        engine_mbc_compute_s=world.model_compute_s,
-        sender_mbc_bits=sender.bits if sender is not None else 0,
-        sender_mbc_compute_ms=sender.compute_ms if sender is not None else 0.0,
+        model_init_frames=tuple(world.init_frames),
+        model_inits=tuple(world.inits),
+        engine_model_compute_s=world.model_compute_s,
+        sender_model_bits=sender.bits if sender is not None else 0,
+        sender_model_compute_ms=sender.compute_ms if sender is not None else 0.0,
         description_bytes=description_bytes,
         description_sent_bits=world.description_sent_bits,
         description_delivered_s=world.receiver.description_done_s,

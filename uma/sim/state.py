@@ -77,6 +77,15 @@ class World:
         if self.pacer_kick is not None and not self.pacer_kick.triggered:
             self.pacer_kick.succeed()
 
+    def tally_sent(self, kind: str, size_bits: int) -> None:
+        """Count a packet offered to the downlink by what it carries."""
+        if kind == "description":
+            self.description_sent_bits += size_bits
+        elif kind == "refresh":
+            self.refresh_bits += size_bits
+        elif kind == "padding":
+            self.padding_bits += size_bits
+
     def init_compute_s(self, evaluations: int) -> float:
         """Modelled seconds of one model-codec initialisation that cost `evaluations`."""
         return self.init_us_per_evaluation * evaluations / 1e6

@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from uma.codecs import Role, metric_key, model_names, names, spec
 from uma.metrics.aggregate import aggregate, by_technology, ssim_to_db
 from uma.metrics.freezes import freeze_stats
 from uma.metrics.results import events_csv, write_results
@@ -37,9 +38,14 @@ def run_metrics(result: RunResult) -> dict[str, Any]:
     body |= switching_metrics(result)
     if result.scenario.engine.switching.policy != "none":
         body["shown_s_by_codec"] = shown_seconds_by_codec(result)
-    if result.scenario.engine.mbc.refresh.enabled:
+    if _model_section(result).refresh.enabled:
         body |= refresh_metrics(result)
     return head | body | playout_metrics(result)
+
+
+def _model_section(result: RunResult):
+    """The model codec's configuration section of the run's engine."""
+    return getattr(result.scenario.engine, spec(model_names()[0]).config_section)
 
 
 def display_technologies(result: RunResult) -> np.ndarray:
@@ -55,20 +61,26 @@ def display_technologies(result: RunResult) -> np.ndarray:
 
 
 def switching_metrics(result: RunResult) -> dict[str, Any]:
-    """Codec switches and the model-based codec's initialisations, failures and refusals."""
+    """Codec switches and the model-based codec's initialisations, failures and refusals
+    (keys and event kinds named after the registry's codecs)."""
     counts = result.engine_counts or {}
     kinds = [event.kind for event in result.events]
-    refused = [event.detail for event in result.events if event.kind == "mbc_refused"]
-    return {
+    out: dict[str, Any] = {
         "switching": result.scenario.engine.switching.policy,
         "codec_switches": kinds.count("codec_switch"),
         "inits": counts.get("inits", 0),
         "init_failures": counts.get("init_failures", 0),
         "track_failures": counts.get("track_failures", 0),
-        "reinits": kinds.count("mbc_reinit"),
-        "mbc_refused": counts.get("mbc_refused", 0),
-        "mbc_refused_reason": refused[0] if refused else None,
-        "face_region_failures": counts.get("face_region_failures", 0),
+    }
+    for model in model_names():
+        refused = [event.detail for event in result.events if event.kind == f"{model}_refused"]
+        out["reinits"] = kinds.count(f"{model}_reinit")
+        out[f"{model}_refused"] = counts.get(f"{model}_refused", 0)
+        out[f"{model}_refused_reason"] = refused[0] if refused else None
+    for region in names(Role.REGION):
+        section = spec(region).config_section
+        out[f"{section}_failures"] = counts.get(f"{section}_failures", 0)
+    return out | {
         "description_bytes": result.description_bytes,
         "kbps_description": round(result.description_sent_bits / result.duration_s / 1000.0, 3),
         "description_delivered_s": _rounded(result.description_delivered_s),
@@ -76,10 +88,10 @@ def switching_metrics(result: RunResult) -> dict[str, Any]:
         "description_wait_s": round(result.description_wait_s, 3),
         # The customisation scheme's costs: the engine's modelled MBC compute, and with
         # selection the sender's tracking compute and the parameters it sends up.
-        "scheme": result.scenario.engine.mbc.scheme,
-        "engine_mbc_compute_s": round(result.engine_mbc_compute_s, 3),
-        "kbps_uplink_mbc": round(result.sender_mbc_bits / result.duration_s / 1000.0, 3),
-        "sender_mbc_ms_per_frame": round(result.sender_mbc_compute_ms / result.log.frames, 3)
+        "scheme": _model_section(result).scheme,
+        "engine_mbc_compute_s": round(result.engine_model_compute_s, 3),
+        "kbps_uplink_mbc": round(result.sender_model_bits / result.duration_s / 1000.0, 3),
+        "sender_mbc_ms_per_frame": round(result.sender_model_compute_ms / result.log.frames, 3)
         if result.log.frames
         else 0.0,
     }
@@ -140,10 +152,18 @@ def save_run(result: RunResult, out_dir: str | Path) -> dict[str, Any]:
     return metrics
 
 
+def _sent(metrics: dict[str, Any]) -> str:
+    """The full-frame video the run sent, named by the codec that sent it."""
+    cells = [
+        f"{metrics[key]:g} kbit/s {spec(name).label}"
+        for name in names(Role.FULL_FRAME)
+        if metrics.get(key := f"kbps_{metric_key(name)}")
+    ]
+    return "; ".join(cells) or "no full-frame video"
+
+
 def _codec_lines(metrics: dict[str, Any]) -> list[str]:
     """What each codec sent and how long it was on screen; per technology, freezes and the face."""
-    from uma.codecs import metric_key, names, spec
-
     shown = metrics.get("shown_s_by_codec") or {}
     cells = []
     for name in names():
@@ -194,7 +214,7 @@ def format_summary(metrics: dict[str, Any], out_dir: str | Path) -> str:
         [
             f"scenario {metrics['scenario']} (seed {metrics['seed']}): {metrics['frames']} frames"
             f" of {metrics['video']} from {metrics['source']}, {show('duration_s', ' s')}",
-            f"  sent      {show('kbps_h264', ' kbit/s')} H.264, link utilisation "
+            f"  sent      {_sent(metrics)}, link utilisation "
             f"{show('link_utilisation')}, mean capacity {show('capacity_mean_kbps', ' kbit/s')}",
             f"  quality   PSNR {show('psnr_db', ' dB')}, SSIM {show('ssim')}"
             f" ({show('ssim_db', ' dB')})",

@@ -36,6 +36,7 @@ from uma.sim.receiver import ReceiverState
 from uma.sim.result import RunResult, collect_result
 from uma.sim.sources import open_source
 from uma.sim.state import World
+from uma.sim.uplink import UplinkMemo
 
 __all__ = ["RunResult", "run_scenario", "build_capacity"]
 
@@ -107,6 +108,7 @@ def run_scenario(
     account: bool = False,
     source=None,
     on_display: Callable[[int, np.ndarray, int, np.ndarray | None], None] | None = None,
+    uplink: UplinkMemo | None = None,
 ) -> RunResult:
     """Simulate `scenario`; `progress(done, total)` is told of each displayed frame.
 
@@ -114,7 +116,8 @@ def run_scenario(
     `uma bench sim`; they are measured, never used by the simulation. `source` replaces the
     scenario's frame source (a benchmark passes frames it prepared beforehand).
     `on_display(index, source, shown, picture)` sees each display instant's source frame and
-    the picture shown (None before the first), for `uma report --video`.
+    the picture shown (None before the first), for `uma report --video`. `uplink`: a memo of
+    the sender's stream (`uma.sim.uplink`) to take it from and add to; results are the same.
     """
     route_rng, loss_rng, feedback_rng = (
         np.random.default_rng(s) for s in np.random.SeedSequence(scenario.seed).spawn(3)
@@ -125,65 +128,75 @@ def run_scenario(
     ladder = load_run_ladder(scenario)
     source = source if source is not None else open_source(scenario.source, seed=scenario.seed)
     plan = model_plan(scenario, source)
-    description = plan.description
-    points = operating_points(scenario, ladder, source, with_model=description is not None)
-    payload_bytes = scenario.downlink.packet_bytes
+    points = operating_points(scenario, ladder, source, with_model=plan.description is not None)
     fps = float(source.fps)
     frames = int(round(scenario.run_duration_s * fps))
-    log = FrameLog(frames)
     env = simpy.Environment()
     codec = CodecChain(
-        scenario,
-        ladder,
-        points,
-        width=source.width,
-        height=source.height,
-        fps=fps,
-        account=account,
-        description=description,
-    )
+        scenario, ladder, points, width=source.width, height=source.height, fps=fps,
+        account=account, description=plan.description, uplink=uplink,
+    )  # fmt: skip
     quality = QualityMeter(scenario.metrics, width=source.width, height=source.height)
     face_boxes = FaceBoxes(source)
-    engine = UmaEngine(
-        scenario.engine,
-        points=points,
-        source_fps=fps,
-        feedback=scenario.feedback,
-        model_unavailable=plan.unavailable,
-        coverage=coverage_map(scenario),
+    engine = _engine(scenario, points, plan, fps)
+    world = World(
+        env=env, scenario=scenario, frames=frames, fps=fps,
+        source_iter=face_boxes.wrap(source.frames()), ladder=ladder, engine=engine,
+        capacity=capacity, uplink=FixedLink(
+            env, scenario.uplink.rate_kbps * 1000.0, scenario.uplink.delay_ms / 1000.0
+        ), downlink=None, receiver=None, link_props=_link_props(scenario),
+        feedback_rng=feedback_rng, log=FrameLog(frames), codec=codec, quality=quality,
+        progress=progress, inbox=simpy.Store(env), on_display=on_display,
+        faults=faults if faults.active else None, playout=make_playout(scenario.receiver),
+        init_us_per_evaluation=plan.init_us_per_evaluation, points=points,
+        face_boxes=face_boxes.boxes,
+    )  # fmt: skip
+    _wire_receiver(world, loss_rng)
+    _run(world)
+    end_s = frames / fps
+    outcome = engine.finish(end_s)
+    events = sorted(_handover_events(capacity, end_s) + list(outcome.events), key=_time_s)
+    return collect_result(
+        world, outcome, events=tuple(events), source=source, description=plan.description,
+        description_bytes=plan.description_bytes, duration_s=end_s,
+    )  # fmt: skip
+
+
+def _engine(scenario: Scenario, points, plan, fps: float) -> UmaEngine:
+    """The engine on `points`, told what the world knows: the description to deliver, the
+    coverage map, the technologies' priors, the packet size."""
+    payload_bytes = scenario.downlink.packet_bytes
+    return UmaEngine(
+        scenario.engine, points=points, source_fps=fps, feedback=scenario.feedback,
+        model_unavailable=plan.unavailable, coverage=coverage_map(scenario),
         description=DescriptionPlan(
             bits=8 * plan.description_bytes,
             chunks=-(-plan.description_bytes // payload_bytes),
             chunk_bits=8 * (payload_bytes + HEADER_BYTES),
         ),
-        technology_priors_kbps=technology_priors_kbps(scenario),
-    )
-    props = _link_props(scenario)
-    world_ref: list[World] = []
+        technology_priors_kbps=technology_priors_kbps(scenario), payload_bytes=payload_bytes,
+    )  # fmt: skip
+
+
+def _wire_receiver(world: World, loss_rng: np.random.Generator) -> None:
+    """The receiver and the downlink that delivers to it; keyframe requests go back up
+    through the world's feedback path."""
+    scenario, env, codec, engine = world.scenario, world.env, world.codec, world.engine
     receiver = ReceiverState(
-        log=log,
-        decode=codec.receiver_decode,
-        request_keyframe=lambda request: world_ref[0].send_feedback(
-            request, engine.on_keyframe_request
-        ),
-        now=lambda: env.now,
-        keyframe_retry_s=scenario.receiver.keyframe_retry_ms / 1000.0,
+        log=world.log, decode=codec.receiver_decode,
+        request_keyframe=lambda request: world.send_feedback(request, engine.on_keyframe_request),
+        now=lambda: env.now, keyframe_retry_s=scenario.receiver.keyframe_retry_ms / 1000.0,
         base_delay_window_s=scenario.receiver.base_delay_window_s,
-        technology=lambda: capacity.technology_at(env.now),
-    )
+        technology=lambda: world.capacity.technology_at(env.now),
+    )  # fmt: skip
     if codec.refresh is not None:
         receiver.decode_refresh = codec.receiver_refresh
         receiver.refresh_frame = codec.receiver_refresh_frame
-    downlink = Downlink(
-        env=env,
-        capacity=capacity,
-        queue_limit_bytes=scenario.downlink.queue_bytes,
-        props=props,
-        rng=loss_rng,
-        deliver=receiver.on_packet,
-        faults=faults if faults.active else None,
-    )
-    playout = make_playout(scenario.receiver)
+    world.downlink = Downlink(
+        env=env, capacity=world.capacity, queue_limit_bytes=scenario.downlink.queue_bytes,
+        props=world.link_props, rng=loss_rng, deliver=receiver.on_packet, faults=world.faults,
+    )  # fmt: skip
+    playout, log = world.playout, world.log
     receiver.on_decoded = lambda frame, arrival_s: playout.on_decoded(
         log["capture_ms"][frame] / 1000.0, arrival_s
     )
@@ -191,62 +204,24 @@ def run_scenario(
         from uma.engine.webrtc import RembEstimator
 
         receiver.bwe = RembEstimator()
-    world = World(
-        env=env,
-        scenario=scenario,
-        frames=frames,
-        fps=fps,
-        source_iter=face_boxes.wrap(source.frames()),
-        ladder=ladder,
-        engine=engine,
-        capacity=capacity,
-        uplink=FixedLink(
-            env, scenario.uplink.rate_kbps * 1000.0, scenario.uplink.delay_ms / 1000.0
-        ),
-        downlink=downlink,
-        receiver=receiver,
-        link_props=props,
-        feedback_rng=feedback_rng,
-        log=log,
-        codec=codec,
-        quality=quality,
-        progress=progress,
-        inbox=simpy.Store(env),
-        on_display=on_display,
-        faults=faults if faults.active else None,
-        playout=playout,
-        init_us_per_evaluation=plan.init_us_per_evaluation,
-        points=points,
-        face_boxes=face_boxes.boxes,
-    )
-    world_ref.append(world)
+    world.receiver = receiver
+
+
+def _run(world: World) -> None:
+    """Start the processes, run until the last frame is shown, and score what was shown."""
+    env, log = world.env, world.log
     env.process(sender_process(env, world))
     env.process(engine_process(env, world))
-    env.process(downlink_process(env, downlink))
+    env.process(downlink_process(env, world.downlink))
     env.process(report_process(env, world))
-    if scenario.engine.pacer.enabled:
-        env.process(pacer_process(env, world))
-    display = env.process(display_process(env, world))
-    env.run(until=display)
-    for index, (psnr, similarity, face_psnr, face_ssim) in quality.finish().items():
+    env.process(pacer_process(env, world))
+    env.run(until=env.process(display_process(env, world)))
+    for index, (psnr, similarity, face_psnr, face_ssim) in world.quality.finish().items():
         log["psnr_db"][index] = psnr
         log["ssim"][index] = similarity
         log["psnr_face_db"][index] = face_psnr
         log["ssim_face"][index] = face_ssim
-
-    downlink.stats.packets_queued_at_end = len(downlink.queue)
-    end_s = frames / fps
-    outcome = engine.finish(end_s)
-    events = sorted(_handover_events(capacity, end_s) + list(outcome.events), key=_time_s)
-    return collect_result(
-        world,
-        outcome,
-        events=tuple(events),
-        source=source,
-        description=description,
-        description_bytes=plan.description_bytes,
-        duration_s=end_s,
-    )
+    world.downlink.stats.packets_queued_at_end = len(world.downlink.queue)
 
 
 def technology_priors_kbps(scenario: Scenario) -> dict[str, float]:
