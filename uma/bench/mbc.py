@@ -177,6 +177,7 @@ def run_clip(
     from uma.errors import VideoError
     from uma.face.geometry import project
     from uma.fit.mde import mde_px
+    from uma.mbc.body import BodyTracker
     from uma.mbc.decoder import ParameterDecoder
     from uma.mbc.light import measure_light
     from uma.mbc.packets import IP_UDP_RTP_BYTES
@@ -195,7 +196,7 @@ def run_clip(
             f"({'; '.join(sorted(reasons)[:2])})"
         )
     # The encoder's mirror of the receiver: its light is measured against what it will show.
-    units = FaceUnits.of(description.model, description.params, light=True)
+    units = FaceUnits.of(description.model, description.params, light=True, body=True)
     encoder = ParameterEncoder(units, stream_config)
     ring = _choose_ring(clip, results)
     mirror = _renderer(clip, reference, results[0], (width, height), ring)
@@ -205,14 +206,22 @@ def run_clip(
     mixed = _renderer(clip, "picture", results[0], (width, height), ring)
     mixed.set_face_source(True)
     lights, other_lights, mixed_lights, light_ms, packets = {}, {}, {}, [], []
+    bodies, body_ms, body_tracker = {}, [], BodyTracker()
     for index, result in enumerate(results):
         if result:
             begin = time.perf_counter()
             lights[index] = measure_light(mirror, lumas[index], result.params)
             light_ms.append((time.perf_counter() - begin) * 1000.0)
+            begin = time.perf_counter()
+            body_tracker.measure(mirror, lumas[index])  # a failure sends the last good one
+            bodies[index] = body_tracker.last
+            body_ms.append((time.perf_counter() - begin) * 1000.0)
             other_lights[index] = measure_light(other, lumas[index], result.params)
             mixed_lights[index] = measure_light(mixed, lumas[index], result.params)
-        packets += encoder.push(index, np.append(result.params, lights[index]) if result else None)
+        values = None
+        if result:
+            values = np.concatenate([result.params, bodies[index], lights[index]])
+        packets += encoder.push(index, values)
     packets += encoder.flush()
     # The receiver: decode every packet in order, render each frame at the newest parameters.
     decoder = ParameterDecoder(units, stream_config)
@@ -247,14 +256,17 @@ def run_clip(
     for index in range(len(lumas)):
         result = results[index]
         if result:  # no face: the last good picture stays (no mask in the wrong place)
-            shown["unquantised"], model_mask = receiver.render(result.params, lights[index])
+            shown["unquantised"], model_mask = receiver.render(
+                result.params, lights[index], bodies[index]
+            )
         if index in decoded:
             begin = time.perf_counter()
             params, light = units.split(decoded[index])
-            shown["quantised"], _ = receiver.render(params, light)
+            body = units.body_of(decoded[index])
+            shown["quantised"], _ = receiver.render(params, light, body)
             render_ms.append(decode_ms[index] + (time.perf_counter() - begin) * 1000.0)
             shown["other_reference"], _ = other.render(params, other_lights[index])
-            shown["description_face"], _ = mixed.render(params, mixed_lights[index])
+            shown["description_face"], _ = mixed.render(params, mixed_lights[index], body)
         truth_points = None
         if clip.truth is not None:
             truth = clip.truth(index)
@@ -305,6 +317,7 @@ def run_clip(
         "track_ms_median": _median(times["track"]),
         "init_ms_median": _median(times["init"]),
         "light_ms_median": _median(light_ms),
+        "body_ms_median": _median(body_ms),
         "render_ms_median": _median(render_ms),
         # CPU time of this process (time.process_time): on a shared machine, wall clock also
         # counts the time other processes held the cores.

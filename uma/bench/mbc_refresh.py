@@ -180,6 +180,7 @@ def refresh_display(
     rate, `head_ring` the receiver's (`SceneRenderer`). With nothing left of the rung's rate
     it is the plain MBC (no refresh unit)."""
     from uma.errors import ConfigError
+    from uma.mbc.body import BodyTracker
     from uma.mbc.decoder import ParameterDecoder
     from uma.mbc.light import measure_light
     from uma.mbc.refresh import schedule_refresh
@@ -206,13 +207,17 @@ def refresh_display(
         out.set_face_source(spec.description_face)
         return out
 
-    def switch(target, k, params, light):
-        """Make unit k's picture `target`'s reference at `params` (its frame's decoded pose)."""
-        picture = pictures[k]
+    def switch(target, k, values):
+        """Make unit k's picture `target`'s reference at its frame's decoded pose."""
+        picture, fresh = pictures[k], None
+        params, light = face_units.split(values)
         if spec.region == "face":  # on the scene as the receiver drew it at that pose
             (x0, y0), patch = picture
-            picture = _paste(target.render(params, light)[0], patch, x0, y0)
-        target.set_reference(picture, params)
+            drawn = target.render(params, light, face_units.body_of(values))[0]
+            picture = _paste(drawn, patch, x0, y0)
+            fresh = np.zeros((height, width), bool)
+            fresh[y0 : y0 + patch.shape[0] * 2 // 3, x0 : x0 + patch.shape[1]] = True
+        target.set_reference(picture, params, fresh)
 
     def nearer(k, index, params):
         """Whether unit k's picture is nearer frame `index`'s luma than the mirror's rendering
@@ -232,6 +237,7 @@ def refresh_display(
     # The encoder's mirror: a unit serves once it has arrived and its frame's pose is decoded.
     unit_at = {unit.frame: k for k, unit in enumerate(units)}
     mirror, current, switches, packets, adopted = renderer(), -1, {}, [], set()
+    body_tracker = BodyTracker()
     encoder = ParameterEncoder(face_units, stream_config)
     decoder = ParameterDecoder(face_units, stream_config)
     decoded: dict[int, np.ndarray] = {}
@@ -244,12 +250,16 @@ def refresh_display(
             k -= 1  # not adopted, or not decoded (yet): the newest usable one before it
         if k > current:
             switches[index] = (k, decoded[units[k].frame])
-            switch(mirror, k, *face_units.split(decoded[units[k].frame]))
+            switch(mirror, k, decoded[units[k].frame])
             current = k
         values = None
         if result:
             light = measure_light(mirror, frames[index][:height], result.params)
-            values = np.append(result.params, light)
+            body = None
+            if face_units.body:
+                body_tracker.measure(mirror, frames[index][:height])
+                body = body_tracker.last
+            values = np.concatenate([result.params, [] if body is None else body, light])
         out = encoder.push(index, values)
         out += encoder.flush() if index == len(results) - 1 else []
         for packet in out:
@@ -259,10 +269,10 @@ def refresh_display(
     for index in range(len(frames)):
         if index in switches:
             k, values = switches[index]
-            switch(receiver, k, *face_units.split(values))
+            switch(receiver, k, values)
         if index in decoded:
             params, light = face_units.split(decoded[index])
-            last, _ = receiver.render(params, light)
+            last, _ = receiver.render(params, light, face_units.body_of(decoded[index]))
         shown.append(last)
     seconds = len(frames) / clip.fps
     params_kbps = sum(p.size_bytes for p in packets) * 8 / seconds / 1000.0

@@ -21,6 +21,15 @@ import numpy as np
 from uma.face.describe import ContentDescription
 from uma.face.scene import HEAD_RING_SCALE, SceneMesh
 from uma.mbc.errors import SceneError
+from uma.mbc.layers import (
+    NO_BODY_MOTION,
+    Plate,
+    body_matrix,
+    body_problem,
+    cut_person,
+    head_ring_points,
+    rigid_fit,
+)
 
 __all__ = [
     "SceneRenderer",
@@ -42,6 +51,10 @@ HEAD_RING_OUTLINES = 1.4  # the head ring's radius in face-outline radii (hair, 
 # outside the face that lets them follow only in part (better where the pose is off: akiyo's
 # bow, carphone's turn; docs/mbc.md).
 HEAD_RING_CHOICES = (1.05, HEAD_RING_OUTLINES)
+# The torso layer's halo around the head, in head-ring widths: hair just outside the head ring
+# goes with the person, never into the plate.
+HALO_OF_HEAD = 0.12
+_GAP_KERNEL = np.ones((3, 3), np.uint8)
 LIGHT_GAIN_RANGE = (0.25, 4.0)  # a face's luma gain against its reference's
 LIGHT_OFFSET_RANGE = (-128.0, 128.0)  # levels
 
@@ -98,6 +111,7 @@ class SceneRenderer:
         talking_head_scene: bool = False,
         head_ring_outlines: float | None = None,
         far_ring_head_radii: float | None = None,
+        layered: bool | None = None,
     ):
         width, height = (int(v) for v in size)
         if width < 2 or height < 2 or width % 2 or height % 2:
@@ -118,6 +132,8 @@ class SceneRenderer:
             head_ring_scale=HEAD_RING_SCALE if talking_head_scene else ring,
         )
         self._strips = len(self.scene.triangles) - len(description.model.triangles)
+        self.layered = not talking_head_scene if layered is None else bool(layered)
+        self.plate = Plate((width, height)) if self.layered else None
         ys, xs = np.mgrid[0:height, 0:width].astype(np.float32)
         self._x, self._y = xs, ys
         self._face_source = None
@@ -125,10 +141,14 @@ class SceneRenderer:
         self._last_face = None
         self.set_reference(*description_reference(description, self.size))
 
-    def set_reference(self, picture: np.ndarray, params: np.ndarray) -> None:
+    def set_reference(
+        self, picture: np.ndarray, params: np.ndarray, fresh: np.ndarray | None = None
+    ) -> None:
         """Render from `picture` (YUV 4:2:0 at the source size) on which the model sits at
-        `params` from now on: the model-aided refresh's entry point. A picture of another
-        size or a pose no face has is a `SceneError`; the old reference stays."""
+        `params` from now on: the model-aided refresh's entry point. `fresh` (H, W bool) says
+        which pixels were decoded (the rest drawn by this renderer: the plate learns only
+        decoded background; None: all). A picture of another size or a pose no face has is a
+        `SceneError`; the old reference stays."""
         width, height = self.size
         picture = np.asarray(picture)
         if picture.shape != (height * 3 // 2, width) or picture.dtype != np.uint8:
@@ -146,6 +166,8 @@ class SceneRenderer:
         self.reference = np.ascontiguousarray(picture)
         self.reference_params = params.copy()
         self._reference_points = self.scene.points(params)
+        if self.layered:
+            self._cut_layers(params, fresh)
         chroma = self.reference[height:].reshape(2, height // 2, width // 2)
         self._u, self._v = np.ascontiguousarray(chroma[0]), np.ascontiguousarray(chroma[1])
 
@@ -164,11 +186,17 @@ class SceneRenderer:
         reference's old head there)."""
         drawn = _front_facing(target, self.scene.triangles)
         drawn[: self._strips] = True
+        if self.layered:  # the head alone: face and head ring, no strips out to the far ring
+            drawn[self._strips // 2 : self._strips] = False
         return drawn
 
-    def maps(self, params: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Where each pixel reads the reference at `params`: map_x, map_y (H, W) float32, and
-        the mask of the face's own pixels."""
+    def maps(
+        self, params: np.ndarray, body: np.ndarray | None = None
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
+        """Where each pixel reads the reference at `params` (and, layered, the torso at the body
+        motion `body`, `uma.mbc.layers.BODY_NAMES`; None: still): map_x, map_y (H, W)
+        float32, the mask of the face's own pixels, and (layered) the person's pixels (the rest
+        shows the plate) or None."""
         from uma.face.render import barycentric_affine, triangle_labels
 
         scene = self.scene
@@ -183,10 +211,22 @@ class SceneRenderer:
         )
         affine = barycentric_affine(target, scene.triangles)
         coeffs = np.einsum("tjk,tjc->tck", affine, self._reference_points[scene.triangles])
-        still = np.array([[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]])  # a pixel no triangle covers
+        if self.layered:  # outside the head: the halo's inverse motion, the torso's
+            torso_forward = body_matrix(NO_BODY_MOTION if body is None else body, self.anchor)
+            head_forward = rigid_fit(self._reference_ring, head_ring_points(scene, target))
+            still = np.stack([cv2_invert(torso_forward), cv2_invert(head_forward)])
+        else:
+            still = np.array([[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]])  # a pixel no triangle covers
         table = np.concatenate([coeffs, still]).reshape(-1, 6).T.astype(np.float32)
         face = labels >= self._strips
-        flat = np.where(labels < 0, len(table[0]) - 1, labels).ravel()
+        person = None
+        if self.layered:
+            halo, torso = self._layers_at(head_forward, torso_forward, labels < 0)
+            person = (labels >= 0) | halo | torso
+            labels = np.where(halo, len(coeffs) + 1, labels)
+            flat = np.where(labels < 0, len(coeffs), labels).ravel()
+        else:
+            flat = np.where(labels < 0, len(table[0]) - 1, labels).ravel()
         # One gather per coefficient (contiguous rows) is several times faster than one of
         # (H, W, 2, 3) blocks.
         c = [np.take(row, flat).reshape(height, width) for row in table]
@@ -196,7 +236,25 @@ class SceneRenderer:
         map_y = c[3] * self._x
         map_y += c[4] * self._y
         map_y += c[5]
-        return map_x, map_y, face
+        return map_x, map_y, face, person
+
+    def _layers_at(self, head_forward, torso_forward, outside_head):
+        """Where the halo (moved with the head) and the torso (moved by the body) lie in the
+        new picture, outside the head's own pixels (bool (H, W) each, the halo first)."""
+        import cv2
+
+        size = self.size
+        flags = cv2.INTER_NEAREST
+        halo = cv2.warpAffine(self.halo_mask, head_forward, size, flags=flags)
+        # The mesh's edge and the halo's rigid motion part by a pixel here and there: close
+        # the gap (it would show the plate as a dotted seam).
+        halo = cv2.dilate(halo | (~outside_head).view(np.uint8), _GAP_KERNEL).view(bool)
+        # Below the picture's edge the torso goes on (its edge row repeated), never the plate.
+        torso = cv2.warpAffine(self.torso_mask, torso_forward, size, flags=flags,
+                               borderMode=cv2.BORDER_REPLICATE).view(bool)  # fmt: skip
+        halo &= outside_head
+        torso &= outside_head & ~halo
+        return halo, torso
 
     def face_luma(self, params: np.ndarray) -> tuple[np.ndarray, np.ndarray, tuple[int, int]]:
         """The face's own luma at `params` without light, over its bounding box only: (patch,
@@ -236,23 +294,35 @@ class SceneRenderer:
         return patch, labels >= 0, (int(x0), int(y0))
 
     def render(
-        self, params: np.ndarray, light: tuple[float, float] | None = None
+        self,
+        params: np.ndarray,
+        light: tuple[float, float] | None = None,
+        body: np.ndarray | None = None,
     ) -> tuple[np.ndarray, np.ndarray]:
         """The picture (YUV 4:2:0) at `params` and the mask of the face's pixels; `light`
-        (gain, offset in levels) relights the face's luma against the reference's. Light out
-        of `LIGHT_GAIN_RANGE`/`LIGHT_OFFSET_RANGE` or not finite is a `SceneError`."""
+        (gain, offset in levels) relights the face's luma against the reference's; `body`
+        (layered only) moves the torso (`uma.mbc.layers.BODY_NAMES`; None: still). Light out
+        of `LIGHT_GAIN_RANGE`/`LIGHT_OFFSET_RANGE`, an absurd body motion or values not
+        finite are a `SceneError` (nothing drawn: the caller keeps its last picture)."""
         import cv2
 
         params = np.asarray(params, dtype=np.float64)
         if not np.all(np.isfinite(params)) or not params[2] > 0:
             raise SceneError(f"parameters: expected finite with a positive scale, got {params}")
         width, height = self.size
-        map_x, map_y, face = self.maps(params)
+        if body is not None:
+            problem = body_problem(body, self.size)
+            if problem:
+                raise SceneError(problem)
+        map_x, map_y, face, person = self.maps(params, body)
         out = np.empty((height * 3 // 2, width), dtype=np.uint8)
         luma = cv2.remap(
             self.reference[:height], map_x, map_y, cv2.INTER_LINEAR,
             borderMode=cv2.BORDER_REPLICATE,
         )  # fmt: skip
+        plate = self._plate_picture()
+        if person is not None and plate is not None:
+            np.copyto(luma, plate[:height], where=~person)
         if self._face_source is not None:
             self._paste_face(luma, params)  # before the light: the pasted face is relit too
         if light is not None:
@@ -266,6 +336,11 @@ class SceneRenderer:
         chroma = out[height:].reshape(2, height // 2, width // 2)
         for plane, source in zip(chroma, (self._u, self._v), strict=True):
             plane[:] = cv2.remap(source, cx, cy, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+        if person is not None and plate is not None:
+            behind = ~(person[0::2, 0::2] | person[1::2, 1::2])
+            plates = plate[height:].reshape(2, height // 2, width // 2)
+            for plane, background in zip(chroma, plates, strict=True):
+                np.copyto(plane, background, where=behind)
         if self._face_source is not None and self._face_chroma is not None:
             (x0, y0), mask, planes = self._face_chroma
             for plane, patch in zip(chroma, planes, strict=True):
@@ -273,6 +348,23 @@ class SceneRenderer:
                 box = plane[y0 : y0 + h, x0 : x0 + w]
                 box[mask] = patch[mask]
         return out, face
+
+    def _cut_layers(self, params: np.ndarray, fresh: np.ndarray | None) -> None:
+        """The reference cut at `params` (`uma.mbc.layers.cut_person`), the plate taught the
+        rest."""
+        head, self.halo_mask, self.torso_mask, self.anchor = cut_person(
+            self.scene, self._reference_points, self.size, HALO_OF_HEAD
+        )
+        self._reference_ring = head_ring_points(self.scene, self._reference_points)
+        person = (head | self.halo_mask | self.torso_mask) > 0
+        self.plate.update(self.reference, person, fresh)
+
+    def _plate_picture(self) -> np.ndarray | None:
+        """The plate to show behind the person; the reference itself once the plate is lost
+        (its reason stays in `plate.reason`)."""
+        if self.plate is None:
+            return None
+        return self.plate.picture if self.plate.known.any() else self.reference
 
     def _paste_face(self, luma: np.ndarray, params: np.ndarray) -> None:
         """The face's pixels from the description's picture into `luma`; its chroma kept for
@@ -301,6 +393,13 @@ class SceneRenderer:
             for plane in planes
         ]  # fmt: skip
         self._face_chroma = ((x0 // 2, y0 // 2), mask[0:h2:2, 0:w2:2], chroma)
+
+
+def cv2_invert(matrix: np.ndarray) -> np.ndarray:
+    """The inverse of a 2x3 affine map."""
+    import cv2
+
+    return cv2.invertAffineTransform(matrix)
 
 
 def _checked_light(light) -> tuple[float, float]:
