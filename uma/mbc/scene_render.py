@@ -249,9 +249,9 @@ class SceneRenderer:
         # The mesh's edge and the halo's rigid motion part by a pixel here and there: close
         # the gap (it would show the plate as a dotted seam).
         halo = cv2.dilate(halo | (~outside_head).view(np.uint8), _GAP_KERNEL).view(bool)
-        # Below the picture's edge the torso goes on (its edge row repeated), never the plate.
-        torso = cv2.warpAffine(self.torso_mask, torso_forward, size, flags=flags,
-                               borderMode=cv2.BORDER_REPLICATE).view(bool)  # fmt: skip
+        # Below the picture's bottom edge the torso goes on (its last row repeated; the
+        # reference's pixels there too, `render`'s border), never the plate.
+        torso = cv2.warpAffine(self._torso_below, torso_forward, size, flags=flags).view(bool)
         halo &= outside_head
         torso &= outside_head & ~halo
         return halo, torso
@@ -356,6 +356,8 @@ class SceneRenderer:
             self.scene, self._reference_points, self.size, HALO_OF_HEAD
         )
         self._reference_ring = head_ring_points(self.scene, self._reference_points)
+        below = np.repeat(self.torso_mask[-1:], self.size[1] // 2, axis=0)
+        self._torso_below = np.ascontiguousarray(np.vstack([self.torso_mask, below]))
         person = (head | self.halo_mask | self.torso_mask) > 0
         self.plate.update(self.reference, person, fresh)
 
