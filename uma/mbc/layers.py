@@ -34,6 +34,7 @@ __all__ = [
     "cut_person",
     "head_ring_points",
     "rigid_fit",
+    "invert_affine",
     "fill_unknown",
     "torso_polygon",
 ]
@@ -144,6 +145,13 @@ def head_ring_points(scene, points: np.ndarray) -> np.ndarray:
     """The head ring's projected points among a scene's `points`."""
     n, m = scene.model.n_vertices, len(scene.outline)
     return points[n : n + m]
+
+
+def invert_affine(matrix: np.ndarray) -> np.ndarray:
+    """The inverse of a 2x3 affine map."""
+    import cv2
+
+    return cv2.invertAffineTransform(matrix)
 
 
 def rigid_fit(source: np.ndarray, target: np.ndarray) -> np.ndarray:

@@ -28,8 +28,10 @@ from uma.mbc.layers import (
     body_problem,
     cut_person,
     head_ring_points,
+    invert_affine,
     rigid_fit,
 )
+from uma.mbc.scene_reference import description_reference
 
 __all__ = [
     "SceneRenderer",
@@ -57,36 +59,6 @@ HALO_OF_HEAD = 0.12
 _GAP_KERNEL = np.ones((3, 3), np.uint8)
 LIGHT_GAIN_RANGE = (0.25, 4.0)  # a face's luma gain against its reference's
 LIGHT_OFFSET_RANGE = (-128.0, 128.0)  # levels
-
-
-def description_reference(description: ContentDescription, size: tuple[int, int]):
-    """The description's picture at the source size `size` (W, H) as YUV 4:2:0, and the pose
-    of its model there: the texture pasted where it was cut from, mid-grey around it."""
-    from uma.face.colour import bgr_to_ycbcr
-
-    width, height = size
-    planes = np.full((height, width, 3), 128.0, dtype=np.float32)
-    texture = bgr_to_ycbcr(description.texture)
-    if description.texture.ndim == 2:
-        texture[..., 0] = description.gray  # a gray texture is its own luma
-    x0, y0 = (int(round(v)) for v in description.origin_px)
-    h = min(texture.shape[0], height - y0)
-    w = min(texture.shape[1], width - x0)
-    if h > 0 and w > 0 and x0 >= 0 and y0 >= 0:
-        planes[y0 : y0 + h, x0 : x0 + w] = texture[:h, :w]
-    params = np.asarray(description.params, dtype=np.float64).copy()
-    params[:2] += (x0, y0)
-    return _i420(planes), params
-
-
-def _i420(planes: np.ndarray) -> np.ndarray:
-    """Full-resolution (H, W, 3) float Y, Cb, Cr to YUV 4:2:0 uint8 (chroma 2x2 averaged)."""
-    height, width = planes.shape[:2]
-    out = np.empty((height * 3 // 2, width), dtype=np.uint8)
-    out[:height] = np.clip(np.rint(planes[..., 0]), 0, 255)
-    chroma = planes[..., 1:].reshape(height // 2, 2, width // 2, 2, 2).mean(axis=(1, 3))
-    out[height:] = np.clip(np.rint(np.moveaxis(chroma, 2, 0)), 0, 255).reshape(height // 2, width)
-    return out
 
 
 def _front_facing(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
@@ -214,7 +186,7 @@ class SceneRenderer:
         if self.layered:  # outside the head: the halo's inverse motion, the torso's
             torso_forward = body_matrix(NO_BODY_MOTION if body is None else body, self.anchor)
             head_forward = rigid_fit(self._reference_ring, head_ring_points(scene, target))
-            still = np.stack([cv2_invert(torso_forward), cv2_invert(head_forward)])
+            still = np.stack([invert_affine(torso_forward), invert_affine(head_forward)])
         else:
             still = np.array([[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]])  # a pixel no triangle covers
         table = np.concatenate([coeffs, still]).reshape(-1, 6).T.astype(np.float32)
@@ -395,13 +367,6 @@ class SceneRenderer:
             for plane in planes
         ]  # fmt: skip
         self._face_chroma = ((x0 // 2, y0 // 2), mask[0:h2:2, 0:w2:2], chroma)
-
-
-def cv2_invert(matrix: np.ndarray) -> np.ndarray:
-    """The inverse of a 2x3 affine map."""
-    import cv2
-
-    return cv2.invertAffineTransform(matrix)
 
 
 def _checked_light(light) -> tuple[float, float]:
