@@ -21,16 +21,8 @@ import numpy as np
 from uma.face.describe import ContentDescription
 from uma.face.scene import HEAD_RING_SCALE, SceneMesh
 from uma.mbc.errors import SceneError
-from uma.mbc.layers import (
-    NO_BODY_MOTION,
-    Plate,
-    body_matrix,
-    body_problem,
-    cut_person,
-    head_ring_points,
-    invert_affine,
-    rigid_fit,
-)
+from uma.mbc.layered_render import compose_layers
+from uma.mbc.layers import Plate, body_problem, cut_person, head_ring_points
 from uma.mbc.scene_reference import description_reference
 
 __all__ = [
@@ -56,7 +48,6 @@ HEAD_RING_CHOICES = (1.05, HEAD_RING_OUTLINES)
 # The torso layer's halo around the head, in head-ring widths: hair just outside the head ring
 # goes with the person, never into the plate.
 HALO_OF_HEAD = 0.12
-_GAP_KERNEL = np.ones((3, 3), np.uint8)
 LIGHT_GAIN_RANGE = (0.25, 4.0)  # a face's luma gain against its reference's
 LIGHT_OFFSET_RANGE = (-128.0, 128.0)  # levels
 
@@ -162,13 +153,9 @@ class SceneRenderer:
             drawn[self._strips // 2 : self._strips] = False
         return drawn
 
-    def maps(
-        self, params: np.ndarray, body: np.ndarray | None = None
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
-        """Where each pixel reads the reference at `params` (and, layered, the torso at the body
-        motion `body`, `uma.mbc.layers.BODY_NAMES`; None: still): map_x, map_y (H, W)
-        float32, the mask of the face's own pixels, and (layered) the person's pixels (the rest
-        shows the plate) or None."""
+    def maps(self, params: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The stretched scene's (not layered): where each pixel reads the reference at
+        `params`: map_x, map_y (H, W) float32, and the mask of the face's own pixels."""
         from uma.face.render import barycentric_affine, triangle_labels
 
         scene = self.scene
@@ -183,22 +170,10 @@ class SceneRenderer:
         )
         affine = barycentric_affine(target, scene.triangles)
         coeffs = np.einsum("tjk,tjc->tck", affine, self._reference_points[scene.triangles])
-        if self.layered:  # outside the head: the halo's inverse motion, the torso's
-            torso_forward = body_matrix(NO_BODY_MOTION if body is None else body, self.anchor)
-            head_forward = rigid_fit(self._reference_ring, head_ring_points(scene, target))
-            still = np.stack([invert_affine(torso_forward), invert_affine(head_forward)])
-        else:
-            still = np.array([[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]])  # a pixel no triangle covers
+        still = np.array([[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]])  # a pixel no triangle covers
         table = np.concatenate([coeffs, still]).reshape(-1, 6).T.astype(np.float32)
         face = labels >= self._strips
-        person = None
-        if self.layered:
-            halo, torso = self._layers_at(head_forward, torso_forward, labels < 0)
-            person = (labels >= 0) | halo | torso
-            labels = np.where(halo, len(coeffs) + 1, labels)
-            flat = np.where(labels < 0, len(coeffs), labels).ravel()
-        else:
-            flat = np.where(labels < 0, len(table[0]) - 1, labels).ravel()
+        flat = np.where(labels < 0, len(table[0]) - 1, labels).ravel()
         # One gather per coefficient (contiguous rows) is several times faster than one of
         # (H, W, 2, 3) blocks.
         c = [np.take(row, flat).reshape(height, width) for row in table]
@@ -208,25 +183,7 @@ class SceneRenderer:
         map_y = c[3] * self._x
         map_y += c[4] * self._y
         map_y += c[5]
-        return map_x, map_y, face, person
-
-    def _layers_at(self, head_forward, torso_forward, outside_head):
-        """Where the halo (moved with the head) and the torso (moved by the body) lie in the
-        new picture, outside the head's own pixels (bool (H, W) each, the halo first)."""
-        import cv2
-
-        size = self.size
-        flags = cv2.INTER_NEAREST
-        halo = cv2.warpAffine(self.halo_mask, head_forward, size, flags=flags)
-        # The mesh's edge and the halo's rigid motion part by a pixel here and there: close
-        # the gap (it would show the plate as a dotted seam).
-        halo = cv2.dilate(halo | (~outside_head).view(np.uint8), _GAP_KERNEL).view(bool)
-        # Below the picture's bottom edge the torso goes on (its last row repeated; the
-        # reference's pixels there too, `render`'s border), never the plate.
-        torso = cv2.warpAffine(self._torso_below, torso_forward, size, flags=flags).view(bool)
-        halo &= outside_head
-        torso &= outside_head & ~halo
-        return halo, torso
+        return map_x, map_y, face
 
     def face_luma(self, params: np.ndarray) -> tuple[np.ndarray, np.ndarray, tuple[int, int]]:
         """The face's own luma at `params` without light, over its bounding box only: (patch,
@@ -276,7 +233,6 @@ class SceneRenderer:
         (layered only) moves the torso (`uma.mbc.layers.BODY_NAMES`; None: still). Light out
         of `LIGHT_GAIN_RANGE`/`LIGHT_OFFSET_RANGE`, an absurd body motion or values not
         finite are a `SceneError` (nothing drawn: the caller keeps its last picture)."""
-        import cv2
 
         params = np.asarray(params, dtype=np.float64)
         if not np.all(np.isfinite(params)) or not params[2] > 0:
@@ -286,39 +242,43 @@ class SceneRenderer:
             problem = body_problem(body, self.size)
             if problem:
                 raise SceneError(problem)
-        map_x, map_y, face, person = self.maps(params, body)
-        out = np.empty((height * 3 // 2, width), dtype=np.uint8)
-        luma = cv2.remap(
-            self.reference[:height], map_x, map_y, cv2.INTER_LINEAR,
-            borderMode=cv2.BORDER_REPLICATE,
-        )  # fmt: skip
-        plate = self._plate_picture()
-        if person is not None and plate is not None:
-            np.copyto(luma, plate[:height], where=~person)
+        if self.layered:
+            out, face = compose_layers(self, params, body)
+        else:
+            out, face = self._stretched(params)
+        luma = out[:height]
         if self._face_source is not None:
             self._paste_face(luma, params)  # before the light: the pasted face is relit too
         if light is not None:
             gain, offset = _checked_light(light)
             lit = luma[face].astype(np.float32) * gain + offset
             luma[face] = np.clip(np.rint(lit), 0, 255).astype(np.uint8)
-        out[:height] = luma
-        # Chroma: each 2x2 block's mean position, in chroma-plane coordinates.
-        cx = (map_x[0::2, 0::2] + map_x[1::2, 1::2] - 1.0) * 0.25
-        cy = (map_y[0::2, 0::2] + map_y[1::2, 1::2] - 1.0) * 0.25
         chroma = out[height:].reshape(2, height // 2, width // 2)
-        for plane, source in zip(chroma, (self._u, self._v), strict=True):
-            plane[:] = cv2.remap(source, cx, cy, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
-        if person is not None and plate is not None:
-            behind = ~(person[0::2, 0::2] | person[1::2, 1::2])
-            plates = plate[height:].reshape(2, height // 2, width // 2)
-            for plane, background in zip(chroma, plates, strict=True):
-                np.copyto(plane, background, where=behind)
         if self._face_source is not None and self._face_chroma is not None:
             (x0, y0), mask, planes = self._face_chroma
             for plane, patch in zip(chroma, planes, strict=True):
                 h, w = patch.shape
                 box = plane[y0 : y0 + h, x0 : x0 + w]
                 box[mask] = patch[mask]
+        return out, face
+
+    def _stretched(self, params: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The whole reference stretched by the scene mesh (no layers), and the face's mask."""
+        import cv2
+
+        width, height = self.size
+        map_x, map_y, face = self.maps(params)
+        out = np.empty((height * 3 // 2, width), dtype=np.uint8)
+        out[:height] = cv2.remap(
+            self.reference[:height], map_x, map_y, cv2.INTER_LINEAR,
+            borderMode=cv2.BORDER_REPLICATE,
+        )  # fmt: skip
+        # Chroma: each 2x2 block's mean position, in chroma-plane coordinates.
+        cx = (map_x[0::2, 0::2] + map_x[1::2, 1::2] - 1.0) * 0.25
+        cy = (map_y[0::2, 0::2] + map_y[1::2, 1::2] - 1.0) * 0.25
+        chroma = out[height:].reshape(2, height // 2, width // 2)
+        for plane, source in zip(chroma, (self._u, self._v), strict=True):
+            plane[:] = cv2.remap(source, cx, cy, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
         return out, face
 
     def _cut_layers(self, params: np.ndarray, fresh: np.ndarray | None) -> None:

@@ -1,0 +1,119 @@
+"""The layered scene drawn fast: plate, then torso and halo by whole-picture affine warps, then
+the head by its mesh over the head's box only.
+
+Units: pixels; pictures planar YUV 4:2:0 (H * 3 // 2, W) uint8; a chroma sample (i, j) sits
+at luma position (2j + 0.5, 2i + 0.5).
+
+The torso and the halo each move by one 2-D map (`uma.mbc.layers`), so OpenCV's `warpAffine`
+draws them (no per-pixel maps); only the head needs a map per pixel, and only over its box.
+A chroma sample takes the layer of either of its block's diagonal luma pixels (the head
+first), the plate only where both lie behind the person, as the plate learns chroma.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from uma.mbc.layers import NO_BODY_MOTION, body_matrix, head_ring_points, rigid_fit
+
+__all__ = ["compose_layers", "chroma_matrix"]
+
+_GAP_KERNEL = np.ones((3, 3), np.uint8)
+
+
+def chroma_matrix(matrix: np.ndarray) -> np.ndarray:
+    """The 2x3 map `matrix` (luma pixels) on the half-size chroma planes."""
+    out = np.array(matrix, dtype=np.float64)
+    out[:, 2] = (matrix[:, :2] @ (0.5, 0.5) + matrix[:, 2] - 0.5) / 2.0
+    return out
+
+
+def _box(points: np.ndarray, size: tuple[int, int]) -> tuple[int, int, int, int] | None:
+    """The even-cornered, even-sized box (x0, y0, x1, y1) around `points` in the picture."""
+    width, height = size
+    x0 = max(int(np.floor(points[:, 0].min())) - 1, 0) // 2 * 2
+    y0 = max(int(np.floor(points[:, 1].min())) - 1, 0) // 2 * 2
+    x1 = min((int(np.ceil(points[:, 0].max())) + 3) // 2 * 2, width)
+    y1 = min((int(np.ceil(points[:, 1].max())) + 3) // 2 * 2, height)
+    if x1 - x0 < 2 or y1 - y0 < 2:
+        return None
+    return x0, y0, x1, y1
+
+
+def _head(renderer, params: np.ndarray, target: np.ndarray, box):
+    """The head over `box`: its pixels' triangle labels and where they read the reference."""
+    from uma.face.render import barycentric_affine, triangle_labels
+
+    scene = renderer.scene
+    x0, y0, x1, y1 = box
+    labels = triangle_labels(
+        target - (x0, y0),
+        scene.triangles,
+        (y1 - y0, x1 - x0),
+        triangle_mask=renderer._drawn(target),
+        depth=scene.depth(params),
+    )
+    affine = barycentric_affine(target, scene.triangles)
+    coeffs = np.einsum("tjk,tjc->tck", affine, renderer._reference_points[scene.triangles])
+    still = np.array([[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]])
+    table = np.concatenate([coeffs, still]).reshape(-1, 6).T.astype(np.float32)
+    flat = np.where(labels < 0, len(coeffs), labels).ravel()
+    c = [np.take(row, flat).reshape(labels.shape) for row in table]
+    xs, ys = renderer._x[y0:y1, x0:x1], renderer._y[y0:y1, x0:x1]
+    map_x = c[0] * xs + c[1] * ys + c[2]
+    map_y = c[3] * xs + c[4] * ys + c[5]
+    return labels, map_x, map_y
+
+
+def compose_layers(renderer, params: np.ndarray, body: np.ndarray | None):
+    """The picture (YUV 4:2:0, no light) of a layered `renderer`
+    (`uma.mbc.scene_render.SceneRenderer`) at `params` with the torso at `body` (None:
+    still), and the mask of the face's own pixels."""
+    import cv2
+
+    width, height = renderer.size
+    size, half = (width, height), (width // 2, height // 2)
+    scene, reference = renderer.scene, renderer.reference
+    target = scene.points(params)
+    torso_forward = body_matrix(NO_BODY_MOTION if body is None else body, renderer.anchor)
+    head_forward = rigid_fit(renderer._reference_ring, head_ring_points(scene, target))
+    out = renderer._plate_picture().copy()
+    nearest, linear, edge = cv2.INTER_NEAREST, cv2.INTER_LINEAR, cv2.BORDER_REPLICATE
+    torso = cv2.warpAffine(renderer._torso_below, torso_forward, size, flags=nearest)
+    halo = cv2.warpAffine(renderer.halo_mask, head_forward, size, flags=nearest)
+    head = np.zeros((height, width), np.uint8)
+    face = np.zeros((height, width), bool)
+    n_head = scene.model.n_vertices + len(scene.outline)
+    box = _box(target[:n_head], size)
+    if box is not None:
+        x0, y0, x1, y1 = box
+        labels, map_x, map_y = _head(renderer, params, target, box)
+        head[y0:y1, x0:x1] = labels >= 0
+        face[y0:y1, x0:x1] = labels >= renderer._strips
+    # The mesh's edge and the halo's rigid motion part by a pixel here and there: close the
+    # gap (it would show the plate as a dotted seam).
+    halo = cv2.dilate(halo | head, _GAP_KERNEL) & (1 - head)
+    torso &= 1 - (halo | head)
+    luma = out[:height]
+    layers = [(torso, torso_forward), (halo, head_forward)]
+    for mask, matrix in layers:
+        drawn = cv2.warpAffine(reference[:height], matrix, size, flags=linear, borderMode=edge)
+        np.copyto(luma, drawn, where=mask.view(bool))
+    chroma = out[height:].reshape(2, height // 2, width // 2)
+    for mask, matrix in layers:
+        at = (mask[0::2, 0::2] | mask[1::2, 1::2]).view(bool)
+        for plane, source in zip(chroma, (renderer._u, renderer._v), strict=True):
+            drawn = cv2.warpAffine(source, chroma_matrix(matrix), half, flags=linear,
+                                   borderMode=edge)  # fmt: skip
+            np.copyto(plane, drawn, where=at)
+    if box is not None:
+        inside = head[y0:y1, x0:x1].view(bool)
+        drawn = cv2.remap(reference[:height], map_x, map_y, linear, borderMode=edge)
+        np.copyto(luma[y0:y1, x0:x1], drawn, where=inside)
+        cx = (map_x[0::2, 0::2] + map_x[1::2, 1::2] - 1.0) * 0.25
+        cy = (map_y[0::2, 0::2] + map_y[1::2, 1::2] - 1.0) * 0.25
+        at = inside[0::2, 0::2] | inside[1::2, 1::2]
+        for plane, source in zip(chroma, (renderer._u, renderer._v), strict=True):
+            drawn = cv2.remap(source, cx, cy, linear, borderMode=edge)
+            np.copyto(plane[y0 // 2 : y1 // 2, x0 // 2 : x1 // 2], drawn, where=at)
+    return out, face
