@@ -23,17 +23,24 @@ pixels. Frame 0, the one the receiver holds in full, is not scored.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from uma.bench.mbc_clips import ClipSpec, default_clips, file_clip, talking_head_clip
 from uma.bench.mbc_refresh import DEFAULT_REFRESH
-from uma.bench.mbc_table import format_table
+from uma.bench.mbc_table import format_table, summarise
 
-__all__ = ["ClipSpec", "run_mbc_bench", "format_table", "default_clips", "DISPLAYS"]
+__all__ = [
+    "ClipSpec",
+    "run_mbc_bench",
+    "format_table",
+    "default_clips",
+    "file_clip",
+    "talking_head_clip",
+    "DISPLAYS",
+]
 
 BASE_DISPLAYS = (
     "unquantised",
@@ -43,68 +50,25 @@ BASE_DISPLAYS = (
     "h264_second",
     "h264_lowest_delayed",
     "h264_second_delayed",
+    "av1_lowest",
+    "av1_second",
+    "av1_lowest_delayed",
+    "av1_second_delayed",
+    "vp8_lowest",
+    "vp8_second",
+    "vp8_lowest_delayed",
+    "vp8_second_delayed",
     "other_reference",
     "description_face",
 )
 DISPLAYS = BASE_DISPLAYS + tuple(DEFAULT_REFRESH)
 REGIONS = ("face", "frame", "model")
 SCALED_FPS = 25.0
-RING_CHOICE_FRAMES = 25  # the first second: the sender's look at the call before it settles
-
-
-@dataclass(frozen=True, eq=False)
-class ClipSpec:
-    """A clip to code: YUV 4:2:0 frames, its rate, the description, ground truth if any."""
-
-    name: str
-    frames: list[np.ndarray]
-    fps: float
-    description: Any  # ContentDescription
-    truth: Callable[[int], np.ndarray] | None = None
-    where: str = ""
-
-
-def talking_head_clip(frames: int, *, seed: int = 0, start: int = 0) -> ClipSpec:
-    import cv2
-
-    from uma.face.talking_head import TalkingHeadSource
-
-    source = TalkingHeadSource(352, 288, seed=seed)
-    noise = np.random.default_rng(seed)
-    yuv = [
-        cv2.cvtColor(source.render_bgr(i, rng=noise), cv2.COLOR_BGR2YUV_I420)
-        for i in range(start, start + frames)
-    ]
-    truth = source.params_at if not start else (lambda i: source.params_at(i + start))
-    return ClipSpec("talking-head", yuv, source.fps, source.description, truth, "talking head")
-
-
-def file_clip(
-    video: Path, description, frames: int, *, name: str | None = None, start: int = 0
-) -> ClipSpec:
-    """`frames` frames of `video` from frame `start`."""
-    from uma.video import VideoFileSource
-
-    source = VideoFileSource(video, max_frames=start + frames)
-    pictures = list(source.frames())[start:]
-    return ClipSpec(name or video.stem, pictures, source.fps, description, None, str(video))
-
-
-def default_clips(frames: int, *, seed: int = 0, start: int = 0) -> list[ClipSpec]:
-    """The talking head, then akiyo and carphone with the shipped clicked points (skipped
-    when ../shared/data is absent), `frames` frames from frame `start` (tuning uses 150)."""
-    from uma.face.clip import describe_clip, load_points
-    from uma.paths import codecs_dir
-
-    clips = [talking_head_clip(frames, seed=seed, start=start)]
-    for name in ("akiyo", "carphone"):
-        points_file = codecs_dir() / "face" / f"{name}.yaml"
-        points = load_points(points_file)
-        video = Path(points.video) if points.video is not None else None
-        if video is None or not video.is_file():
-            continue
-        clips.append(file_clip(video, describe_clip(points), frames, name=name, start=start))
-    return clips
+FULL_FRAME_CODECS = ("h264", "av1", "vp8")  # names in `uma.codecs`
+RING_CHOICE_FRAMES = 25
+MODEL_OWN = (
+    "model's own rendering"  # the first second: the sender's look at the call before it settles
+)
 
 
 def _luma(frame: np.ndarray) -> np.ndarray:
@@ -174,7 +138,7 @@ def run_clip(
     `mbc_refresh_*` displays (`uma.bench.mbc_refresh.RefreshSpec` by name; default
     `DEFAULT_REFRESH`)."""
     from uma.bench.mbc_refresh import refresh_display
-    from uma.bench.mbc_scores import RegionSums, face_box, h264_display
+    from uma.bench.mbc_scores import RegionSums, codec_display, face_box
     from uma.errors import VideoError
     from uma.face.geometry import project
     from uma.fit.mde import mde_px
@@ -236,9 +200,15 @@ def run_clip(
         share = (time.perf_counter() - begin) * 1000.0 / max(len(out.frames), 1)
         for frame, values in out.frames:
             decoded[frame], decode_ms[frame] = values, share
-    h264 = {name: h264_display(clip.frames, clip.fps, rung, delayed=late) for name, rung, late in
-            (("h264_lowest", 0, False), ("h264_second", 1, False),
-             ("h264_lowest_delayed", 0, True), ("h264_second_delayed", 1, True))}  # fmt: skip
+    # Every full-frame codec at the ladder's two lowest rungs, shown at once and on arrival.
+    h264 = {
+        f"{codec}_{rung_name}{'_delayed' if late else ''}": codec_display(
+            clip.frames, clip.fps, rung, codec, delayed=late
+        )
+        for codec in FULL_FRAME_CODECS
+        for rung_name, rung in (("lowest", 0), ("second", 1))
+        for late in (False, True)
+    }
     # The refresh spends the rung's rate minus the plain stream's, both at the clip's own rate.
     refresh = DEFAULT_REFRESH if refresh is None else refresh
     mbc_clip_kbps = sum(p.size_bytes for p in packets) * 8 / (len(lumas) / clip.fps) / 1000.0
@@ -295,6 +265,15 @@ def run_clip(
     rates.update({name: refreshed[name][1] for name in refreshed})
     scored = {name: sums[name].means(rates[name]) for name in displays}
     reinits = [r for r in results[1:] if r.reinitialised]
+    stages = {
+        "track": _median(times["track"]),
+        "light": _median(light_ms),
+        "body": _median(body_ms),
+        "decode_render": _median(render_ms),
+        "refresh": refreshed["mbc_refresh_lowest"][2]["ms_per_frame"]
+        if "mbc_refresh_lowest" in refreshed
+        else None,
+    }
     face_psnr = {d: scored[d]["face"]["psnr_db"] for d in ("unquantised", "quantised")}
     return {
         "frames": len(lumas),
@@ -319,6 +298,12 @@ def run_clip(
         "init_ms_median": _median(times["init"]),
         "light_ms_median": _median(light_ms),
         "body_ms_median": _median(body_ms),
+        # The model path per frame, stage by stage (medians; the refresh's per frame of the
+        # clip at the lowest rung): the engine's tracking, light (its measure against the
+        # mirror, the mirror's only rendering) and body motion, the receiver's decoding and
+        # rendering, the refresh's coding and composition.
+        "stages_ms": stages,
+        "model_path_ms": round(sum(v for v in stages.values() if v is not None), 3),
         "render_ms_median": _median(render_ms),
         # CPU time of this process (time.process_time): on a shared machine, wall clock also
         # counts the time other processes held the cores.
@@ -326,8 +311,11 @@ def run_clip(
         "init_cpu_ms_median": _median(times["init_cpu"]),
         "mde_median_px": round(float(np.median(mde)), 4) if mde else None,
         "mde_p95_px": round(float(np.percentile(mde, 95)), 4) if mde else None,
-        "h264_lowest": {"rung": h264["h264_lowest"][2]},
-        "h264_second": {"rung": h264["h264_second"][2]},
+        **{
+            f"{c}_{r}": {"rung": h264[f"{c}_{r}"][2]}
+            for c in FULL_FRAME_CODECS
+            for r in ("lowest", "second")
+        },  # fmt: skip
         "refresh": {name: refreshed[name][2] for name in refreshed},
         **{region: {d: scored[d][region] for d in displays} for region in REGIONS},
     }
@@ -348,6 +336,9 @@ def run_mbc_bench(
         kept: dict = {}
         middle = len(clip.frames) * 2 // 3
         result = run_clip(clip, seed=seed, keep_frame=middle, kept=kept)
+        # The talking head is the face model's own rendering: it flatters any model codec and
+        # never enters the real clips' summary.
+        result["kind"] = MODEL_OWN if clip.truth is not None else "real clip"
         out["clips"][clip.name] = result
         if kept:
             tails = {
@@ -361,4 +352,5 @@ def run_mbc_bench(
 
         save_side_by_side(picture, rows)
         out["picture"] = str(picture)
+    out["summary_real_clips"] = summarise(out["clips"], MODEL_OWN)
     return out
