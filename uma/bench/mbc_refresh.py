@@ -26,6 +26,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from uma.mbc.refresh_coder import (
+    RefreshCoder,
+    box_corner,
+    even_px,
+    face_box_size,
+    take_refresh,
+)
+
 __all__ = ["RefreshSpec", "DEFAULT_REFRESH", "refresh_display"]
 
 
@@ -58,8 +66,6 @@ DEFAULT_REFRESH = {
     "mbc_refresh_lowest": RefreshSpec(0, 5.0, region="face", face_scale=0.5),
     "mbc_refresh_second": RefreshSpec(1, 25 / 3, region="face", face_scale=0.5),
 }
-_POSITION_BITS = 32  # a face box's position, two 16-bit numbers a unit
-_FEATHER_PX = 8
 
 
 def _size_label(spec: RefreshSpec) -> str:
@@ -68,101 +74,33 @@ def _size_label(spec: RefreshSpec) -> str:
     return "x".join(str(v) for v in spec.size) if spec.size else "rung"
 
 
-def _even(value: float) -> int:
-    return max(2, int(round(value / 2)) * 2)
-
-
-def _face_boxes(clip, results, spec, size):
-    """The face box's size (W, H) and, per frame with a face, its corner (x0, y0), even."""
-    from uma.face.geometry import project
-
-    width, height = size
-    model = clip.description.model
-    first = next(r for r in results if r)
-    extent = np.ptp(project(model, first.params), axis=0) * spec.face_margin
-    box_w, box_h = (min(int(np.ceil(v / 16)) * 16, limit) for v, limit in
-                    zip(extent, (width, height), strict=True))  # fmt: skip
-    corners = {}
-    for index, result in enumerate(results):
-        if result:
-            centre = project(model, result.params).mean(axis=0)
-            x0 = min(max(_even(centre[0] - box_w / 2), 0), width - box_w)
-            y0 = min(max(_even(centre[1] - box_h / 2), 0), height - box_h)
-            corners[index] = (x0, y0)
-    return (box_w, box_h), corners
-
-
-def _crop(frame: np.ndarray, x0: int, y0: int, box_w: int, box_h: int) -> np.ndarray:
-    """The box of a YUV 4:2:0 picture as a YUV 4:2:0 picture (corner and size even)."""
-    from uma.video import split_planes
-
-    y, u, v = split_planes(frame)
-    out = np.empty((box_h * 3 // 2, box_w), np.uint8)
-    out[:box_h] = y[y0 : y0 + box_h, x0 : x0 + box_w]
-    chroma = out[box_h:].reshape(2, box_h // 2, box_w // 2)
-    for plane, source in zip(chroma, (u, v), strict=True):
-        plane[:] = source[y0 // 2 : (y0 + box_h) // 2, x0 // 2 : (x0 + box_w) // 2]
-    return out
-
-
-def _paste(canvas: np.ndarray, patch: np.ndarray, x0: int, y0: int) -> np.ndarray:
-    """`canvas` (YUV 4:2:0) with `patch` (YUV 4:2:0) at (x0, y0), its edge feathered into it
-    over `_FEATHER_PX` so no seam shows where the older picture goes on."""
-    height, width = canvas.shape[0] * 2 // 3, canvas.shape[1]
-    box_h, box_w = patch.shape[0] * 2 // 3, patch.shape[1]
-
-    def ramp(n: int) -> np.ndarray:
-        k = np.arange(n, dtype=np.float32)
-        return np.clip(np.minimum(k + 1, n - k) / _FEATHER_PX, 0.0, 1.0)
-
-    weight = np.outer(ramp(box_h), ramp(box_w))
-    out = canvas.copy()
-    luma = out[:height, x0 : x0 + box_w][y0 : y0 + box_h]
-    luma[:] = np.rint(weight * patch[:box_h] + (1 - weight) * luma)
-    half = weight[0::2, 0::2]
-    chroma = out[height:].reshape(2, height // 2, width // 2)
-    patch_chroma = patch[box_h:].reshape(2, box_h // 2, box_w // 2)
-    for plane, source in zip(chroma, patch_chroma, strict=True):
-        box = plane[y0 // 2 : y0 // 2 + box_h // 2, x0 // 2 : x0 // 2 + box_w // 2]
-        box[:] = np.rint(half * source + (1 - half) * box)
-    return out
-
-
 def _code_refresh(clip, results, spec, budget_kbps, size):
-    """The refresh units and, per unit index, its decoded picture: the whole picture at the
-    source size, or (corner, box picture) for the face region."""
+    """The refresh units and, per unit index, its decoded picture (`RefreshCoder.code`)."""
     from uma.mbc.refresh import RefreshUnit, refresh_frames
-    from uma.video import H264Decoder, H264Encoder, load_ladder, resize_yuv420
+    from uma.video import load_ladder
 
     ladder = load_ladder()
     rung = ladder.rungs[spec.rung_index]
-    width, height = size
+    box, corners = None, {}
     if spec.region == "face":
-        (box_w, box_h), corners = _face_boxes(clip, results, spec, size)
-        coded_w, coded_h = _even(box_w * spec.face_scale), _even(box_h * spec.face_scale)
+        model = clip.description.model
+        box = face_box_size(model, next(r for r in results if r).params, spec.face_margin, size)
+        coded = tuple(even_px(v * spec.face_scale) for v in box)
+        corners = {i: box_corner(model, r.params, box, size) for i, r in enumerate(results) if r}
     else:
-        corners = None
-        coded_w, coded_h = spec.size or (rung.width, rung.height)
+        coded = spec.size or (rung.width, rung.height)
     settings = ladder.encoder.kwargs()
     if spec.vbv_frames is not None:
         settings["vbv_frames"] = spec.vbv_frames
-    encoder = H264Encoder(coded_w, coded_h, spec.refresh_fps, budget_kbps, **settings)
-    decoder = H264Decoder()
+    coder = RefreshCoder(size, coded, spec.refresh_fps, budget_kbps, settings, box)
     units, pictures = [], {}
     for index in refresh_frames(len(clip.frames), clip.fps, spec.refresh_fps):
         if not results[index]:
             continue  # no pose to place the picture with: not coded
-        frame, extra_bits = clip.frames[index], 0
-        if corners is not None:
-            frame, extra_bits = _crop(frame, *corners[index], box_w, box_h), _POSITION_BITS
-        unit = encoder.encode(resize_yuv420(frame, coded_w, coded_h))
-        picture = decoder.decode(unit.data)
+        bits, keyframe, picture = coder.code(clip.frames[index], corners.get(index))
         if picture is not None:
-            if corners is None:
-                pictures[len(units)] = resize_yuv420(picture, width, height)
-            else:
-                pictures[len(units)] = (corners[index], resize_yuv420(picture, box_w, box_h))
-        units.append(RefreshUnit(index, unit.size_bits + extra_bits, unit.is_keyframe))
+            pictures[len(units)] = picture
+        units.append(RefreshUnit(index, bits, keyframe))
     return units, pictures
 
 
@@ -212,15 +150,7 @@ def refresh_display(
 
     def switch(target, k, values):
         """Make unit k's picture `target`'s reference at its frame's decoded pose."""
-        picture, fresh = pictures[k], None
-        params, light = face_units.split(values)
-        if spec.region == "face":  # on the scene as the receiver drew it at that pose
-            (x0, y0), patch = picture
-            drawn = target.render(params, light, face_units.body_of(values))[0]
-            picture = _paste(drawn, patch, x0, y0)
-            fresh = np.zeros((height, width), bool)
-            fresh[y0 : y0 + patch.shape[0] * 2 // 3, x0 : x0 + patch.shape[1]] = True
-        target.set_reference(picture, params, fresh)
+        take_refresh(target, face_units, values, pictures[k])
 
     def nearer(k, index, params):
         """Whether unit k's picture is nearer frame `index`'s luma than the mirror's rendering
