@@ -6,7 +6,7 @@ import pytest
 from uma.face.talking_head import Motion, TalkingHeadSource
 from uma.mbc.errors import SceneError
 from uma.mbc.layers import N_BODY, NO_BODY_MOTION, Plate, body_problem, fill_unknown
-from uma.mbc.scene_render import SceneRenderer
+from uma.mbc.scene_render import HALO_OF_HEAD, SceneRenderer
 
 SIZE = (352, 288)
 
@@ -47,7 +47,7 @@ def _scene_and_person(renderer, background, params, body=None):
 
     width, height = SIZE
     points = renderer.scene.points(params)
-    head, halo, torso, anchor = cut_person(renderer.scene, points, SIZE, 0.12)
+    head, halo, torso, anchor = cut_person(renderer.scene, points, SIZE, HALO_OF_HEAD)
     if body is not None:
         torso = cv2.warpAffine(torso, body_matrix(body, anchor), SIZE, flags=cv2.INTER_NEAREST)
     person = (head | halo | torso) > 0

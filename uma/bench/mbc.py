@@ -65,10 +65,9 @@ DISPLAYS = BASE_DISPLAYS + tuple(DEFAULT_REFRESH)
 REGIONS = ("face", "frame", "model")
 SCALED_FPS = 25.0
 FULL_FRAME_CODECS = ("h264", "av1", "vp8")  # names in `uma.codecs`
-RING_CHOICE_FRAMES = 25
-MODEL_OWN = (
-    "model's own rendering"  # the first second: the sender's look at the call before it settles
-)
+RING_CHOICE_FRAMES = 25  # the first second: the sender's look at the call before it settles
+MODEL_OWN = "model's own rendering"
+LARGEST_MOTION = -1  # `run_clip(keep_frame=)`: keep the frame of the largest head motion
 
 
 def _luma(frame: np.ndarray) -> np.ndarray:
@@ -96,6 +95,15 @@ def _track(clip: ClipSpec, lumas: list[np.ndarray], seed: int, tracker_config):
         times[kind + "_cpu"].append((time.process_time() - cpu) * 1000.0)
         results.append(result)
     return results, times
+
+
+def _largest_motion(results) -> int:
+    """The frame whose tracked head lies farthest from frame 0's (the first tracked one's)."""
+    tracked = [(i, r.params) for i, r in enumerate(results) if r]
+    if len(tracked) < 2:
+        return len(results) - 1
+    first = tracked[0][1]
+    return max(tracked[1:], key=lambda item: float(np.hypot(*(item[1][:2] - first[:2]))))[0]
 
 
 def _choose_ring(clip: ClipSpec, results) -> float:
@@ -154,6 +162,8 @@ def run_clip(
     lumas = [_luma(f) for f in clip.frames]
     height, width = lumas[0].shape
     results, times = _track(clip, lumas, seed, tracker_config)
+    if keep_frame == LARGEST_MOTION:
+        keep_frame = _largest_motion(results)
     if not any(results):
         reasons = {r.reason.split(": ", 1)[-1] for r in results}
         raise VideoError(
@@ -277,6 +287,7 @@ def run_clip(
     face_psnr = {d: scored[d]["face"]["psnr_db"] for d in ("unquantised", "quantised")}
     return {
         "frames": len(lumas),
+        "kept_frame": keep_frame,
         "size": f"{width}x{height}",
         "fps": round(clip.fps, 3),
         "reference": reference,
@@ -324,7 +335,8 @@ def run_clip(
 def run_mbc_bench(
     clips: list[ClipSpec], *, seed: int = 0, progress=None, picture: Path | None = None
 ) -> dict[str, Any]:
-    """Every clip's scores; with `picture`, the side-by-side PNG of each clip's middle frame."""
+    """Every clip's scores; with `picture`, the side-by-side PNG of each clip at its largest
+    head motion (the tracked head farthest from frame 0's)."""
     from uma.metrics.quality import keep_freed_memory
 
     keep_freed_memory()
@@ -334,8 +346,7 @@ def run_mbc_bench(
         if progress is not None:
             progress(clip.name)
         kept: dict = {}
-        middle = len(clip.frames) * 2 // 3
-        result = run_clip(clip, seed=seed, keep_frame=middle, kept=kept)
+        result = run_clip(clip, seed=seed, keep_frame=LARGEST_MOTION, kept=kept)
         # The talking head is the face model's own rendering: it flatters any model codec and
         # never enters the real clips' summary.
         result["kind"] = MODEL_OWN if clip.truth is not None else "real clip"
@@ -343,10 +354,10 @@ def run_mbc_bench(
         if kept:
             tails = {
                 d: f"{result['face'][d]['kbps']:.1f} kbit/s"
-                for d in ("quantised", "mbc_refresh_lowest", "h264_lowest")
+                for d in ("quantised", "mbc_refresh_lowest", "h264_lowest", "av1_lowest")
                 if d in result["face"]
             }
-            rows.append((f"{clip.name} #{middle}", kept, tails))
+            rows.append((f"{clip.name} #{result['kept_frame']}", kept, tails))
     if picture is not None and rows:
         from uma.bench.mbc_picture import save_side_by_side
 
