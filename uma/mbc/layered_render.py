@@ -19,6 +19,11 @@ from uma.mbc.layers import NO_BODY_MOTION, body_matrix, head_ring_points, rigid_
 __all__ = ["compose_layers", "chroma_matrix"]
 
 _GAP_KERNEL = np.ones((3, 3), np.uint8)
+# The head's edge fades into what lies under it over about this many pixels, fully once the
+# head has moved FEATHER_FULL_PX from the reference (not at all at the reference's pose: the
+# identity returns the reference).
+FEATHER_SIGMA_PX = 1.5
+FEATHER_FULL_PX = 2.0
 
 
 def chroma_matrix(matrix: np.ndarray) -> np.ndarray:
@@ -95,12 +100,20 @@ def compose_layers(renderer, params: np.ndarray, body: np.ndarray | None):
     halo = cv2.dilate(halo | head, _GAP_KERNEL) & (1 - head)
     torso &= 1 - (halo | head)
     luma = out[:height]
-    layers = [(torso, torso_forward), (halo, head_forward)]
-    for mask, matrix in layers:
+    chroma = out[height:].reshape(2, height // 2, width // 2)
+    under, plate = None, None
+    moved = _head_moved_px(renderer, target)
+    body_moved = 0.0 if body is None else float(np.hypot(body[0], body[1]) + 100 * abs(body[2]))
+    for mask, matrix in [(torso, torso_forward), (halo, head_forward)]:
+        if mask is torso and body_moved > 0:
+            plate = out.copy()  # the torso's edge fades into the plate
+        if mask is halo:
+            if plate is not None:
+                _feather(out, plate, torso.view(bool), min(body_moved / FEATHER_FULL_PX, 1.0))
+            if moved > 0:
+                under = out.copy()  # what lies under the head: the seam fades into it
         drawn = cv2.warpAffine(reference[:height], matrix, size, flags=linear, borderMode=edge)
         np.copyto(luma, drawn, where=mask.view(bool))
-    chroma = out[height:].reshape(2, height // 2, width // 2)
-    for mask, matrix in layers:
         at = (mask[0::2, 0::2] | mask[1::2, 1::2]).view(bool)
         for plane, source in zip(chroma, (renderer._u, renderer._v), strict=True):
             drawn = cv2.warpAffine(source, chroma_matrix(matrix), half, flags=linear,
@@ -116,4 +129,29 @@ def compose_layers(renderer, params: np.ndarray, body: np.ndarray | None):
         for plane, source in zip(chroma, (renderer._u, renderer._v), strict=True):
             drawn = cv2.remap(source, cx, cy, linear, borderMode=edge)
             np.copyto(plane[y0 // 2 : y1 // 2, x0 // 2 : x1 // 2], drawn, where=at)
+    if under is not None:
+        _feather(out, under, (halo | head).view(bool), min(moved / FEATHER_FULL_PX, 1.0))
     return out, face
+
+
+def _head_moved_px(renderer, target: np.ndarray) -> float:
+    """How far the head ring moved from the reference (the farthest point, pixels)."""
+    ring = head_ring_points(renderer.scene, target)
+    return float(np.max(np.hypot(*(ring - renderer._reference_ring).T)))
+
+
+def _feather(out: np.ndarray, under: np.ndarray, mask: np.ndarray, strength: float) -> None:
+    """Fade the edge of the head and its halo (`mask`) in `out` into `under` over about
+    `FEATHER_SIGMA_PX`, by `strength` (0: a hard edge, as when the head has not moved)."""
+    import cv2
+
+    height = mask.shape[0]
+    inner = cv2.GaussianBlur(mask.astype(np.float32), (0, 0), FEATHER_SIGMA_PX)
+    keep = 1.0 - strength * (1.0 - inner)
+    keep[~mask] = 1.0
+    for rows, weight in ((slice(0, height), keep), (slice(height, None), None)):
+        if weight is None:
+            half = keep[0::2, 0::2]
+            weight = np.concatenate([half, half]).reshape(-1, out.shape[1])
+        top, bottom = out[rows].astype(np.float32), under[rows].astype(np.float32)
+        out[rows] = np.clip(np.rint(bottom + weight * (top - bottom)), 0, 255)
