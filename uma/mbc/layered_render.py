@@ -108,8 +108,9 @@ def compose_layers(renderer, params: np.ndarray, body: np.ndarray | None):
         if mask is torso and body_moved > 0:
             plate = out.copy()  # the torso's edge fades into the plate
         if mask is halo:
-            if plate is not None:
-                _feather(out, plate, torso.view(bool), min(body_moved / FEATHER_FULL_PX, 1.0))
+            if plate is not None:  # the torso's outer edge only: it meets the head inside
+                strength = min(body_moved / FEATHER_FULL_PX, 1.0)
+                _feather(out, plate, torso.view(bool), strength, (torso | halo | head).view(bool))
             if moved > 0:
                 under = out.copy()  # what lies under the head: the seam fades into it
         drawn = cv2.warpAffine(reference[:height], matrix, size, flags=linear, borderMode=edge)
@@ -140,13 +141,17 @@ def _head_moved_px(renderer, target: np.ndarray) -> float:
     return float(np.max(np.hypot(*(ring - renderer._reference_ring).T)))
 
 
-def _feather(out: np.ndarray, under: np.ndarray, mask: np.ndarray, strength: float) -> None:
-    """Fade the edge of the head and its halo (`mask`) in `out` into `under` over about
-    `FEATHER_SIGMA_PX`, by `strength` (0: a hard edge, as when the head has not moved)."""
+def _feather(
+    out: np.ndarray, under: np.ndarray, mask: np.ndarray, strength: float, solid=None
+) -> None:
+    """Fade the pixels of `mask` in `out` into `under` near the edge of `solid` (default
+    `mask`) over about `FEATHER_SIGMA_PX`, by `strength` (0: a hard edge, as when the layer has
+    not moved)."""
     import cv2
 
     height = mask.shape[0]
-    inner = cv2.GaussianBlur(mask.astype(np.float32), (0, 0), FEATHER_SIGMA_PX)
+    solid = mask if solid is None else solid
+    inner = cv2.GaussianBlur(solid.astype(np.float32), (0, 0), FEATHER_SIGMA_PX)
     keep = 1.0 - strength * (1.0 - inner)
     keep[~mask] = 1.0
     for rows, weight in ((slice(0, height), keep), (slice(height, None), None)):
