@@ -19,9 +19,9 @@ from uma.mbc.layers import NO_BODY_MOTION, body_matrix, head_ring_points, rigid_
 __all__ = ["compose_layers", "chroma_matrix"]
 
 _GAP_KERNEL = np.ones((3, 3), np.uint8)
-# The head's edge fades into what lies under it over about this many pixels, fully once the
-# head has moved FEATHER_FULL_PX from the reference (not at all at the reference's pose: the
-# identity returns the reference).
+# A layer's edge fades over about this many pixels (the head's outward, into the picture moved
+# with it; the torso's into the plate), fully once the layer has moved FEATHER_FULL_PX from the
+# reference (not at all at the reference's pose: the identity returns the reference).
 FEATHER_SIGMA_PX = 1.5
 FEATHER_FULL_PX = 2.0
 
@@ -101,7 +101,7 @@ def compose_layers(renderer, params: np.ndarray, body: np.ndarray | None):
     torso &= 1 - (halo | head)
     luma = out[:height]
     chroma = out[height:].reshape(2, height // 2, width // 2)
-    under, plate = None, None
+    around, plate = None, None
     moved = _head_moved_px(renderer, target)
     body_moved = 0.0 if body is None else float(np.hypot(body[0], body[1]) + 100 * abs(body[2]))
     for mask, matrix in [(torso, torso_forward), (halo, head_forward)]:
@@ -111,15 +111,19 @@ def compose_layers(renderer, params: np.ndarray, body: np.ndarray | None):
             if plate is not None:  # the torso's outer edge only: it meets the head inside
                 strength = min(body_moved / FEATHER_FULL_PX, 1.0)
                 _feather(out, plate, torso.view(bool), strength, (torso | halo | head).view(bool))
-            if moved > 0:
-                under = out.copy()  # what lies under the head: the seam fades into it
+            if moved > 0:  # the picture moved with the head: what the seam fades into
+                around = np.empty_like(out)
         drawn = cv2.warpAffine(reference[:height], matrix, size, flags=linear, borderMode=edge)
         np.copyto(luma, drawn, where=mask.view(bool))
+        if mask is halo and around is not None:
+            around[:height] = drawn
         at = (mask[0::2, 0::2] | mask[1::2, 1::2]).view(bool)
-        for plane, source in zip(chroma, (renderer._u, renderer._v), strict=True):
+        for k, (plane, source) in enumerate(zip(chroma, (renderer._u, renderer._v), strict=True)):
             drawn = cv2.warpAffine(source, chroma_matrix(matrix), half, flags=linear,
                                    borderMode=edge)  # fmt: skip
             np.copyto(plane, drawn, where=at)
+            if mask is halo and around is not None:
+                around[height:].reshape(2, height // 2, width // 2)[k] = drawn
     if box is not None:
         inside = head[y0:y1, x0:x1].view(bool)
         drawn = cv2.remap(reference[:height], map_x, map_y, linear, borderMode=edge)
@@ -130,9 +134,25 @@ def compose_layers(renderer, params: np.ndarray, body: np.ndarray | None):
         for plane, source in zip(chroma, (renderer._u, renderer._v), strict=True):
             drawn = cv2.remap(source, cx, cy, linear, borderMode=edge)
             np.copyto(plane[y0 // 2 : y1 // 2, x0 // 2 : x1 // 2], drawn, where=at)
-    if under is not None:
-        _feather(out, under, (halo | head).view(bool), min(moved / FEATHER_FULL_PX, 1.0))
+    if around is not None:
+        _bleed(out, around, (halo | head).view(bool), min(moved / FEATHER_FULL_PX, 1.0))
     return out, face
+
+
+def _bleed(out: np.ndarray, around: np.ndarray, mask: np.ndarray, strength: float) -> None:
+    """Fade the head's edge outward: the pixels just outside `mask` (the head and its halo)
+    in `out` move toward `around` (the picture moved rigidly with the head) by up to half,
+    over about `FEATHER_SIGMA_PX`, times `strength`; the head's own pixels stay as drawn."""
+    import cv2
+
+    height = mask.shape[0]
+    weight = strength * cv2.GaussianBlur(mask.astype(np.float32), (0, 0), FEATHER_SIGMA_PX)
+    weight[mask] = 0.0
+    half = weight[0::2, 0::2]
+    for rows, w in ((slice(0, height), weight),
+                    (slice(height, None), np.concatenate([half, half]).reshape(-1, out.shape[1]))):  # fmt: skip
+        top, toward = out[rows].astype(np.float32), around[rows].astype(np.float32)
+        out[rows] = np.clip(np.rint(top + w * (toward - top)), 0, 255)
 
 
 def _head_moved_px(renderer, target: np.ndarray) -> float:
