@@ -6,12 +6,14 @@ Units: pixels; pictures are planar YUV 4:2:0 (H * 3 // 2, W) uint8; parameters a
 The reference is a full picture the receiver holds together with the pose the model had on it:
 by default the description's own picture (its texture where it was cut from, mid-grey around
 it), or whatever `set_reference` names later (the last full picture decoded, with the pose the
-engine tracked on it). Every frame the scene mesh of `uma.face.scene` (the face's triangles, a
-head ring that moves rigidly with the head for hair, ears and neck, and a far ring fixed well
-outside the picture) is placed at the reference pose and at the new pose; each pixel takes the
-affine map of the triangle drawn there back into the reference, for luma and chroma alike. The
-displacement fades from the head to the picture's border, so nothing pasted shows a seam, and
-the face keeps the reference's colours.
+engine tracked on it). Layered (the default): every reference is cut into a background plate,
+a torso moved by the body motion and a head moved by the model (`uma.mbc.layers`, drawn by
+`uma.mbc.layered_render`), so the old head is never stretched into the background. Stretched
+(`layered=False`, and the talking head's own scene): the scene mesh of `uma.face.scene` (the
+face's triangles, a head ring that moves rigidly with the head for hair, ears and neck, and a
+far ring fixed well outside the picture) is placed at the reference pose and at the new pose;
+each pixel takes the affine map of the triangle drawn there back into the reference, for luma
+and chroma alike. Either way the face keeps the reference's colours.
 """
 
 from __future__ import annotations
