@@ -66,6 +66,11 @@ def test_body_tracker_measures_a_shifted_torso(head) -> None:
     assert isinstance(body, np.ndarray)
     assert np.allclose(body[:2], (6.0, 4.0), atol=1.0) and abs(body[2]) < 0.02
     assert np.allclose(tracker.measure(renderer, frame[:288])[:2], 0.0, atol=0.5)
+    # A new reference (the shifted picture itself): measured against it, no motion.
+    moved = frame.copy()
+    moved[:288] = shifted
+    renderer.set_reference(moved, head.params_at(0))
+    assert np.allclose(tracker.measure(renderer, shifted)[:2], 0.0, atol=0.5)
     plain = SceneRenderer(head.description, (352, 288), layered=False)
     failure = tracker.measure(plain, frame[:288])
     assert not failure and "no layers" in failure.reason

@@ -54,7 +54,7 @@ class BodyTracker:
     def _prepare(self, renderer) -> None:
         import cv2
 
-        key = (id(renderer.reference), renderer.reference_params.tobytes())
+        key = (id(renderer), renderer.reference_serial)
         if key == self._key:
             return
         height = renderer.size[1]

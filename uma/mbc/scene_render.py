@@ -134,6 +134,7 @@ class SceneRenderer:
             )
         self.reference = np.ascontiguousarray(picture)
         self.reference_params = params.copy()
+        self.reference_serial = getattr(self, "reference_serial", 0) + 1  # one per reference
         self._reference_points = self.scene.points(params)
         if self.layered:
             self._cut_layers(params, fresh)
