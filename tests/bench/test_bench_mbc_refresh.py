@@ -75,7 +75,7 @@ def test_the_encoder_keeps_a_reference_better_than_the_refresh(head_clip) -> Non
 
 
 def test_a_face_box_pasted_back_on_its_own_picture_changes_nothing_and_is_feathered() -> None:
-    from uma.bench.mbc_refresh import _crop, _paste
+    from uma.mbc.refresh_coder import _crop, _paste
 
     rng = np.random.default_rng(0)
     frame = rng.integers(0, 255, (96 * 3 // 2, 128), dtype=np.uint8)

@@ -29,8 +29,9 @@ def test_identity_pose_returns_the_reference(still_head) -> None:
 
 def test_ground_truth_reproduces_the_whole_frame(still_head) -> None:
     """With the talking head's own far ring the whole frame comes back within 36 dB; with the
-    receiver's (nearer, so the background stays still, where the talking head drags its
-    background along) within 22 dB (23.9 measured)."""
+    receiver's layered scene (the background stays still and the torso with it, where the
+    talking head drags its whole background along) within 21 dB (21.4 measured; 23.9 with the
+    stretched scene, which drags the background as the talking head does)."""
     import cv2
 
     own = SceneRenderer(still_head.description, (352, 288), talking_head_scene=True)
@@ -41,7 +42,7 @@ def test_ground_truth_reproduces_the_whole_frame(still_head) -> None:
         assert _psnr(picture[:288], frame[:288]) >= 36.0  # luma, whole picture
         assert _psnr(picture[288:], frame[288:]) >= 44.0  # chroma
         picture, _ = receiver.render(still_head.params_at(index))
-        assert _psnr(picture[:288], frame[:288]) >= 22.0
+        assert _psnr(picture[:288], frame[:288]) >= 21.0
 
 
 def test_replaced_reference_is_drawn_from(still_head) -> None:

@@ -23,16 +23,24 @@ pixels. Frame 0, the one the receiver holds in full, is not scored.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from uma.bench.mbc_clips import ClipSpec, default_clips, file_clip, talking_head_clip
 from uma.bench.mbc_refresh import DEFAULT_REFRESH
+from uma.bench.mbc_table import format_table, summarise
 
-__all__ = ["ClipSpec", "run_mbc_bench", "format_table", "default_clips", "DISPLAYS"]
+__all__ = [
+    "ClipSpec",
+    "run_mbc_bench",
+    "format_table",
+    "default_clips",
+    "file_clip",
+    "talking_head_clip",
+    "DISPLAYS",
+]
 
 BASE_DISPLAYS = (
     "unquantised",
@@ -42,68 +50,24 @@ BASE_DISPLAYS = (
     "h264_second",
     "h264_lowest_delayed",
     "h264_second_delayed",
+    "av1_lowest",
+    "av1_second",
+    "av1_lowest_delayed",
+    "av1_second_delayed",
+    "vp8_lowest",
+    "vp8_second",
+    "vp8_lowest_delayed",
+    "vp8_second_delayed",
     "other_reference",
     "description_face",
 )
 DISPLAYS = BASE_DISPLAYS + tuple(DEFAULT_REFRESH)
 REGIONS = ("face", "frame", "model")
 SCALED_FPS = 25.0
+FULL_FRAME_CODECS = ("h264", "av1", "vp8")  # names in `uma.codecs`
 RING_CHOICE_FRAMES = 25  # the first second: the sender's look at the call before it settles
-
-
-@dataclass(frozen=True, eq=False)
-class ClipSpec:
-    """A clip to code: YUV 4:2:0 frames, its rate, the description, ground truth if any."""
-
-    name: str
-    frames: list[np.ndarray]
-    fps: float
-    description: Any  # ContentDescription
-    truth: Callable[[int], np.ndarray] | None = None
-    where: str = ""
-
-
-def talking_head_clip(frames: int, *, seed: int = 0, start: int = 0) -> ClipSpec:
-    import cv2
-
-    from uma.face.talking_head import TalkingHeadSource
-
-    source = TalkingHeadSource(352, 288, seed=seed)
-    noise = np.random.default_rng(seed)
-    yuv = [
-        cv2.cvtColor(source.render_bgr(i, rng=noise), cv2.COLOR_BGR2YUV_I420)
-        for i in range(start, start + frames)
-    ]
-    truth = source.params_at if not start else (lambda i: source.params_at(i + start))
-    return ClipSpec("talking-head", yuv, source.fps, source.description, truth, "talking head")
-
-
-def file_clip(
-    video: Path, description, frames: int, *, name: str | None = None, start: int = 0
-) -> ClipSpec:
-    """`frames` frames of `video` from frame `start`."""
-    from uma.video import VideoFileSource
-
-    source = VideoFileSource(video, max_frames=start + frames)
-    pictures = list(source.frames())[start:]
-    return ClipSpec(name or video.stem, pictures, source.fps, description, None, str(video))
-
-
-def default_clips(frames: int, *, seed: int = 0, start: int = 0) -> list[ClipSpec]:
-    """The talking head, then akiyo and carphone with the shipped clicked points (skipped
-    when ../shared/data is absent), `frames` frames from frame `start` (tuning uses 150)."""
-    from uma.face.clip import describe_clip, load_points
-    from uma.paths import codecs_dir
-
-    clips = [talking_head_clip(frames, seed=seed, start=start)]
-    for name in ("akiyo", "carphone"):
-        points_file = codecs_dir() / "face" / f"{name}.yaml"
-        points = load_points(points_file)
-        video = Path(points.video) if points.video is not None else None
-        if video is None or not video.is_file():
-            continue
-        clips.append(file_clip(video, describe_clip(points), frames, name=name, start=start))
-    return clips
+MODEL_OWN = "model's own rendering"
+LARGEST_MOTION = -1  # `run_clip(keep_frame=)`: keep the frame of the largest head motion
 
 
 def _luma(frame: np.ndarray) -> np.ndarray:
@@ -131,6 +95,15 @@ def _track(clip: ClipSpec, lumas: list[np.ndarray], seed: int, tracker_config):
         times[kind + "_cpu"].append((time.process_time() - cpu) * 1000.0)
         results.append(result)
     return results, times
+
+
+def _largest_motion(results) -> int:
+    """The frame whose tracked head lies farthest from frame 0's (the first tracked one's)."""
+    tracked = [(i, r.params) for i, r in enumerate(results) if r]
+    if len(tracked) < 2:
+        return len(results) - 1
+    first = tracked[0][1]
+    return max(tracked[1:], key=lambda item: float(np.hypot(*(item[1][:2] - first[:2]))))[0]
 
 
 def _choose_ring(clip: ClipSpec, results) -> float:
@@ -173,10 +146,11 @@ def run_clip(
     `mbc_refresh_*` displays (`uma.bench.mbc_refresh.RefreshSpec` by name; default
     `DEFAULT_REFRESH`)."""
     from uma.bench.mbc_refresh import refresh_display
-    from uma.bench.mbc_scores import RegionSums, face_box, h264_display
+    from uma.bench.mbc_scores import RegionSums, codec_display, face_box
     from uma.errors import VideoError
     from uma.face.geometry import project
     from uma.fit.mde import mde_px
+    from uma.mbc.body import BodyTracker
     from uma.mbc.decoder import ParameterDecoder
     from uma.mbc.light import measure_light
     from uma.mbc.packets import IP_UDP_RTP_BYTES
@@ -188,6 +162,8 @@ def run_clip(
     lumas = [_luma(f) for f in clip.frames]
     height, width = lumas[0].shape
     results, times = _track(clip, lumas, seed, tracker_config)
+    if keep_frame == LARGEST_MOTION:
+        keep_frame = _largest_motion(results)
     if not any(results):
         reasons = {r.reason.split(": ", 1)[-1] for r in results}
         raise VideoError(
@@ -195,7 +171,7 @@ def run_clip(
             f"({'; '.join(sorted(reasons)[:2])})"
         )
     # The encoder's mirror of the receiver: its light is measured against what it will show.
-    units = FaceUnits.of(description.model, description.params, light=True)
+    units = FaceUnits.of(description.model, description.params, light=True, body=True)
     encoder = ParameterEncoder(units, stream_config)
     ring = _choose_ring(clip, results)
     mirror = _renderer(clip, reference, results[0], (width, height), ring)
@@ -205,14 +181,22 @@ def run_clip(
     mixed = _renderer(clip, "picture", results[0], (width, height), ring)
     mixed.set_face_source(True)
     lights, other_lights, mixed_lights, light_ms, packets = {}, {}, {}, [], []
+    bodies, body_ms, body_tracker = {}, [], BodyTracker()
     for index, result in enumerate(results):
         if result:
             begin = time.perf_counter()
             lights[index] = measure_light(mirror, lumas[index], result.params)
             light_ms.append((time.perf_counter() - begin) * 1000.0)
+            begin = time.perf_counter()
+            body_tracker.measure(mirror, lumas[index])  # a failure sends the last good one
+            bodies[index] = body_tracker.last
+            body_ms.append((time.perf_counter() - begin) * 1000.0)
             other_lights[index] = measure_light(other, lumas[index], result.params)
             mixed_lights[index] = measure_light(mixed, lumas[index], result.params)
-        packets += encoder.push(index, np.append(result.params, lights[index]) if result else None)
+        values = None
+        if result:
+            values = np.concatenate([result.params, bodies[index], lights[index]])
+        packets += encoder.push(index, values)
     packets += encoder.flush()
     # The receiver: decode every packet in order, render each frame at the newest parameters.
     decoder = ParameterDecoder(units, stream_config)
@@ -226,9 +210,15 @@ def run_clip(
         share = (time.perf_counter() - begin) * 1000.0 / max(len(out.frames), 1)
         for frame, values in out.frames:
             decoded[frame], decode_ms[frame] = values, share
-    h264 = {name: h264_display(clip.frames, clip.fps, rung, delayed=late) for name, rung, late in
-            (("h264_lowest", 0, False), ("h264_second", 1, False),
-             ("h264_lowest_delayed", 0, True), ("h264_second_delayed", 1, True))}  # fmt: skip
+    # Every full-frame codec at the ladder's two lowest rungs, shown at once and on arrival.
+    h264 = {
+        f"{codec}_{rung_name}{'_delayed' if late else ''}": codec_display(
+            clip.frames, clip.fps, rung, codec, delayed=late
+        )
+        for codec in FULL_FRAME_CODECS
+        for rung_name, rung in (("lowest", 0), ("second", 1))
+        for late in (False, True)
+    }
     # The refresh spends the rung's rate minus the plain stream's, both at the clip's own rate.
     refresh = DEFAULT_REFRESH if refresh is None else refresh
     mbc_clip_kbps = sum(p.size_bytes for p in packets) * 8 / (len(lumas) / clip.fps) / 1000.0
@@ -247,14 +237,17 @@ def run_clip(
     for index in range(len(lumas)):
         result = results[index]
         if result:  # no face: the last good picture stays (no mask in the wrong place)
-            shown["unquantised"], model_mask = receiver.render(result.params, lights[index])
+            shown["unquantised"], model_mask = receiver.render(
+                result.params, lights[index], bodies[index]
+            )
         if index in decoded:
             begin = time.perf_counter()
             params, light = units.split(decoded[index])
-            shown["quantised"], _ = receiver.render(params, light)
+            body = units.body_of(decoded[index])
+            shown["quantised"], _ = receiver.render(params, light, body)
             render_ms.append(decode_ms[index] + (time.perf_counter() - begin) * 1000.0)
             shown["other_reference"], _ = other.render(params, other_lights[index])
-            shown["description_face"], _ = mixed.render(params, mixed_lights[index])
+            shown["description_face"], _ = mixed.render(params, mixed_lights[index], body)
         truth_points = None
         if clip.truth is not None:
             truth = clip.truth(index)
@@ -282,9 +275,19 @@ def run_clip(
     rates.update({name: refreshed[name][1] for name in refreshed})
     scored = {name: sums[name].means(rates[name]) for name in displays}
     reinits = [r for r in results[1:] if r.reinitialised]
+    stages = {
+        "track": _median(times["track"]),
+        "light": _median(light_ms),
+        "body": _median(body_ms),
+        "decode_render": _median(render_ms),
+        "refresh": refreshed["mbc_refresh_lowest"][2]["ms_per_frame"]
+        if "mbc_refresh_lowest" in refreshed
+        else None,
+    }
     face_psnr = {d: scored[d]["face"]["psnr_db"] for d in ("unquantised", "quantised")}
     return {
         "frames": len(lumas),
+        "kept_frame": keep_frame,
         "size": f"{width}x{height}",
         "fps": round(clip.fps, 3),
         "reference": reference,
@@ -305,6 +308,13 @@ def run_clip(
         "track_ms_median": _median(times["track"]),
         "init_ms_median": _median(times["init"]),
         "light_ms_median": _median(light_ms),
+        "body_ms_median": _median(body_ms),
+        # The model path per frame, stage by stage (medians; the refresh's per frame of the
+        # clip at the lowest rung): the engine's tracking, light (its measure against the
+        # mirror, the mirror's only rendering) and body motion, the receiver's decoding and
+        # rendering, the refresh's coding and composition.
+        "stages_ms": stages,
+        "model_path_ms": round(sum(v for v in stages.values() if v is not None), 3),
         "render_ms_median": _median(render_ms),
         # CPU time of this process (time.process_time): on a shared machine, wall clock also
         # counts the time other processes held the cores.
@@ -312,8 +322,11 @@ def run_clip(
         "init_cpu_ms_median": _median(times["init_cpu"]),
         "mde_median_px": round(float(np.median(mde)), 4) if mde else None,
         "mde_p95_px": round(float(np.percentile(mde, 95)), 4) if mde else None,
-        "h264_lowest": {"rung": h264["h264_lowest"][2]},
-        "h264_second": {"rung": h264["h264_second"][2]},
+        **{
+            f"{c}_{r}": {"rung": h264[f"{c}_{r}"][2]}
+            for c in FULL_FRAME_CODECS
+            for r in ("lowest", "second")
+        },  # fmt: skip
         "refresh": {name: refreshed[name][2] for name in refreshed},
         **{region: {d: scored[d][region] for d in displays} for region in REGIONS},
     }
@@ -322,7 +335,8 @@ def run_clip(
 def run_mbc_bench(
     clips: list[ClipSpec], *, seed: int = 0, progress=None, picture: Path | None = None
 ) -> dict[str, Any]:
-    """Every clip's scores; with `picture`, the side-by-side PNG of each clip's middle frame."""
+    """Every clip's scores; with `picture`, the side-by-side PNG of each clip at its largest
+    head motion (the tracked head farthest from frame 0's)."""
     from uma.metrics.quality import keep_freed_memory
 
     keep_freed_memory()
@@ -332,58 +346,22 @@ def run_mbc_bench(
         if progress is not None:
             progress(clip.name)
         kept: dict = {}
-        middle = len(clip.frames) * 2 // 3
-        result = run_clip(clip, seed=seed, keep_frame=middle, kept=kept)
+        result = run_clip(clip, seed=seed, keep_frame=LARGEST_MOTION, kept=kept)
+        # The talking head is the face model's own rendering: it flatters any model codec and
+        # never enters the real clips' summary.
+        result["kind"] = MODEL_OWN if clip.truth is not None else "real clip"
         out["clips"][clip.name] = result
         if kept:
             tails = {
                 d: f"{result['face'][d]['kbps']:.1f} kbit/s"
-                for d in ("quantised", "mbc_refresh_lowest", "h264_lowest")
+                for d in ("quantised", "mbc_refresh_lowest", "h264_lowest", "av1_lowest")
                 if d in result["face"]
             }
-            rows.append((f"{clip.name} #{middle}", kept, tails))
+            rows.append((f"{clip.name} #{result['kept_frame']}", kept, tails))
     if picture is not None and rows:
         from uma.bench.mbc_picture import save_side_by_side
 
         save_side_by_side(picture, rows)
         out["picture"] = str(picture)
+    out["summary_real_clips"] = summarise(out["clips"], MODEL_OWN)
     return out
-
-
-def format_table(result: dict[str, Any]) -> str:
-    lines = ["uma bench mbc: model-based codec, payload and wire rates at 25 frames/s", ""]
-    head = (
-        f"  {'clip':<14}{'frames':>7}{'size':>9}{'kbit/s':>8}{'wire':>7}{'loss dB':>8}"
-        f"{'reinits':>8}{'track ms':>9}{'light ms':>9}{'init ms':>8}{'render ms':>10}"
-        f"{'MDE px':>8}{'p95':>7}"
-    )
-    lines.append(head)
-
-    def num(value, fmt):
-        return "-" if value is None else format(value, fmt)
-
-    for name, c in result["clips"].items():
-        lines.append(
-            f"  {name:<14}{c['frames']:>7}{c['size']:>9}{c['rate_kbps']:>8.2f}{c['wire_kbps']:>7.2f}"
-            f"{c['psnr_loss_db']:>8.2f}{c['reinits']:>8}{num(c['track_ms_median'], '.1f'):>9}"
-            f"{num(c['light_ms_median'], '.1f'):>9}{num(c['init_ms_median'], '.0f'):>8}"
-            f"{num(c['render_ms_median'], '.2f'):>10}"
-            f"{num(c['mde_median_px'], '.3f'):>8}{num(c['mde_p95_px'], '.3f'):>7}"
-        )
-    lines += [
-        "",
-        f"  {'clip':<14}{'display':<25}{'kbit/s':>7}  "
-        + "".join(f"{r + ' PSNR':>11}{'SSIM':>7}{'CbCr':>6}" for r in REGIONS),
-    ]
-    for name, c in result["clips"].items():
-        for d in c["face"]:
-            rung = c.get(d.removesuffix("_delayed"), {}).get("rung")
-            label = d if not rung else f"{d} {rung.split()[0]}"
-            kbps = c["face"][d].get("kbps")
-            cells = "".join(
-                f"{c[r][d]['psnr_db']:>11.2f}{c[r][d]['ssim']:>7.3f}"
-                f"{c[r][d]['chroma_psnr_db']:>6.1f}"
-                for r in REGIONS
-            )
-            lines.append(f"  {name:<14}{label:<25}{num(kbps, '.2f'):>7}  {cells}")
-    return "\n".join(lines)

@@ -1,4 +1,4 @@
-"""`uma bench mbc --picture FILE`: source | MBC | MBC + refresh | H.264 alone, side by side.
+"""`uma bench mbc --picture FILE`: source | MBC | MBC + refresh | H.264 | AV1, side by side.
 
 Units: pixels. One row per clip, at one instant (the same frame of each display), each panel
 at the clip's size scaled to a common height, labelled with the display and its payload rate,
@@ -13,12 +13,13 @@ import numpy as np
 
 __all__ = ["PANELS", "side_by_side", "save_side_by_side"]
 
-PANELS = ("source", "quantised", "mbc_refresh_lowest", "h264_lowest")
+PANELS = ("source", "quantised", "mbc_refresh_lowest", "h264_lowest", "av1_lowest")
 _LABELS = {
     "source": "source",
     "quantised": "MBC",
     "mbc_refresh_lowest": "MBC+refresh",
     "h264_lowest": "H.264 alone",
+    "av1_lowest": "AV1 alone",
 }
 ROW_HEIGHT_PX = 288
 

@@ -21,9 +21,18 @@ A refresh frame the tracker found no face on is not coded.
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 
 import numpy as np
+
+from uma.mbc.refresh_coder import (
+    RefreshCoder,
+    box_corner,
+    even_px,
+    face_box_size,
+    take_refresh,
+)
 
 __all__ = ["RefreshSpec", "DEFAULT_REFRESH", "refresh_display"]
 
@@ -57,8 +66,6 @@ DEFAULT_REFRESH = {
     "mbc_refresh_lowest": RefreshSpec(0, 5.0, region="face", face_scale=0.5),
     "mbc_refresh_second": RefreshSpec(1, 25 / 3, region="face", face_scale=0.5),
 }
-_POSITION_BITS = 32  # a face box's position, two 16-bit numbers a unit
-_FEATHER_PX = 8
 
 
 def _size_label(spec: RefreshSpec) -> str:
@@ -67,101 +74,33 @@ def _size_label(spec: RefreshSpec) -> str:
     return "x".join(str(v) for v in spec.size) if spec.size else "rung"
 
 
-def _even(value: float) -> int:
-    return max(2, int(round(value / 2)) * 2)
-
-
-def _face_boxes(clip, results, spec, size):
-    """The face box's size (W, H) and, per frame with a face, its corner (x0, y0), even."""
-    from uma.face.geometry import project
-
-    width, height = size
-    model = clip.description.model
-    first = next(r for r in results if r)
-    extent = np.ptp(project(model, first.params), axis=0) * spec.face_margin
-    box_w, box_h = (min(int(np.ceil(v / 16)) * 16, limit) for v, limit in
-                    zip(extent, (width, height), strict=True))  # fmt: skip
-    corners = {}
-    for index, result in enumerate(results):
-        if result:
-            centre = project(model, result.params).mean(axis=0)
-            x0 = min(max(_even(centre[0] - box_w / 2), 0), width - box_w)
-            y0 = min(max(_even(centre[1] - box_h / 2), 0), height - box_h)
-            corners[index] = (x0, y0)
-    return (box_w, box_h), corners
-
-
-def _crop(frame: np.ndarray, x0: int, y0: int, box_w: int, box_h: int) -> np.ndarray:
-    """The box of a YUV 4:2:0 picture as a YUV 4:2:0 picture (corner and size even)."""
-    from uma.video import split_planes
-
-    y, u, v = split_planes(frame)
-    out = np.empty((box_h * 3 // 2, box_w), np.uint8)
-    out[:box_h] = y[y0 : y0 + box_h, x0 : x0 + box_w]
-    chroma = out[box_h:].reshape(2, box_h // 2, box_w // 2)
-    for plane, source in zip(chroma, (u, v), strict=True):
-        plane[:] = source[y0 // 2 : (y0 + box_h) // 2, x0 // 2 : (x0 + box_w) // 2]
-    return out
-
-
-def _paste(canvas: np.ndarray, patch: np.ndarray, x0: int, y0: int) -> np.ndarray:
-    """`canvas` (YUV 4:2:0) with `patch` (YUV 4:2:0) at (x0, y0), its edge feathered into it
-    over `_FEATHER_PX` so no seam shows where the older picture goes on."""
-    height, width = canvas.shape[0] * 2 // 3, canvas.shape[1]
-    box_h, box_w = patch.shape[0] * 2 // 3, patch.shape[1]
-
-    def ramp(n: int) -> np.ndarray:
-        k = np.arange(n, dtype=np.float32)
-        return np.clip(np.minimum(k + 1, n - k) / _FEATHER_PX, 0.0, 1.0)
-
-    weight = np.outer(ramp(box_h), ramp(box_w))
-    out = canvas.copy()
-    luma = out[:height, x0 : x0 + box_w][y0 : y0 + box_h]
-    luma[:] = np.rint(weight * patch[:box_h] + (1 - weight) * luma)
-    half = weight[0::2, 0::2]
-    chroma = out[height:].reshape(2, height // 2, width // 2)
-    patch_chroma = patch[box_h:].reshape(2, box_h // 2, box_w // 2)
-    for plane, source in zip(chroma, patch_chroma, strict=True):
-        box = plane[y0 // 2 : y0 // 2 + box_h // 2, x0 // 2 : x0 // 2 + box_w // 2]
-        box[:] = np.rint(half * source + (1 - half) * box)
-    return out
-
-
 def _code_refresh(clip, results, spec, budget_kbps, size):
-    """The refresh units and, per unit index, its decoded picture: the whole picture at the
-    source size, or (corner, box picture) for the face region."""
+    """The refresh units and, per unit index, its decoded picture (`RefreshCoder.code`)."""
     from uma.mbc.refresh import RefreshUnit, refresh_frames
-    from uma.video import H264Decoder, H264Encoder, load_ladder, resize_yuv420
+    from uma.video import load_ladder
 
     ladder = load_ladder()
     rung = ladder.rungs[spec.rung_index]
-    width, height = size
+    box, corners = None, {}
     if spec.region == "face":
-        (box_w, box_h), corners = _face_boxes(clip, results, spec, size)
-        coded_w, coded_h = _even(box_w * spec.face_scale), _even(box_h * spec.face_scale)
+        model = clip.description.model
+        box = face_box_size(model, next(r for r in results if r).params, spec.face_margin, size)
+        coded = tuple(even_px(v * spec.face_scale) for v in box)
+        corners = {i: box_corner(model, r.params, box, size) for i, r in enumerate(results) if r}
     else:
-        corners = None
-        coded_w, coded_h = spec.size or (rung.width, rung.height)
+        coded = spec.size or (rung.width, rung.height)
     settings = ladder.encoder.kwargs()
     if spec.vbv_frames is not None:
         settings["vbv_frames"] = spec.vbv_frames
-    encoder = H264Encoder(coded_w, coded_h, spec.refresh_fps, budget_kbps, **settings)
-    decoder = H264Decoder()
+    coder = RefreshCoder(size, coded, spec.refresh_fps, budget_kbps, settings, box)
     units, pictures = [], {}
     for index in refresh_frames(len(clip.frames), clip.fps, spec.refresh_fps):
         if not results[index]:
             continue  # no pose to place the picture with: not coded
-        frame, extra_bits = clip.frames[index], 0
-        if corners is not None:
-            frame, extra_bits = _crop(frame, *corners[index], box_w, box_h), _POSITION_BITS
-        unit = encoder.encode(resize_yuv420(frame, coded_w, coded_h))
-        picture = decoder.decode(unit.data)
+        bits, keyframe, picture = coder.code(clip.frames[index], corners.get(index))
         if picture is not None:
-            if corners is None:
-                pictures[len(units)] = resize_yuv420(picture, width, height)
-            else:
-                pictures[len(units)] = (corners[index], resize_yuv420(picture, box_w, box_h))
-        units.append(RefreshUnit(index, unit.size_bits + extra_bits, unit.is_keyframe))
+            pictures[len(units)] = picture
+        units.append(RefreshUnit(index, bits, keyframe))
     return units, pictures
 
 
@@ -180,6 +119,7 @@ def refresh_display(
     rate, `head_ring` the receiver's (`SceneRenderer`). With nothing left of the rung's rate
     it is the plain MBC (no refresh unit)."""
     from uma.errors import ConfigError
+    from uma.mbc.body import BodyTracker
     from uma.mbc.decoder import ParameterDecoder
     from uma.mbc.light import measure_light
     from uma.mbc.refresh import schedule_refresh
@@ -193,8 +133,10 @@ def refresh_display(
     height, width = frames[0].shape[0] * 2 // 3, frames[0].shape[1]
     budget_kbps = load_ladder().rungs[spec.rung_index].rate_kbps - mbc_kbps
     units, pictures = [], {}
+    begin = time.perf_counter()
     if budget_kbps > 1.0:  # libx264 takes whole kbit/s
         units, pictures = _code_refresh(clip, results, spec, budget_kbps, (width, height))
+    coding_s = time.perf_counter() - begin
     schedule = schedule_refresh(
         units, len(frames), clip.fps, max(budget_kbps, 1e-9), latency_s=spec.latency_s
     )
@@ -206,13 +148,9 @@ def refresh_display(
         out.set_face_source(spec.description_face)
         return out
 
-    def switch(target, k, params, light):
-        """Make unit k's picture `target`'s reference at `params` (its frame's decoded pose)."""
-        picture = pictures[k]
-        if spec.region == "face":  # on the scene as the receiver drew it at that pose
-            (x0, y0), patch = picture
-            picture = _paste(target.render(params, light)[0], patch, x0, y0)
-        target.set_reference(picture, params)
+    def switch(target, k, values):
+        """Make unit k's picture `target`'s reference at its frame's decoded pose."""
+        take_refresh(target, face_units, values, pictures[k])
 
     def nearer(k, index, params):
         """Whether unit k's picture is nearer frame `index`'s luma than the mirror's rendering
@@ -232,6 +170,7 @@ def refresh_display(
     # The encoder's mirror: a unit serves once it has arrived and its frame's pose is decoded.
     unit_at = {unit.frame: k for k, unit in enumerate(units)}
     mirror, current, switches, packets, adopted = renderer(), -1, {}, [], set()
+    body_tracker = BodyTracker()
     encoder = ParameterEncoder(face_units, stream_config)
     decoder = ParameterDecoder(face_units, stream_config)
     decoded: dict[int, np.ndarray] = {}
@@ -244,25 +183,32 @@ def refresh_display(
             k -= 1  # not adopted, or not decoded (yet): the newest usable one before it
         if k > current:
             switches[index] = (k, decoded[units[k].frame])
-            switch(mirror, k, *face_units.split(decoded[units[k].frame]))
+            switch(mirror, k, decoded[units[k].frame])
             current = k
         values = None
         if result:
             light = measure_light(mirror, frames[index][:height], result.params)
-            values = np.append(result.params, light)
+            body = None
+            if face_units.body:
+                body_tracker.measure(mirror, frames[index][:height])
+                body = body_tracker.last
+            values = np.concatenate([result.params, [] if body is None else body, light])
         out = encoder.push(index, values)
         out += encoder.flush() if index == len(results) - 1 else []
         for packet in out:
             decoded.update(decoder.decode(packet.to_bytes()).frames)
         packets += out
     receiver, shown, last = renderer(), [], frames[0]
+    switch_s = 0.0
     for index in range(len(frames)):
         if index in switches:
             k, values = switches[index]
-            switch(receiver, k, *face_units.split(values))
+            begin = time.perf_counter()
+            switch(receiver, k, values)
+            switch_s += time.perf_counter() - begin
         if index in decoded:
             params, light = face_units.split(decoded[index])
-            last, _ = receiver.render(params, light)
+            last, _ = receiver.render(params, light, face_units.body_of(decoded[index]))
         shown.append(last)
     seconds = len(frames) / clip.fps
     params_kbps = sum(p.size_bytes for p in packets) * 8 / seconds / 1000.0
@@ -283,5 +229,8 @@ def refresh_display(
         "served": len(served),
         "delay_frames_median": float(np.median(delays)) if delays else None,
         "delay_frames_max": int(max(delays)) if delays else None,
+        # Encoding and decoding the refresh pictures, and the receiver's taking them (the
+        # composition), per frame of the clip: the model path's refresh share.
+        "ms_per_frame": round((coding_s + switch_s) * 1000.0 / len(frames), 3),
     }
     return shown, params_kbps + refresh_kbps, info

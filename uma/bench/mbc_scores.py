@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["RegionSums", "h264_display", "face_box", "REGIONS"]
+__all__ = ["RegionSums", "h264_display", "codec_display", "face_box", "REGIONS"]
 
 REGIONS = ("face", "frame", "model")
 
@@ -24,21 +24,35 @@ REGIONS = ("face", "frame", "model")
 def h264_display(
     frames: list[np.ndarray], fps: float, rung_index: int, *, delayed: bool = False
 ) -> tuple[list[np.ndarray], float, str]:
-    """The ladder rung's display at the source size (YUV 4:2:0), its rate (kbit/s), label.
-    `delayed`: each picture shows from the first frame after its bits arrive over a channel
-    of the rung's rate (`uma.mbc.refresh`, as the refresh's pictures), frame 0 until then."""
-    from uma.mbc.refresh import RefreshUnit, schedule_refresh
-    from uma.video import H264Decoder, H264Encoder, load_ladder, resize_yuv420
+    """H.264's display at a rung of its ladder (`codec_display`)."""
+    return codec_display(frames, fps, rung_index, "h264", delayed=delayed)
 
-    ladder = load_ladder()
+
+def codec_display(
+    frames: list[np.ndarray], fps: float, rung_index: int, codec: str, *, delayed: bool = False
+) -> tuple[list[np.ndarray], float, str]:
+    """A full-frame codec's display (looked up in `uma.codecs`: its ladder file's encoder
+    settings, its `uma.video` classes) at the size, frame rate and rate of the codec's own
+    ladder rung `rung_index` (every ladder has H.264's rungs), at the source size (YUV 4:2:0),
+    its measured rate (kbit/s) and label. `delayed`: each picture shows from the first frame
+    after its bits arrive over a channel of the rung's rate (`uma.mbc.refresh`, as the
+    refresh's pictures), frame 0 until then."""
+    import uma.video
+    from uma.codecs import spec
+    from uma.mbc.refresh import RefreshUnit, schedule_refresh
+    from uma.paths import codecs_dir
+    from uma.video import load_ladder, resize_yuv420
+
+    traits = spec(codec)
+    ladder = load_ladder(codecs_dir() / traits.ladder)
     rung = ladder.rungs[rung_index]
     height = frames[0].shape[0] * 2 // 3
     width = frames[0].shape[1]
     step = max(1, int(round(fps / rung.fps)))
-    encoder = H264Encoder(
+    encoder = getattr(uma.video, traits.video_encoder)(
         rung.width, rung.height, rung.fps, rung.rate_kbps, **ladder.encoder.kwargs()
     )
-    decoder = H264Decoder()
+    decoder = getattr(uma.video, traits.video_decoder)()
     grey = np.full((height * 3 // 2, width), 128, np.uint8)
     shown, bits, last, units, pictures = [], 0, None, [], []
     for index, frame in enumerate(frames):

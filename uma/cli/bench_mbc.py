@@ -21,7 +21,15 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--video: the built-in talking head (with ground truth), akiyo and carphone (with the "
         "clicked points shipped in codecs/face/).",
     )
-    parser.add_argument("--video", metavar="FILE", help="a clip any PyAV reads (needs --face)")
+    parser.add_argument(
+        "--video",
+        metavar="FILE",
+        help="a clip any PyAV reads, or raw YUV 4:2:0 (.yuv, with --size) (needs --face)",
+    )
+    parser.add_argument("--size", metavar="WxH", help="a .yuv clip's frame size, e.g. 176x144")
+    parser.add_argument(
+        "--fps", type=float, default=25.0, help="a .yuv clip's frame rate (default 25)"
+    )
     parser.add_argument(
         "--face", metavar="DESCRIPTION.face", help="its content description (uma describe)"
     )
@@ -56,7 +64,12 @@ def handle(args: argparse.Namespace) -> int:
         video = Path(args.video)
         description = load_description(args.face)
         check_description(description, where=args.face)
-        clips = [file_clip(video, description, args.frames)]
+        if video.suffix.lower() == ".yuv":
+            from uma.bench.mbc_clips import yuv_clip
+
+            clips = [yuv_clip(video, _size(args.size), args.fps, description, args.frames)]
+        else:
+            clips = [file_clip(video, description, args.frames)]
     else:
         clips = default_clips(args.frames, seed=args.seed)
     quiet = args.quiet or args.json or not sys.stderr.isatty()
@@ -71,3 +84,18 @@ def handle(args: argparse.Namespace) -> int:
     result = run_mbc_bench(clips, seed=args.seed, progress=progress, picture=picture)
     emit(result, format_table(result), as_json=args.json)
     return 0
+
+
+def _size(text: str | None) -> tuple[int, int]:
+    """--size WxH as (W, H): even and positive, else a `ConfigError` naming it."""
+    from uma.errors import ConfigError
+
+    try:
+        width, height = (int(v) for v in (text or "").lower().split("x"))
+    except ValueError:
+        raise ConfigError(
+            f"--size: expected WxH for a .yuv clip (e.g. 176x144), got {text!r}"
+        ) from None
+    if width <= 0 or height <= 0 or width % 2 or height % 2:
+        raise ConfigError(f"--size: expected an even positive size, got {text!r}")
+    return width, height

@@ -4,10 +4,14 @@ Pure library (no SimPy, no clock). `FaceTracker` (encoder.py) initialises and tr
 `ParameterEncoder` (stream.py) quantises in face animation units (units.py, quant.py),
 range-codes (coding.py, constriction, imported when coding) and packs (packets.py);
 `ParameterDecoder` and `FaceRenderer` (decoder.py) turn packets back into pictures;
-`SceneRenderer` (scene_render.py) warps a whole reference picture in colour with the model;
-`schedule_refresh` (refresh.py) says which refresh picture it warps on which frame.
+`SceneRenderer` (scene_render.py) draws the receiver's layered scene in colour: a background
+plate, the torso moved by the body motion, the head by the model (layers.py,
+layered_render.py); `BodyTracker` (body.py) measures the body motion at the engine;
+`RefreshCoder` and `take_refresh` (refresh_coder.py) code a refresh and make it the reference
+at both ends; `schedule_refresh` (refresh.py) says which refresh picture serves which frame.
 """
 
+from uma.mbc.body import BodyFailure, BodyTracker
 from uma.mbc.coding import AdaptiveModels, CoderConfig, decode_sets, encode_sets
 from uma.mbc.decoder import Decoded, DecodeEvent, FaceRenderer, ParameterDecoder
 from uma.mbc.encoder import FaceTracker, TrackerConfig, TrackFailure, TrackResult
@@ -16,6 +20,7 @@ from uma.mbc.light import choose_head_ring
 from uma.mbc.packets import IP_UDP_RTP_BYTES, Packet, parse_packet
 from uma.mbc.quant import Quantiser, QuantiserConfig
 from uma.mbc.refresh import RefreshSchedule, RefreshUnit, refresh_frames, schedule_refresh
+from uma.mbc.refresh_coder import RefreshCoder, take_refresh
 from uma.mbc.scene_render import SceneRenderer, description_reference
 from uma.mbc.stream import ParameterEncoder, StreamConfig
 from uma.mbc.units import FaceUnits
@@ -50,4 +55,8 @@ __all__ = [
     "RefreshSchedule",
     "refresh_frames",
     "schedule_refresh",
+    "BodyTracker",
+    "BodyFailure",
+    "RefreshCoder",
+    "take_refresh",
 ]

@@ -89,6 +89,11 @@ class ParameterDecoder:
                 f"{where} (seq {packet.seq}): light {'present' if packet.light else 'absent'}, "
                 f"the stream was set up {'with' if self.units.light else 'without'} it"
             )
+        if packet.body != self.units.body:
+            raise PacketError(
+                f"{where} (seq {packet.seq}): body motion {'present' if packet.body else 'absent'},"
+                f" the stream was set up {'with' if self.units.body else 'without'} it"
+            )
         self._expected_seq = (packet.seq + 1) % SEQ_MODULUS
         if not packet.intra:
             if self._reference is not None and packet.first_frame != self._next_frame:
@@ -126,7 +131,9 @@ class ParameterDecoder:
                     f"{where} (seq {packet.seq}): frame {offset} decodes to parameters no face "
                     "has (scale not positive)"
                 )
-            problem = _light_problem(self.units.split(params)[1])
+            problem = _light_problem(self.units.split(params)[1]) or _body_problem(
+                self.units.body_of(params)
+            )
             if problem:
                 self._lose_sync()
                 raise PacketError(f"{where} (seq {packet.seq}): frame {offset}: {problem}")
@@ -135,6 +142,13 @@ class ParameterDecoder:
         self._next_frame = (packet.first_frame + packet.count) % FRAME_MODULUS
         self.params = frames[-1][1]
         return Decoded(tuple(frames), tuple(events))
+
+
+def _body_problem(body: np.ndarray | None) -> str:
+    """Why a decoded body motion is absurd (on any picture up to 4096 pixels), or ""."""
+    from uma.mbc.layers import body_problem
+
+    return "" if body is None else body_problem(body, (4096, 4096))
 
 
 def _light_problem(light: tuple[float, float] | None) -> str:

@@ -6,7 +6,7 @@ Layout (big-endian header, then the range coder's 32-bit words little-endian, th
 
 | bytes | field |
 |---|---|
-| 0 | version (high nibble, 1) and flags (bit 0: the first set is intra; bit 1: every set ends with the face's light, gain and offset) |
+| 0 | version (high nibble, 1) and flags (bit 0: the first set is intra; bit 1: every set ends with the face's light, gain and offset; bit 2: the torso's motion, three values, comes before the light) |
 | 1-2 | sequence number (uint16, wraps) |
 | 3-5 | first frame index (uint24, wraps after 7.7 days at 25 frames/s) |
 | 6 | frame count (1-255): frames first .. first + count - 1, one set each |
@@ -59,6 +59,7 @@ class Packet:
     global_code: int
     words: np.ndarray  # uint32
     light: bool = False  # the sets carry light (`uma.mbc.units.LIGHT_NAMES`)
+    body: bool = False  # the sets carry the torso's motion (`uma.mbc.units.BODY_KINDS`)
 
     def __post_init__(self) -> None:
         if not 0 <= self.seq < SEQ_MODULUS or not 1 <= self.count <= 255:
@@ -69,7 +70,7 @@ class Packet:
     def to_bytes(self) -> bytes:
         first = (self.first_frame % FRAME_MODULUS).to_bytes(3, "big")
         head = _HEADER.pack(
-            (VERSION << 4) | int(self.intra) | (int(self.light) << 1),
+            (VERSION << 4) | int(self.intra) | (int(self.light) << 1) | (int(self.body) << 2),
             self.seq,
             first,
             self.count,
@@ -105,7 +106,7 @@ def parse_packet(data: bytes, *, where: str = "packet") -> Packet:
     if (n - HEADER_BYTES - CRC_BYTES) % 4:
         raise PacketError(f"{where}: payload of {n - 12} bytes is not whole 32-bit words")
     flags, seq, first, count, code = _HEADER.unpack(data[:HEADER_BYTES])
-    if flags >> 4 != VERSION or flags & 0x0C:
+    if flags >> 4 != VERSION or flags & 0x08:
         raise PacketError(f"{where}: version/flags byte {flags:#04x}, expected version {VERSION}")
     if count == 0 or code == 0:
         raise PacketError(f"{where}: frame count and global step must be >= 1, got {count}, {code}")
@@ -118,4 +119,5 @@ def parse_packet(data: bytes, *, where: str = "packet") -> Packet:
         global_code=code,
         words=words,
         light=bool(flags & 2),
+        body=bool(flags & 4),
     )

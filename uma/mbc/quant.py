@@ -37,6 +37,9 @@ DEFAULT_ACTION_STEPS = (("MNS", 32.0), ("MW", 12.0), ("ENS", 5.0), ("IRISD", 24.
 # (0.6 level on a face of mid-grey 100 levels above black, rounding at half a step) and an
 # offset step of 0.75 level; an action-step entry of the same kind overrides them.
 LIGHT_STEPS = (("LIGHT_GAIN", 8.0), ("LIGHT_OFFSET", 12.0))
+# The torso's motion (`uma.mbc.units.BODY_KINDS`): at the global step 1.5 a shift step of 6
+# ES/1024 (about 0.35 px on a CIF face), rotation 0.0045 rad.
+BODY_STEPS = (("BODY_SHIFT", 4.0), ("BODY_ROTATION", 300.0))
 
 
 @dataclass(frozen=True)
@@ -71,7 +74,7 @@ class Quantiser:
     reference is passed in)."""
 
     def __init__(self, kinds: tuple[str, ...], config: QuantiserConfig = QuantiserConfig()):
-        steps = dict(LIGHT_STEPS) | dict(config.action_steps)
+        steps = dict(LIGHT_STEPS) | dict(BODY_STEPS) | dict(config.action_steps)
         self.config = config
         self.base = np.array(
             list(config.pose_steps) + [steps.get(k, steps.get("MNS", 1.0)) for k in kinds],

@@ -120,6 +120,7 @@ class ParameterEncoder:
             global_code=self.config.quantiser.global_code,
             words=words,
             light=self.units.light,
+            body=self.units.body,
         )
         self._seq = (self._seq + 1) % SEQ_MODULUS
         self._pending = []

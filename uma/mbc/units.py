@@ -25,7 +25,14 @@ from uma.errors import FaceError
 from uma.face.geometry import N_POSE
 from uma.face.model import FaceModel
 
-__all__ = ["FaceUnits", "ANGLE_UNIT_RAD", "action_fapu", "LIGHT_NAMES", "LIGHT_UNITS"]
+__all__ = [
+    "FaceUnits",
+    "ANGLE_UNIT_RAD",
+    "action_fapu",
+    "LIGHT_NAMES",
+    "LIGHT_UNITS",
+    "BODY_KINDS",
+]
 
 ANGLE_UNIT_RAD = 1e-5
 # Light on the face against the receiver's reference: a luma gain in 1/1024 and an offset in
@@ -34,6 +41,9 @@ LIGHT_NAMES = ("light_gain", "light_offset_levels")
 LIGHT_UNITS = (1.0 / 1024.0, 1.0 / 16.0)
 LIGHT_KINDS = ("LIGHT_GAIN", "LIGHT_OFFSET")
 FAPU_DIVISOR = 1024.0
+# The torso's motion (`uma.mbc.layers.BODY_NAMES`): shifts in ES/1024 like the head's, rotation
+# in AU.
+BODY_KINDS = ("BODY_SHIFT", "BODY_SHIFT", "BODY_ROTATION")
 
 # Which neutral face distance each of uma's action units is measured against; others use MNS.
 _ACTION_FAPU = {
@@ -57,12 +67,16 @@ class FaceUnits:
     distances: dict[str, float]  # ES, ENS, MNS, MW, IRISD in model units
     kinds: tuple[str, ...] = ()  # per action unit, the distance it is measured in (then light)
     light: bool = False  # the last two parameters are the light (`LIGHT_NAMES`)
+    body: bool = False  # three parameters before the light: the torso's motion (`BODY_KINDS`)
     origin: np.ndarray | None = None  # subtracted before scaling (a gain travels as gain - 1)
 
     @classmethod
-    def of(cls, model: FaceModel, params: np.ndarray, *, light: bool = False) -> FaceUnits:
+    def of(
+        cls, model: FaceModel, params: np.ndarray, *, light: bool = False, body: bool = False
+    ) -> FaceUnits:
         """Units of `model` placed by `params` (the description's pose: its scale_px); with
-        `light` two more parameters, the face's light, end every set."""
+        `body` three more parameters, the torso's motion, and with `light` two more, the
+        face's light, end every set (in that order)."""
         params = np.asarray(params, dtype=np.float64)
         if params.shape != (N_POSE + model.n_actions,) or not params[2] > 0:
             raise FaceError(
@@ -100,6 +114,13 @@ class FaceUnits:
             *model.action_unit_names,
         )
         kinds = tuple(action_fapu(name) for name in model.action_unit_names)
+        if body:
+            from uma.mbc.layers import BODY_NAMES
+
+            shift = distances["ES"] * scale / FAPU_DIVISOR
+            unit += [shift, shift, ANGLE_UNIT_RAD]
+            names += BODY_NAMES
+            kinds += BODY_KINDS
         if light:
             unit += LIGHT_UNITS
             names += LIGHT_NAMES
@@ -113,14 +134,23 @@ class FaceUnits:
             distances=distances,
             kinds=kinds,
             light=light,
+            body=body,
             origin=origin,
         )
 
     def split(self, values: np.ndarray) -> tuple[np.ndarray, tuple[float, float] | None]:
-        """A decoded set as (geometry parameters, light or None)."""
-        if not self.light:
-            return values, None
-        return values[:-2], (float(values[-2]), float(values[-1]))
+        """A decoded set as (geometry parameters, light or None); the body motion, if any, is
+        `body_of`'s."""
+        end = len(values) - 2 * self.light - len(BODY_KINDS) * self.body
+        light = (float(values[-2]), float(values[-1])) if self.light else None
+        return values[:end], light
+
+    def body_of(self, values: np.ndarray) -> np.ndarray | None:
+        """The torso's motion in a decoded set (`uma.mbc.layers.BODY_NAMES`), or None."""
+        if not self.body:
+            return None
+        end = len(values) - 2 * self.light
+        return np.asarray(values[end - len(BODY_KINDS) : end], dtype=np.float64)
 
     def to_units(self, params: np.ndarray) -> np.ndarray:
         """Parameters (..., 6 + A) in face animation units."""

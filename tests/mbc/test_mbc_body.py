@@ -1,0 +1,76 @@
+"""The torso's motion: measured by the engine, coded beside the face, checked at the receiver."""
+
+import numpy as np
+import pytest
+
+from uma.mbc import FaceUnits, PacketError, ParameterDecoder, ParameterEncoder, StreamConfig
+from uma.mbc.body import BodyTracker
+from uma.mbc.quant import Quantiser
+from uma.mbc.scene_render import SceneRenderer
+
+
+def _units(head, body: bool = True) -> FaceUnits:
+    return FaceUnits.of(head.model, head.description.params, light=True, body=body)
+
+
+def test_stream_round_trips_body_motion_within_half_a_step(head) -> None:
+    units = _units(head)
+    config = StreamConfig()
+    encoder, decoder = ParameterEncoder(units, config), ParameterDecoder(units, config)
+    sent, packets = {}, []
+    for frame in range(12):
+        body = (3.0 * np.sin(frame / 3), -2.0 * frame / 11, 0.02 * np.cos(frame / 4))
+        params = np.concatenate([head.params_at(frame), body, (1.1, -3.0)])
+        sent[frame] = params
+        packets += encoder.push(frame, params)
+    packets += encoder.flush()
+    assert all(p.body and p.light for p in packets)
+    steps = Quantiser(units.kinds, config.quantiser).steps(config.quantiser.global_code)
+    half = 0.5 * steps * units.unit + 1e-9
+    got = {}
+    for packet in packets:
+        got.update(decoder.decode(packet.to_bytes()).frames)
+    assert sorted(got) == list(range(12))
+    for frame, values in got.items():
+        assert np.all(np.abs(values - sent[frame]) <= half)
+        geometry, light = units.split(values)
+        assert geometry.shape == head.params_at(0).shape and light is not None
+        assert units.body_of(values).shape == (3,)
+
+
+def test_absurd_body_motion_and_a_flag_mismatch_are_packet_errors(head) -> None:
+    units = _units(head)
+    encoder, decoder = ParameterEncoder(units), ParameterDecoder(units)
+    params = np.concatenate([head.params_at(0), (0.0, 0.0, 3.0), (1.0, 0.0)])  # 3 rad
+    packets = encoder.push(0, params) + encoder.flush()
+    with pytest.raises(PacketError, match="rotation"):
+        decoder.decode(packets[0].to_bytes())
+    assert decoder.params is None
+    plain = ParameterDecoder(_units(head, body=False))
+    with pytest.raises(PacketError, match="body motion present"):
+        plain.decode(packets[0].to_bytes())
+
+
+def test_body_tracker_measures_a_shifted_torso(head) -> None:
+    """The reference itself shifted 6 px right and 4 px down: the torso moved by that."""
+    import cv2
+
+    frame = cv2.cvtColor(head.render_bgr(0), cv2.COLOR_BGR2YUV_I420)
+    renderer = SceneRenderer(head.description, (352, 288))
+    renderer.set_reference(frame, head.params_at(0))
+    shifted = cv2.warpAffine(
+        frame[:288], np.float32([[1, 0, 6], [0, 1, 4]]), (352, 288), borderMode=cv2.BORDER_REFLECT
+    )
+    tracker = BodyTracker()
+    body = tracker.measure(renderer, shifted)
+    assert isinstance(body, np.ndarray)
+    assert np.allclose(body[:2], (6.0, 4.0), atol=1.0) and abs(body[2]) < 0.02
+    assert np.allclose(tracker.measure(renderer, frame[:288])[:2], 0.0, atol=0.5)
+    # A new reference (the shifted picture itself): measured against it, no motion.
+    moved = frame.copy()
+    moved[:288] = shifted
+    renderer.set_reference(moved, head.params_at(0))
+    assert np.allclose(tracker.measure(renderer, shifted)[:2], 0.0, atol=0.5)
+    plain = SceneRenderer(head.description, (352, 288), layered=False)
+    failure = tracker.measure(plain, frame[:288])
+    assert not failure and "no layers" in failure.reason

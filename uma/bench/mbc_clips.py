@@ -1,0 +1,123 @@
+"""`uma bench mbc`'s clips: the talking head, akiyo and carphone, foreman from raw YUV, a file.
+
+Units: pixels, frames per second. Pictures are YUV 4:2:0 (H * 3 // 2, W) uint8.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+__all__ = [
+    "ClipSpec",
+    "FOREMAN",
+    "default_clips",
+    "file_clip",
+    "foreman_clip",
+    "talking_head_clip",
+    "yuv_clip",
+]
+
+# The raw QCIF foreman excerpt in the shared data folder (48 frames, 25 frames/s).
+FOREMAN = Path("faces/video/foreman_part_qcif.yuv")
+FOREMAN_SIZE = (176, 144)
+
+
+def yuv_clip(path: Path, size: tuple[int, int], fps: float, description, frames: int, name=None):
+    """`frames` frames (at most the file's) of raw YUV 4:2:0 `path` of `size` (W, H)."""
+    from uma.video.sources import RawYuvSource
+
+    source = RawYuvSource(path, *size, fps)
+    pictures = []
+    for picture in source.frames():
+        if len(pictures) == frames:
+            break
+        pictures.append(picture)
+    return ClipSpec(name or path.stem, pictures, fps, description, None, str(path))
+
+
+def foreman_clip(frames: int):
+    """Foreman from raw YUV with a description fitted to the points shipped in
+    `codecs/face/foreman.yaml` (its frame 0; `uma describe` refuses it: the detector finds no
+    face cut by the picture's top edge, `describe` itself needs none); None when the shared
+    data folder has no foreman."""
+    import cv2
+
+    from uma.face.describe import describe
+    from uma.face.points import read_points
+    from uma.paths import codecs_dir, shared_data_dir
+    from uma.video.sources import RawYuvSource
+
+    path = shared_data_dir() / FOREMAN
+    if not path.is_file():
+        return None
+    first = next(RawYuvSource(path, *FOREMAN_SIZE, 25.0).frames())
+    points = read_points(codecs_dir() / "face" / "foreman.yaml")
+    description = describe(cv2.cvtColor(first, cv2.COLOR_YUV2BGR_I420), points)
+    if not description:
+        return None
+    return yuv_clip(path, FOREMAN_SIZE, 25.0, description, frames, name="foreman")
+
+
+@dataclass(frozen=True, eq=False)
+class ClipSpec:
+    """A clip to code: YUV 4:2:0 frames, its rate, the description, ground truth if any."""
+
+    name: str
+    frames: list[np.ndarray]
+    fps: float
+    description: Any  # ContentDescription
+    truth: Callable[[int], np.ndarray] | None = None
+    where: str = ""
+
+
+def talking_head_clip(frames: int, *, seed: int = 0, start: int = 0) -> ClipSpec:
+    import cv2
+
+    from uma.face.talking_head import TalkingHeadSource
+
+    source = TalkingHeadSource(352, 288, seed=seed)
+    noise = np.random.default_rng(seed)
+    yuv = [
+        cv2.cvtColor(source.render_bgr(i, rng=noise), cv2.COLOR_BGR2YUV_I420)
+        for i in range(start, start + frames)
+    ]
+    truth = source.params_at if not start else (lambda i: source.params_at(i + start))
+    return ClipSpec("talking-head", yuv, source.fps, source.description, truth, "talking head")
+
+
+def file_clip(
+    video: Path, description, frames: int, *, name: str | None = None, start: int = 0
+) -> ClipSpec:
+    """`frames` frames of `video` from frame `start`."""
+    from uma.video import VideoFileSource
+
+    source = VideoFileSource(video, max_frames=start + frames)
+    pictures = list(source.frames())[start:]
+    return ClipSpec(name or video.stem, pictures, source.fps, description, None, str(video))
+
+
+def default_clips(frames: int, *, seed: int = 0, start: int = 0) -> list[ClipSpec]:
+    """The talking head, then akiyo and carphone with the shipped clicked points and foreman
+    from raw YUV (its 48 frames; skipped when ../shared/data is absent, or from `start` on),
+    `frames` frames from frame `start` (tuning uses 150)."""
+    from uma.face.clip import describe_clip, load_points
+    from uma.paths import codecs_dir
+
+    clips = [talking_head_clip(frames, seed=seed, start=start)]
+    for name in ("akiyo", "carphone"):
+        points_file = codecs_dir() / "face" / f"{name}.yaml"
+        points = load_points(points_file)
+        video = Path(points.video) if points.video is not None else None
+        if video is None or not video.is_file():
+            continue
+        clips.append(file_clip(video, describe_clip(points), frames, name=name, start=start))
+    if not start:
+        foreman = foreman_clip(frames)
+        if foreman is not None:
+            clips.append(foreman)
+    return clips

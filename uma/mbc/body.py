@@ -1,0 +1,101 @@
+"""The torso's motion, as the engine measures it: a 2-D rigid motion of the reference's torso.
+
+Units: pixels; body motion as `uma.mbc.layers.BODY_NAMES` (shift px, rotation rad)
+about the torso's anchor (the reference's chin).
+
+The engine holds what the receiver renders from (its mirror, a layered
+`uma.mbc.scene_render.SceneRenderer`): the reference picture and the torso's pixels on it.
+`BodyTracker.measure` aligns that torso with the engine's newest picture by OpenCV's enhanced
+correlation (ECC, a rigid motion at half resolution over the torso's pixels, started from
+the last frame's answer). A frame it cannot align (no
+texture, no convergence, an absurd answer) gives a `BodyFailure` with its reason; the caller
+sends the last good motion again.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from uma.mbc.layers import NO_BODY_MOTION, body_matrix, body_problem, rigid_of
+
+__all__ = ["BodyTracker", "BodyFailure"]
+
+_ITERATIONS = 20
+_EPSILON = 1e-3
+_MIN_TORSO_PIXELS = 200  # at half resolution
+_BELOW_CHIN_OF_HEIGHT = 0.05
+
+
+@dataclass(frozen=True)
+class BodyFailure:
+    """No body motion for this frame; false, with the reason."""
+
+    reason: str
+
+    def __bool__(self) -> bool:
+        return False
+
+
+class BodyTracker:
+    """Measures the torso's motion against one renderer's reference; `reset` when the
+    reference changes (a new reference starts from no motion)."""
+
+    def __init__(self) -> None:
+        self.last = NO_BODY_MOTION.copy()
+        self._key = None
+        self._template = None
+
+    def reset(self) -> None:
+        self.last = NO_BODY_MOTION.copy()
+        self._key = None
+
+    def _prepare(self, renderer) -> None:
+        import cv2
+
+        key = (id(renderer), renderer.reference_serial)
+        if key == self._key:
+            return
+        height = renderer.size[1]
+        half = (renderer.size[0] // 2, height // 2)
+        luma = cv2.resize(renderer.reference[:height], half, interpolation=cv2.INTER_AREA)
+        mask = renderer.torso_mask.copy()
+        # Below the chin only: the head moves on its own and would pull the torso along.
+        mask[: max(int(renderer.anchor[1] + _BELOW_CHIN_OF_HEIGHT * height), 0)] = 0
+        mask = cv2.resize(mask, half, interpolation=cv2.INTER_NEAREST)
+        self._template = (luma.astype(np.float32), mask.astype(np.uint8))
+        self._key = key
+        self.last = NO_BODY_MOTION.copy()
+
+    def measure(self, renderer, luma: np.ndarray) -> np.ndarray | BodyFailure:
+        """The torso's motion from `renderer`'s reference to `luma` (H, W), or a
+        `BodyFailure` (the last good motion stays in `last`)."""
+        import cv2
+
+        if not getattr(renderer, "layered", False):
+            return BodyFailure("body motion: the renderer draws no layers")
+        self._prepare(renderer)
+        template, mask = self._template
+        if int(np.count_nonzero(mask)) < _MIN_TORSO_PIXELS:
+            return BodyFailure("body motion: too little torso in the picture")
+        anchor = renderer.anchor
+        start = body_matrix(self.last, anchor).astype(np.float32)
+        start[:, 2] *= 0.5  # half resolution: the same map on halved coordinates
+        width, height = renderer.size
+        picture = cv2.resize(luma, (width // 2, height // 2), interpolation=cv2.INTER_AREA)
+        criteria = (cv2.TERM_CRITERIA_COUNT | cv2.TERM_CRITERIA_EPS, _ITERATIONS, _EPSILON)
+        try:
+            _, warp = cv2.findTransformECC(
+                template, picture.astype(np.float32), start, cv2.MOTION_EUCLIDEAN, criteria, mask, 3
+            )
+        except cv2.error as err:
+            return BodyFailure(f"body motion: no alignment ({str(err).strip().splitlines()[-1]})")
+        warp = warp.astype(np.float64)
+        warp[:, 2] *= 2.0
+        body = rigid_of(warp, anchor)
+        problem = body_problem(body, renderer.size)
+        if problem:
+            return BodyFailure(problem)
+        self.last = body
+        return body

@@ -1,0 +1,251 @@
+"""The receiver's layered scene: a background plate, a torso moved by the body motion, a head.
+
+Units: pixels (x right, y down); pictures planar YUV 4:2:0 (H * 3 // 2, W) uint8; body motion
+as `BODY_NAMES` (a 2-D similarity about the torso's anchor, the reference's chin).
+
+One stretched picture drags the old head's pixels into the background when the head moves
+(the "second head" beside the new one). Here the reference is cut into layers instead:
+
+- the **person**: the head (the face and the head ring, as `uma.face.scene` places them at the
+  reference pose) and below it the torso (a generous head-and-shoulders outline from the chin
+  to the picture's bottom edge, `torso_polygon`);
+- the **plate**: every pixel known to lie outside the person, from the reference and from
+  every later reference (a refresh); what was never seen (behind the person) is filled from
+  its surroundings (`fill_unknown`, a push-pull pyramid), so an uncovered spot shows plausible
+  background, never the old head.
+
+`uma.mbc.scene_render.SceneRenderer` draws the plate, then the torso moved by the body motion,
+then the head moved by its pose.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from uma.mbc.errors import SceneError
+
+__all__ = [
+    "BODY_NAMES",
+    "NO_BODY_MOTION",
+    "N_BODY",
+    "Plate",
+    "body_matrix",
+    "body_problem",
+    "cut_person",
+    "head_ring_points",
+    "rigid_fit",
+    "invert_affine",
+    "fill_unknown",
+    "torso_polygon",
+]
+
+# A 2-D rigid motion of the torso about its anchor: shift x and y (px), rotation (rad). (A
+# scale was tried: ECC traded it against the shift on carphone, shrinking the torso by 17 %.)
+BODY_NAMES = ("body_tx_px", "body_ty_px", "body_rotation_rad")
+N_BODY = len(BODY_NAMES)
+NO_BODY_MOTION = np.zeros(N_BODY)
+# What a body can do between a reference and a frame; beyond is absurd (a typed error).
+BODY_SHIFT_MAX_OF_SIZE = 0.5  # of the picture's width or height
+BODY_ROTATION_MAX_RAD = 0.5
+# A new reference whose known background departs from the plate's by more than this median
+# (luma levels) is another scene (a cut, a moved camera): the plate starts again from it.
+PLATE_MISMATCH_LEVELS = 40.0
+HAIR_OF_HEAD = 0.1  # how far above the head ring the halo reaches, in head-ring heights
+_PLATE_MIN_OVERLAP = 0.05  # of the picture, to judge a mismatch at all
+
+
+def body_problem(body, size: tuple[int, int]) -> str:
+    """Why `body` (`BODY_NAMES`) is absurd on a picture of `size` (W, H), or ""."""
+    body = np.asarray(body, dtype=np.float64)
+    if body.shape != (N_BODY,) or not np.all(np.isfinite(body)):
+        return f"body motion: expected {N_BODY} finite values {BODY_NAMES}, got {body!r}"
+    width, height = size
+    tx, ty, rotation = body
+    if abs(tx) > BODY_SHIFT_MAX_OF_SIZE * width or abs(ty) > BODY_SHIFT_MAX_OF_SIZE * height:
+        return (
+            f"body motion: shift ({tx:.1f}, {ty:.1f}) px beyond half the {width}x{height} picture"
+        )
+    if abs(rotation) > BODY_ROTATION_MAX_RAD:
+        return f"body motion: rotation {rotation:.3f} rad beyond +-{BODY_ROTATION_MAX_RAD}"
+    return ""
+
+
+def body_matrix(body, anchor: np.ndarray) -> np.ndarray:
+    """The 2x3 forward map (reference pixel to frame pixel) of `body` about `anchor` (x, y)."""
+    tx, ty, rotation = (float(v) for v in body)
+    c, n = np.cos(rotation), np.sin(rotation)
+    ax, ay = float(anchor[0]), float(anchor[1])
+    return np.array([[c, -n, ax + tx - c * ax + n * ay], [n, c, ay + ty - n * ax - c * ay]])
+
+
+def rigid_of(affine: np.ndarray, anchor: np.ndarray) -> np.ndarray:
+    """The body motion (`BODY_NAMES`) of a 2x3 forward rigid map `affine`, about `anchor`."""
+    rotation = float(np.arctan2(affine[1, 0] - affine[0, 1], affine[0, 0] + affine[1, 1]))
+    moved = affine[:, :2] @ anchor + affine[:, 2]
+    tx, ty = moved - anchor
+    return np.array([tx, ty, rotation])
+
+
+def torso_polygon(head_points: np.ndarray, chin: np.ndarray, height: int) -> np.ndarray:
+    """A generous head-and-shoulders outline (int32 polygon) below the head whose projected
+    head-ring points are `head_points`: a neck as wide as the head ring's lower half at `chin`,
+    shoulders 1.25 head-ring widths out on either side, down past the picture's bottom."""
+    x0, x1 = float(head_points[:, 0].min()), float(head_points[:, 0].max())
+    width = max(x1 - x0, 1.0)
+    centre = (x0 + x1) / 2.0
+    cy = float(chin[1])
+    bottom = max(height, cy + width) + 2.0
+    shoulder_y = cy + 0.45 * width
+    half_neck, half_shoulder = 0.42 * width, 1.25 * width
+    points = [
+        (centre - half_neck, cy - 0.15 * width),
+        (centre - half_shoulder, shoulder_y),
+        (centre - 1.4 * width, bottom),
+        (centre + 1.4 * width, bottom),
+        (centre + half_shoulder, shoulder_y),
+        (centre + half_neck, cy - 0.15 * width),
+    ]
+    return np.rint(points).astype(np.int32)
+
+
+def cut_person(scene, points: np.ndarray, size: tuple[int, int], halo_of_head: float):
+    """The person on a reference whose scene points (`uma.face.scene.SceneMesh.points`) are
+    `points`, in a picture of `size` (W, H), as uint8 0/1 masks: the head (face and head
+    ring), its halo (`halo_of_head` head-ring widths around it: hair just outside the ring,
+    moved rigidly with the head) and the torso (the torso outline less head and halo); and the
+    torso's anchor (the chin, x and y)."""
+    import cv2
+
+    from uma.face.render import triangle_labels
+
+    width, height = size
+    strips = len(scene.triangles) - len(scene.model.triangles)
+    drawn = np.ones(len(scene.triangles), bool)
+    drawn[strips // 2 : strips] = False  # the head alone: no strips out to the far ring
+    labels = triangle_labels(points, scene.triangles, (height, width), triangle_mask=drawn)
+    head = (labels >= 0).astype(np.uint8)
+    ring = head_ring_points(scene, points)
+    rim = points[scene.outline]
+    anchor = rim[int(np.argmax(rim[:, 1]))].astype(np.float64)
+    torso = np.zeros((height, width), np.uint8)
+    cv2.fillPoly(torso, [torso_polygon(ring, anchor, height)], 1)
+    radius = max(3, int(round(halo_of_head * np.ptp(ring[:, 0]))))
+    kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * radius + 1, 2 * radius + 1))
+    # Hair rises above the face's outline: the halo reaches `HAIR_OF_HEAD` of the head higher.
+    rise = int(round(HAIR_OF_HEAD * np.ptp(ring[:, 1])))
+    raised = head.copy()
+    if 0 < rise < height:
+        raised[:-rise] |= head[rise:]
+    halo = cv2.dilate(raised, kernel) & (1 - head)
+    torso &= 1 - (head | halo)
+    return head, halo, torso, anchor
+
+
+def head_ring_points(scene, points: np.ndarray) -> np.ndarray:
+    """The head ring's projected points among a scene's `points`."""
+    n, m = scene.model.n_vertices, len(scene.outline)
+    return points[n : n + m]
+
+
+def invert_affine(matrix: np.ndarray) -> np.ndarray:
+    """The inverse of a 2x3 affine map."""
+    import cv2
+
+    return cv2.invertAffineTransform(matrix)
+
+
+def rigid_fit(source: np.ndarray, target: np.ndarray) -> np.ndarray:
+    """The 2x3 similarity (rotation, scale, shift) that best maps `source` points onto
+    `target` points (least squares)."""
+    ms, mt = source.mean(axis=0), target.mean(axis=0)
+    a, b = source - ms, target - mt
+    denominator = float((a**2).sum())
+    if denominator <= 1e-9:
+        return np.array([[1.0, 0.0, mt[0] - ms[0]], [0.0, 1.0, mt[1] - ms[1]]])
+    c = float((a * b).sum()) / denominator
+    n = float((a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]).sum()) / denominator
+    linear = np.array([[c, -n], [n, c]])
+    return np.column_stack([linear, mt - linear @ ms])
+
+
+def fill_unknown(plane: np.ndarray, known: np.ndarray) -> np.ndarray:
+    """`plane` (H, W) with the pixels not `known` filled smoothly from the known ones (a
+    push-pull pyramid: averages of the known pixels at ever coarser levels, pulled back
+    down). Known pixels are kept exactly; with none known, mid-grey."""
+    import cv2
+
+    weight = known.astype(np.float32)
+    if not weight.any():
+        return np.full_like(plane, 128)
+    values = plane.astype(np.float32) * weight
+    levels = [(values, weight)]
+    while min(levels[-1][0].shape) > 2:
+        v, w = levels[-1]
+        size = (max(v.shape[1] // 2, 1), max(v.shape[0] // 2, 1))
+        levels.append((cv2.resize(v, size, interpolation=cv2.INTER_AREA),
+                       cv2.resize(w, size, interpolation=cv2.INTER_AREA)))  # fmt: skip
+    v, w = levels[-1]
+    filled = np.where(w > 1e-6, v / np.maximum(w, 1e-6), float(values.sum() / weight.sum()))
+    for v, w in reversed(levels[:-1]):
+        up = cv2.resize(filled, (v.shape[1], v.shape[0]), interpolation=cv2.INTER_LINEAR)
+        trust = np.clip(w, 0.0, 1.0)
+        filled = trust * (v / np.maximum(w, 1e-6)) + (1.0 - trust) * up
+    out = np.where(known, plane, np.clip(np.rint(filled), 0, 255))
+    return out.astype(plane.dtype)
+
+
+class Plate:
+    """The background the receiver knows: a YUV 4:2:0 picture, the mask of its pixels seen
+    outside the person, and the same picture with the rest filled (`picture`)."""
+
+    def __init__(self, size: tuple[int, int]) -> None:
+        width, height = size
+        self.size = (width, height)
+        self.known = np.zeros((height, width), bool)
+        self.seen = np.full((height * 3 // 2, width), 128, np.uint8)
+        self.picture = self.seen.copy()
+        self.reason = "no plate yet"
+
+    def update(
+        self, picture: np.ndarray, person: np.ndarray, fresh: np.ndarray | None = None
+    ) -> str:
+        """Learn the pixels of `picture` outside `person` (H, W bool), newest first, of those
+        `fresh` (H, W bool: decoded, not drawn by the receiver; None: all); "" or why the plate
+        started again (the new picture's background does not match the plate's)."""
+        width, height = self.size
+        if picture.shape != self.seen.shape or person.shape != (height, width):
+            raise SceneError(
+                f"plate: expected a {width}x{height} picture and person mask, got "
+                f"{picture.shape} and {person.shape}"
+            )
+        outside = ~person if fresh is None else ~person & fresh
+        reason = ""
+        both = outside & self.known
+        if both.mean() > _PLATE_MIN_OVERLAP:
+            luma = picture[:height]
+            diff = np.abs(luma[both].astype(np.int16) - self.seen[:height][both].astype(np.int16))
+            if float(np.median(diff)) > PLATE_MISMATCH_LEVELS:
+                reason = (
+                    f"plate: the new reference's background departs from the plate by a median "
+                    f"{float(np.median(diff)):.0f} levels (> {PLATE_MISMATCH_LEVELS:.0f}): started again"
+                )
+                self.known[:] = False
+        self.seen[:height][outside] = picture[:height][outside]
+        chroma_out = outside[0::2, 0::2] & outside[1::2, 1::2]
+        self.known |= outside
+        known_chroma = self.known[0::2, 0::2] & self.known[1::2, 1::2]
+        seen = self.seen[height:].reshape(2, height // 2, width // 2)
+        new = picture[height:].reshape(2, height // 2, width // 2)
+        self.picture = np.empty_like(self.seen)
+        self.picture[:height] = fill_unknown(self.seen[:height], self.known)
+        filled = self.picture[height:].reshape(2, height // 2, width // 2)
+        for k in range(2):
+            seen[k][chroma_out] = new[k][chroma_out]
+            filled[k] = fill_unknown(seen[k], known_chroma)
+        self.reason = reason
+        return reason
+
+    def forget(self) -> None:
+        """The plate is lost: nothing known (the renderer falls back to its reference)."""
+        self.known[:] = False
+        self.reason = "plate lost"

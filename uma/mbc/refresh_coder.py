@@ -1,0 +1,145 @@
+"""The model-aided refresh's coder and the receiver's composition: one place for both ends.
+
+Units: pixels; pictures planar YUV 4:2:0 (H * 3 // 2, W) uint8; rates in kbit/s; bits.
+
+What a refresh codes (chosen by measurement, docs/refresh.md): a box around the face (`margin`
+times the model's extent on the first tracked frame, a multiple of 16 pixels), coded at
+`scale` of its size by H.264 at a low frame rate, its corner on each coded frame (the face's
+centre there) sent beside it in `POSITION_BITS`; or, for `region="frame"`, the whole picture at
+a given coded size. The receiver takes a decoded refresh as its new reference
+(`take_refresh`): the box pasted with a feathered edge onto its own rendering of that frame at
+the pose the parameter stream decoded for it, the plate learning only the box's pixels. The
+engine's mirror takes it the same way, so both ends render from the same picture.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from uma.mbc.errors import SceneError
+
+__all__ = [
+    "RefreshCoder",
+    "face_box_size",
+    "box_corner",
+    "even_px",
+    "take_refresh",
+    "POSITION_BITS",
+]
+
+POSITION_BITS = 32  # a face box's position, two 16-bit numbers a unit
+FEATHER_PX = 8
+
+
+def even_px(value: float) -> int:
+    return max(2, int(round(value / 2)) * 2)
+
+
+def face_box_size(model, params: np.ndarray, margin: float, size: tuple[int, int]):
+    """The refresh box (W, H): `margin` x the model's extent at `params`, a multiple of 16
+    pixels, within the picture of `size` (W, H)."""
+    from uma.face.geometry import project
+
+    extent = np.ptp(project(model, params), axis=0) * margin
+    return tuple(
+        min(int(np.ceil(v / 16)) * 16, limit) for v, limit in zip(extent, size, strict=True)
+    )
+
+
+def box_corner(model, params: np.ndarray, box: tuple[int, int], size: tuple[int, int]):
+    """The box's even corner (x0, y0), centred on the face at `params`, inside the picture."""
+    from uma.face.geometry import project
+
+    (box_w, box_h), (width, height) = box, size
+    centre = project(model, params).mean(axis=0)
+    x0 = min(max(even_px(centre[0] - box_w / 2), 0), width - box_w)
+    y0 = min(max(even_px(centre[1] - box_h / 2), 0), height - box_h)
+    return x0, y0
+
+
+def _crop(frame: np.ndarray, x0: int, y0: int, box_w: int, box_h: int) -> np.ndarray:
+    """The box of a YUV 4:2:0 picture as a YUV 4:2:0 picture (corner and size even)."""
+    from uma.video import split_planes
+
+    y, u, v = split_planes(frame)
+    out = np.empty((box_h * 3 // 2, box_w), np.uint8)
+    out[:box_h] = y[y0 : y0 + box_h, x0 : x0 + box_w]
+    chroma = out[box_h:].reshape(2, box_h // 2, box_w // 2)
+    for plane, source in zip(chroma, (u, v), strict=True):
+        plane[:] = source[y0 // 2 : (y0 + box_h) // 2, x0 // 2 : (x0 + box_w) // 2]
+    return out
+
+
+def _paste(canvas: np.ndarray, patch: np.ndarray, x0: int, y0: int) -> np.ndarray:
+    """`canvas` (YUV 4:2:0) with `patch` (YUV 4:2:0) at (x0, y0), its edge feathered into it
+    over `FEATHER_PX` so no seam shows where the older picture goes on."""
+    height, width = canvas.shape[0] * 2 // 3, canvas.shape[1]
+    box_h, box_w = patch.shape[0] * 2 // 3, patch.shape[1]
+
+    def ramp(n: int) -> np.ndarray:
+        k = np.arange(n, dtype=np.float32)
+        return np.clip(np.minimum(k + 1, n - k) / FEATHER_PX, 0.0, 1.0)
+
+    weight = np.outer(ramp(box_h), ramp(box_w))
+    out = canvas.copy()
+    luma = out[:height, x0 : x0 + box_w][y0 : y0 + box_h]
+    luma[:] = np.rint(weight * patch[:box_h] + (1 - weight) * luma)
+    half = weight[0::2, 0::2]
+    chroma = out[height:].reshape(2, height // 2, width // 2)
+    patch_chroma = patch[box_h:].reshape(2, box_h // 2, box_w // 2)
+    for plane, source in zip(chroma, patch_chroma, strict=True):
+        box = plane[y0 // 2 : y0 // 2 + box_h // 2, x0 // 2 : x0 // 2 + box_w // 2]
+        box[:] = np.rint(half * source + (1 - half) * box)
+    return out
+
+
+class RefreshCoder:
+    """The engine's refresh coder and its decoded picture: H.264 (the ladder's encoder
+    settings `settings`) of the face box of `box` (W, H) coded at `coded` (W, H), or of the
+    whole picture at `coded` when `box` is None, at `fps` and `rate_kbps`."""
+
+    def __init__(self, size, coded, fps: float, rate_kbps: float, settings: dict, box=None):
+        from uma.video import H264Decoder, H264Encoder
+
+        self.size, self.coded, self.box = tuple(size), tuple(coded), box
+        self.encoder = H264Encoder(*self.coded, fps, rate_kbps, **settings)
+        self.decoder = H264Decoder()
+
+    def code(self, frame: np.ndarray, corner=None):
+        """`frame` (YUV 4:2:0, source size) coded: (size in bits with the box's position,
+        keyframe, what the receiver decodes: the whole picture at the source size, or (corner,
+        box picture), or None)."""
+        from uma.video import resize_yuv420
+
+        extra_bits = 0
+        if self.box is not None:
+            frame, extra_bits = _crop(frame, *corner, *self.box), POSITION_BITS
+        unit = self.encoder.encode(resize_yuv420(frame, *self.coded))
+        picture = self.decoder.decode(unit.data)
+        if picture is not None:
+            if self.box is None:
+                picture = resize_yuv420(picture, *self.size)
+            else:
+                picture = (tuple(corner), resize_yuv420(picture, *self.box))
+        return unit.size_bits + extra_bits, bool(unit.is_keyframe), picture
+
+
+def take_refresh(renderer, units, values: np.ndarray, picture) -> None:
+    """`renderer` (a `uma.mbc.scene_render.SceneRenderer`) renders from the decoded refresh
+    `picture` (`RefreshCoder.code`'s) from now on, at the decoded set `values` of its frame
+    (`units`, `uma.mbc.units.FaceUnits`, split it): a box is pasted onto the renderer's own
+    picture of that frame first, and only its pixels teach the plate. A `SceneError` when it
+    cannot (the old reference stays)."""
+    params, light = units.split(values)
+    height, width = renderer.size[1], renderer.size[0]
+    fresh = None
+    if isinstance(picture, tuple):
+        (x0, y0), patch = picture
+        box_h, box_w = patch.shape[0] * 2 // 3, patch.shape[1]
+        if x0 < 0 or y0 < 0 or x0 + box_w > width or y0 + box_h > height:
+            raise SceneError(f"refresh box at ({x0}, {y0}) of {box_w}x{box_h}: outside the picture")
+        drawn = renderer.render(params, light, units.body_of(values))[0]
+        picture = _paste(drawn, patch, x0, y0)
+        fresh = np.zeros((height, width), bool)
+        fresh[y0 : y0 + box_h, x0 : x0 + box_w] = True
+    renderer.set_reference(picture, params, fresh)
