@@ -12,6 +12,7 @@ from uma.video import (
     AV1Encoder,
     H264Decoder,
     H264Encoder,
+    Retarget,
     VP8Encoder,
     nal_unit_types,
 )
@@ -71,6 +72,26 @@ def test_h264_rate_up_to_the_ceiling_follows_without_idr(cif):
     assert 0.70 * 384 <= second_kbps(sizes, 3) <= 1.05 * 384
 
 
+def test_h264_frame_rate_change_at_the_same_size_without_idr():
+    # measured on the CIF pattern, kbit in seconds 2-5: 25 -> 12.5 frames/s and 384 -> 256
+    # kbit/s at second 2 gives 216, 215, 250, 236 (mean 229); a new encoder at 256 kbit/s and
+    # 12.5 frames/s gives 244, 225, 271, 254 (mean 249) on the same frames. The VBV buffer
+    # kept from 384 kbit/s at 25 frames/s holds 3 frames of the new rate, not 4.
+    frames = checks.pattern(6 * FPS, 352, 288)
+    encoder = H264Encoder(352, 288, FPS, 384, max_rate_kbps=1200)
+    decoder, sizes = H264Decoder(conceal=False), [0] * len(frames)
+    for i, frame in enumerate(frames):
+        if i == 2 * FPS:
+            assert encoder.set_target(256, fps=12.5) == Retarget(256, 12.5)
+        if i < 2 * FPS or i % 2 == 0:
+            out = encoder.encode(frame)
+            assert out.is_keyframe == (i == 0)
+            assert decoder.decode(out.data).shape == frame.shape
+            sizes[i] = out.size_bits
+    assert 0.85 * 256 <= sum(second_kbps(sizes, k) for k in (3, 4, 5)) / 3 <= 1.05 * 256
+    assert encoder.frame_fps == 12.5 and encoder.fps == FPS
+
+
 def test_the_old_path_a_new_encoder_costs_an_idr(cif):
     first = H264Encoder(352, 288, FPS, 384)
     [first.encode(f) for f in cif[:FPS]]
@@ -84,15 +105,19 @@ def test_h264_above_the_ceiling_is_refused_and_keeps_the_target():
     encoder = H264Encoder(176, 144, FPS, 100, max_rate_kbps=200)
     result = encoder.set_target(250)
     assert not result and "above the 200 kbit/s" in result.reason
-    assert result.rate_kbps == encoder.rate_kbps == 100
-    assert encoder.set_target(200) and encoder.rate_kbps == 200
+    assert result.rate_kbps == encoder.rate_kbps == 100 and result.fps == FPS
+    # 100 kbit/s at 12.5 frames/s asks x264 (opened at 25) for 200: the ceiling
+    assert not encoder.set_target(101, fps=12.5) and encoder.set_target(100, fps=12.5)
+    assert encoder.set_target(200, fps=FPS) and encoder.rate_kbps == 200
 
 
 @pytest.mark.parametrize("bad", [0, -5, float("nan"), "100", True])
-def test_set_target_rejects_a_bad_rate(bad):
+def test_set_target_rejects_a_bad_rate_or_fps(bad):
     for encoder in (H264Encoder(176, 144, FPS, 100), VP8Encoder(176, 144, FPS, 100)):
         with pytest.raises(VideoError, match="set_target: expected a positive rate"):
             encoder.set_target(bad)
+        with pytest.raises(VideoError, match="set_target: expected a positive fps"):
+            encoder.set_target(50, fps=bad)
 
 
 def test_h264_ceiling_below_the_rate_is_refused():

@@ -149,29 +149,35 @@ class H264Encoder(PyavEncoder):
         if ceiling_kbps != rate_kbps:
             self.set_target(rate_kbps)
 
-    def set_target(self, rate_kbps: float) -> Retarget:
-        """Aim the open encoder at `rate_kbps` from the next frame on, without an IDR.
+    def set_target(self, rate_kbps: float, fps: float | None = None) -> Retarget:
+        """Aim the open encoder at `rate_kbps` from the next frame on, without an IDR, with
+        frames coming in at `fps` (None: the rate they come in at now; at first `self.fps`).
 
         x264 stays in CBR: its VBV cap follows the new rate, its VBV buffer keeps the size in
         bits it was opened with (`vbv_bufsize_kbit`), so below the opening rate it holds more
-        frame intervals of the new rate. A rate above `max_rate_kbps` (the `maxrate` FFmpeg
-        opened x264 with, which PyAV cannot change) is refused: the result is falsy, the old
-        target stays, and a higher rate needs a new encoder. x264 takes whole kbit/s (rounded
-        down).
+        frame intervals of the new rate. With `tune=zerolatency` x264 ignores timestamps and
+        gives each frame (its rate) / (the frame rate it was opened with): frames at another
+        `fps` get the rate `rate_kbps * self.fps / fps` asked of x264. A rate that asks x264
+        for more than `max_rate_kbps` (the `maxrate` FFmpeg opened it with, which PyAV cannot
+        change) is refused: the result is falsy, the old target stays, and a new encoder is
+        needed. x264 takes whole kbit/s (rounded down).
         """
-        check_target(self.name, rate_kbps)
+        check_target(self.name, rate_kbps, fps)
         if self._context is None:
             raise VideoError(f"{self.name}: the encoder is closed")
-        kbit = max(1, math.floor(rate_kbps))
+        fps = self.frame_fps if fps is None else float(fps)
+        kbit = max(1, math.floor(rate_kbps * self.fps / fps))
         if kbit > self.vbv_maxrate_kbit:
             return Retarget(
                 self.rate_kbps,
-                f"{self.name}: {rate_kbps} kbit/s is above the {self.vbv_maxrate_kbit} kbit/s "
-                "the encoder was opened with (max_rate_kbps); open a new one",
+                self.frame_fps,
+                f"{self.name}: {rate_kbps} kbit/s at {fps:g} frames/s asks x264 for {kbit} "
+                f"kbit/s at {self.fps:g}, above the {self.vbv_maxrate_kbit} kbit/s the encoder "
+                "was opened with (max_rate_kbps); open a new one",
             )
         self._context.bit_rate = self.bit_rate = 1000 * kbit
-        self.rate_kbps = rate_kbps
-        return Retarget(rate_kbps)
+        self.rate_kbps, self.frame_fps = rate_kbps, fps
+        return Retarget(rate_kbps, fps)
 
 
 class H264Decoder(PyavDecoder):

@@ -54,6 +54,7 @@ class Retarget:
     """
 
     rate_kbps: float
+    fps: float
     reason: str = ""
 
     def __bool__(self) -> bool:
@@ -68,12 +69,18 @@ def check_rung(where: str, width: int, height: int, fps: float, rate_kbps: float
         raise VideoError(f"{where}: expected positive fps and rate, got {fps}, {rate_kbps}")
 
 
-def check_target(where: str, rate_kbps: float) -> None:
-    """Refuse a target rate that is not a positive number."""
-    if isinstance(rate_kbps, bool) or not isinstance(rate_kbps, int | float) or not rate_kbps > 0:
+def _positive(value: Any) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool) and value > 0
+
+
+def check_target(where: str, rate_kbps: float, fps: float | None = None) -> None:
+    """Refuse a target rate, or a frame rate other than None, that is not a positive number."""
+    if not _positive(rate_kbps):
         raise VideoError(
             f"{where}: set_target: expected a positive rate in kbit/s, got {rate_kbps!r}"
         )
+    if fps is not None and not _positive(fps):
+        raise VideoError(f"{where}: set_target: expected a positive fps, got {fps!r}")
 
 
 def check_keyint_vbv(values: dict[str, Any], where: Callable[[str], str]) -> None:
@@ -137,6 +144,7 @@ class PyavEncoder:
         check_rung(name, width, height, fps, rate_kbps)
         self.name, self.library = name, library
         self.width, self.height, self.fps, self.rate_kbps = width, height, float(fps), rate_kbps
+        self.frame_fps = self.fps  # the rate frames come in at; `set_target` may change it
         self.bit_rate = int(round(rate_kbps * 1000))
         self.options = dict(options)
         rate = Fraction(fps).limit_denominator(1001)
@@ -156,17 +164,19 @@ class PyavEncoder:
         self._picture_i = av.video.frame.PictureType.I
         self._pts = 0
 
-    def set_target(self, rate_kbps: float) -> Retarget:
-        """Aim the open encoder at `rate_kbps` from the next frame on, without a key frame.
+    def set_target(self, rate_kbps: float, fps: float | None = None) -> Retarget:
+        """Aim the open encoder at `rate_kbps` from the next frame on, without a key frame,
+        with frames coming in at `fps` (None: as before).
 
         The base class cannot: FFmpeg's libvpx and SVT-AV1 wrappers (PyAV 18, libavcodec 62)
         read the rate once, when the encoder opens, and PyAV exposes no per-frame quantiser
         (docs/keyframe-free.md). It returns a falsy `Retarget` and keeps the old target;
         `H264Encoder` overrides it.
         """
-        check_target(self.name, rate_kbps)
+        check_target(self.name, rate_kbps, fps)
         return Retarget(
             self.rate_kbps,
+            self.frame_fps,
             f"{self.name}: {self.library} through FFmpeg does not change the rate of an open "
             "encoder; open a new one (its first frame is a key frame)",
         )
