@@ -8,13 +8,16 @@ a key frame, and codes the same frames of a clip twice with libx264:
   change of rung and on the return from the model codec;
 - `set_target`: an encoder per picture size, opened as `Ladder.open_span` says, that follows
   rate and frame-rate changes at its size with `H264Encoder.set_target` (no IDR); a size change
-  or the return from the model codec opens a new one.
+  or the return from the model codec opens a new one. Its VBV buffer is `vbv_frames` frame
+  intervals of the rung it opens at;
+- `set_target-top`: the same with the buffer sized at the top rate of the size.
 Both force an IDR where the run had a key-frame request (`--no-requests` leaves them out).
 Clips: the built-in talking head (CIF, as the default scenario sends) and akiyo (CIF, played
 forwards then backwards so the loop has no cut), `--clip` to choose. Per clip and path it
 prints H.264 kbit, key-frame kbit and share, key frames by cause (opening, request, periodic
 `keyint_frames`) and, for the changes of rung at the same size (down and up), the kbit in the
-second after the change over the new rung's rate: [count, median, min, max]. `--json` prints one JSON object. Run from the repository root with the checkout
+second after the change over the new rung's rate: [count, median, min, max]; and the backlog a
+link draining at the current rung's rate would hold after each frame, in ms (p95, max). `--json` prints one JSON object. Run from the repository root with the checkout
 on `PYTHONPATH`.
 """
 
@@ -70,9 +73,27 @@ def clip_frames(name: str, count: int) -> list[np.ndarray]:
     return [loop[i % len(loop)] for i in range(count)]
 
 
-def code(frames, coded, forced, ladder, keyframe_free: bool) -> dict:
-    """Code the schedule; per frame its size and whether (and why) it was a key frame."""
-    from uma.video import H264Encoder, resize_yuv420
+PATHS = ("reopen", "set_target", "set_target-top")
+
+
+def open_encoder(rung, ladder, path: str):
+    """A new encoder for `rung`: the rung's own (`reopen`), or one for every rung of its size,
+    its VBV buffer sized at `rung` (`set_target`) or at the top of the size (`-top`)."""
+    from uma.video import H264Encoder
+
+    settings = ladder.encoder.kwargs()
+    if path == "reopen":
+        return H264Encoder(rung.width, rung.height, rung.fps, rung.rate_kbps, **settings)
+    fps, ceiling = ladder.open_span(rung)
+    opening = ceiling if path == "set_target-top" else rung.rate_kbps * fps / rung.fps
+    encoder = H264Encoder(rung.width, rung.height, fps, opening, max_rate_kbps=ceiling, **settings)
+    encoder.set_target(rung.rate_kbps, rung.fps)
+    return encoder
+
+
+def code(frames, coded, forced, ladder, path: str) -> dict:
+    """Code the schedule along `path` (one of `PATHS`) and summarise it."""
+    from uma.video import resize_yuv420
 
     encoder, size, last_point = None, None, None
     rows = []
@@ -81,26 +102,10 @@ def code(frames, coded, forced, ladder, keyframe_free: bool) -> dict:
         cause = None
         if point != last_point or returning or encoder is None:
             same_size = size == (rung.width, rung.height) and not returning
-            if keyframe_free and same_size and encoder.set_target(rung.rate_kbps, rung.fps):
-                pass
-            else:
+            kept = path != "reopen" and same_size
+            if not (kept and encoder.set_target(rung.rate_kbps, rung.fps)):
                 cause = "opening"
-                fps, ceiling = ladder.open_span(rung) if keyframe_free else (rung.fps, None)
-                settings = ladder.encoder.kwargs()
-                if keyframe_free:
-                    encoder = H264Encoder(
-                        rung.width,
-                        rung.height,
-                        fps,
-                        rung.rate_kbps * fps / rung.fps,
-                        max_rate_kbps=ceiling,
-                        **settings,
-                    )
-                    encoder.set_target(rung.rate_kbps, rung.fps)
-                else:
-                    encoder = H264Encoder(
-                        rung.width, rung.height, rung.fps, rung.rate_kbps, **settings
-                    )
+                encoder = open_encoder(rung, ladder, path)
                 size = (rung.width, rung.height)
         picture = resize_yuv420(frames[frame], rung.width, rung.height)
         request = frame in forced and cause is None
@@ -110,6 +115,20 @@ def code(frames, coded, forced, ladder, keyframe_free: bool) -> dict:
         rows.append((frame, point, out.size_bits, cause))
         last_point = point
     return summarise(rows, ladder)
+
+
+def backlog_ms(rows, ladder) -> list[float]:
+    """After each frame, the backlog of a link draining at the current rung's rate, in ms of
+    that rate (a leaky bucket; the queue these bits alone would build)."""
+    level, last, out = 0.0, None, []
+    for frame, point, size, _ in rows:
+        rate_bps = 1000.0 * ladder.rungs[point - 1].rate_kbps
+        if last is not None:
+            level = max(0.0, level - rate_bps * (frame - last) / FPS)
+        level += size
+        last = frame
+        out.append(1000.0 * level / rate_bps)
+    return out
 
 
 def summarise(rows, ladder) -> dict:
@@ -127,8 +146,11 @@ def summarise(rows, ladder) -> dict:
         if all(r[1] == point for r in window) and window[-1][0] >= start + FPS - 3:
             way = "down" if after.rate_kbps < before.rate_kbps else "up"
             ratios[way].append(sum(r[2] for r in window) / 1000.0 / after.rate_kbps)
+    queue = backlog_ms(rows, ladder)
     return {
         "h264_kbit": round(total / 1000.0, 1),
+        "backlog_ms_p95": round(float(np.percentile(queue, 95)), 1),
+        "backlog_ms_max": round(max(queue), 1),
         "keyframe_kbit": round(key / 1000.0, 1),
         "keyframe_bits_share": round(key / total, 4),
         "keyframes": causes,
@@ -167,16 +189,13 @@ def main(argv=None) -> int:
     ladder, out = load_ladder(), {}
     for clip in args.clip or ["talking-head", "akiyo"]:
         frames = clip_frames(clip, max(c[0] for c in coded) + 1)
-        out[clip] = {
-            path: code(frames, coded, forced, ladder, path == "set_target")
-            for path in ("reopen", "set_target")
-        }
+        out[clip] = {path: code(frames, coded, forced, ladder, path) for path in PATHS}
     if args.json:
         print(json.dumps(out, indent=1))
         return 0
     for clip, paths in out.items():
         for path, figures in paths.items():
-            print(f"{clip:13} {path:10} " + " ".join(f"{k}={v}" for k, v in figures.items()))
+            print(f"{clip:13} {path:15} " + " ".join(f"{k}={v}" for k, v in figures.items()))
     return 0
 
 
