@@ -10,7 +10,8 @@ a key frame, and codes the same frames of a clip twice with libx264:
   rate and frame-rate changes at its size with `H264Encoder.set_target` (no IDR); a size change
   or the return from the model codec opens a new one. Its VBV buffer is `vbv_frames` frame
   intervals of the rung it opens at;
-- `set_target-top`: the same with the buffer sized at the top rate of the size.
+- `set_target-top`: the same with the buffer sized at the top rate of the size;
+- `set_target-mid`: at the geometric mean of the size's lowest and highest rate.
 Both force an IDR where the run had a key-frame request (`--no-requests` leaves them out).
 Clips: the built-in talking head (CIF, as the default scenario sends) and akiyo (CIF, played
 forwards then backwards so the loop has no cut), `--clip` to choose. Per clip and path it
@@ -73,22 +74,33 @@ def clip_frames(name: str, count: int) -> list[np.ndarray]:
     return [loop[i % len(loop)] for i in range(count)]
 
 
-PATHS = ("reopen", "set_target", "set_target-top")
+PATHS = ("reopen", "set_target", "set_target-mid", "set_target-top")
 
 
 def open_encoder(rung, ladder, path: str):
     """A new encoder for `rung`: the rung's own (`reopen`), or one for every rung of its size,
-    its VBV buffer sized at `rung` (`set_target`) or at the top of the size (`-top`)."""
+    its VBV buffer sized at `rung` (`set_target`), at the top of the size (`-top`) or at the
+    geometric mean of the size's lowest and highest rate (`-mid`), at the opening frame rate."""
     from uma.video import H264Encoder
 
     settings = ladder.encoder.kwargs()
     if path == "reopen":
         return H264Encoder(rung.width, rung.height, rung.fps, rung.rate_kbps, **settings)
     fps, ceiling = ladder.open_span(rung)
-    opening = ceiling if path == "set_target-top" else rung.rate_kbps * fps / rung.fps
+    opening = {
+        "set_target-top": ceiling,
+        "set_target-mid": (
+            ceiling * min(r.rate_kbps * fps / r.fps for r in same_size(ladder, rung))
+        )
+        ** 0.5,
+    }.get(path, rung.rate_kbps * fps / rung.fps)
     encoder = H264Encoder(rung.width, rung.height, fps, opening, max_rate_kbps=ceiling, **settings)
     encoder.set_target(rung.rate_kbps, rung.fps)
     return encoder
+
+
+def same_size(ladder, rung):
+    return [r for r in ladder.rungs if (r.width, r.height) == (rung.width, rung.height)]
 
 
 def code(frames, coded, forced, ladder, path: str) -> dict:
