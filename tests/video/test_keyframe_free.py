@@ -111,7 +111,7 @@ def test_h264_above_the_ceiling_is_refused_and_keeps_the_target():
     assert encoder.set_target(200, fps=FPS) and encoder.rate_kbps == 200
 
 
-@pytest.mark.parametrize("bad", [0, -5, float("nan"), "100", True])
+@pytest.mark.parametrize("bad", [0, -5, float("nan"), float("inf"), "100", True])
 def test_set_target_rejects_a_bad_rate_or_fps(bad):
     for encoder in (H264Encoder(176, 144, FPS, 100), VP8Encoder(176, 144, FPS, 100)):
         with pytest.raises(VideoError, match="set_target: expected a positive rate"):
@@ -120,9 +120,10 @@ def test_set_target_rejects_a_bad_rate_or_fps(bad):
             encoder.set_target(50, fps=bad)
 
 
-def test_h264_ceiling_below_the_rate_is_refused():
-    with pytest.raises(VideoError, match="max_rate_kbps"):
-        H264Encoder(176, 144, FPS, 100, max_rate_kbps=50)
+@pytest.mark.parametrize("bad", [50, float("inf"), float("nan"), "200"])
+def test_h264_ceiling_below_the_rate_or_not_a_number_is_refused(bad):
+    with pytest.raises(VideoError, match="max_rate_kbps: expected at least the rate 100"):
+        H264Encoder(176, 144, FPS, 100, max_rate_kbps=bad)
 
 
 def test_h264_output_unchanged_when_set_target_is_never_called():

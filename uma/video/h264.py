@@ -44,6 +44,7 @@ from uma.video.pyav_codec import (
     Retarget,
     check_rung,
     check_target,
+    positive_number,
 )
 
 __all__ = ["H264Encoder", "H264Decoder", "EncodedFrame", "nal_unit_types", "NAL_IDR", "PRESETS"]
@@ -77,9 +78,10 @@ def nal_unit_types(data: bytes) -> list[int]:
 class H264Encoder(PyavEncoder):
     """libx264 at a target rate; `encode` returns exactly one encoded frame per input frame.
 
-    One encoder serves one size and frame rate. `set_target` changes its rate without an IDR,
-    up to `max_rate_kbps` (default: the opening rate), the VBV cap it is opened with; a change
-    of size or frame rate makes a new encoder, whose first frame is an IDR. `keyint_frames` is
+    One encoder serves one size. `set_target` changes its rate, and the frame rate frames come
+    in at, without an IDR, as long as it asks x264 for at most `max_rate_kbps` (default: the
+    opening rate), the VBV cap it is opened with; a change of size makes a new encoder, whose
+    first frame is an IDR. `keyint_frames` is
     the longest run between IDRs; conversational senders mostly send IDRs on request
     (`force_idr`).
     """
@@ -100,11 +102,7 @@ class H264Encoder(PyavEncoder):
         where = "H.264 encoder"
         check_rung(where, width, height, fps, rate_kbps)
         ceiling_kbps = rate_kbps if max_rate_kbps is None else max_rate_kbps
-        if (
-            isinstance(ceiling_kbps, bool)
-            or not isinstance(ceiling_kbps, int | float)
-            or not ceiling_kbps >= rate_kbps
-        ):
+        if not positive_number(ceiling_kbps) or not ceiling_kbps >= rate_kbps:
             raise VideoError(
                 f"{where}: max_rate_kbps: expected at least the rate {rate_kbps}, "
                 f"got {max_rate_kbps!r}"

@@ -28,6 +28,7 @@ __all__ = [
     "check_rung",
     "check_target",
     "check_keyint_vbv",
+    "positive_number",
 ]
 
 
@@ -69,17 +70,20 @@ def check_rung(where: str, width: int, height: int, fps: float, rate_kbps: float
         raise VideoError(f"{where}: expected positive fps and rate, got {fps}, {rate_kbps}")
 
 
-def _positive(value: Any) -> bool:
-    return isinstance(value, int | float) and not isinstance(value, bool) and value > 0
+def positive_number(value: Any) -> bool:
+    """A finite number above 0 (not a bool)."""
+    return (
+        isinstance(value, int | float) and not isinstance(value, bool) and 0 < value < float("inf")
+    )
 
 
 def check_target(where: str, rate_kbps: float, fps: float | None = None) -> None:
     """Refuse a target rate, or a frame rate other than None, that is not a positive number."""
-    if not _positive(rate_kbps):
+    if not positive_number(rate_kbps):
         raise VideoError(
             f"{where}: set_target: expected a positive rate in kbit/s, got {rate_kbps!r}"
         )
-    if fps is not None and not _positive(fps):
+    if fps is not None and not positive_number(fps):
         raise VideoError(f"{where}: set_target: expected a positive fps, got {fps!r}")
 
 
