@@ -17,8 +17,9 @@ Clips: the built-in talking head (CIF, as the default scenario sends) and akiyo 
 forwards then backwards so the loop has no cut), `--clip` to choose. Per clip and path it
 prints H.264 kbit, key-frame kbit and share, key frames by cause (opening, request, periodic
 `keyint_frames`) and, for the changes of rung at the same size (down and up), the kbit in the
-second after the change over the new rung's rate: [count, median, min, max]; and the backlog a
-link draining at the current rung's rate would hold after each frame, in ms (p95, max). `--json` prints one JSON object. Run from the repository root with the checkout
+second after the change over the new rung's rate: [count, median, min, max]; the backlog a
+link draining at the current rung's rate would hold after each frame, in ms (p95, max); and the
+mean luma PSNR of the decoded frames against the pictures coded (at the rung's size). `--json` prints one JSON object. Run from the repository root with the checkout
 on `PYTHONPATH`.
 """
 
@@ -105,10 +106,11 @@ def same_size(ladder, rung):
 
 def code(frames, coded, forced, ladder, path: str) -> dict:
     """Code the schedule along `path` (one of `PATHS`) and summarise it."""
-    from uma.video import resize_yuv420
+    from uma.metrics.quality import psnr_db
+    from uma.video import H264Decoder, resize_yuv420
 
     encoder, size, last_point = None, None, None
-    rows = []
+    decoder, rows, scores = H264Decoder(conceal=False), [], []
     for frame, point, returning in coded:
         rung = ladder.rungs[point - 1]
         cause = None
@@ -122,11 +124,13 @@ def code(frames, coded, forced, ladder, path: str) -> dict:
         picture = resize_yuv420(frames[frame], rung.width, rung.height)
         request = frame in forced and cause is None
         out = encoder.encode(picture, force_idr=request)
+        decoded = decoder.decode(out.data)
+        scores.append(psnr_db(picture[: rung.height], decoded[: rung.height]))
         if out.is_keyframe and cause is None:
             cause = "request" if request else "periodic"
         rows.append((frame, point, out.size_bits, cause))
         last_point = point
-    return summarise(rows, ladder)
+    return {**summarise(rows, ladder), "psnr_db_mean": round(float(np.mean(scores)), 2)}
 
 
 def backlog_ms(rows, ladder) -> list[float]:
