@@ -167,3 +167,33 @@ def test_vp8_and_av1_cannot_retarget_through_pyav(make):
             encoder._context.bit_rate = 60_000  # what a reconfiguration would have to read
         changed.append(encoder.encode(frame).data)
     assert changed == [control.encode(f).data for f in frames]
+
+
+def test_x264_opened_below_its_cap_ignores_a_new_rate():
+    """Why `H264Encoder` opens at its ceiling: x264 changes the rate only of a CBR stream.
+
+    Opened at 100 kbit/s under a 400 kbit/s cap (VBV-constrained ABR), asked for 400 after a
+    second, libx264 stays near 100 (measured on the QCIF pattern: 107, 101 | 88 kbit in seconds
+    0-2).
+    """
+    import av
+
+    context = av.CodecContext.create("libx264", "w")
+    context.width, context.height, context.pix_fmt = 176, 144, "yuv420p"
+    context.time_base, context.framerate, context.bit_rate = Fraction(1, FPS), FPS, 100_000
+    context.options = {
+        "preset": "ultrafast",
+        "tune": "zerolatency",
+        "x264-params": "vbv-maxrate=400:vbv-bufsize=64:repeat-headers=1:annexb=1",
+        "maxrate": "400000",
+        "bufsize": "64000",
+        "threads": "1",
+    }
+    sizes = []
+    for i, frame in enumerate(checks.pattern(3 * FPS)):
+        if i == FPS:
+            context.bit_rate = 400_000
+        picture = av.VideoFrame.from_ndarray(frame, format="yuv420p")
+        picture.pts = i
+        sizes.extend(8 * p.size for p in context.encode(picture))
+    assert second_kbps(sizes, 2) < 0.5 * 400
