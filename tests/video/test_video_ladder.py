@@ -166,3 +166,15 @@ def test_valid_ladders_round_trip(tmp_path_factory, rows):
     keys = ("rate_kbps", "width", "height", "fps")
     path.write_text(yaml.safe_dump({"rungs": [dict(zip(keys, row, strict=True)) for row in rows]}))
     assert load_ladder(path).rungs == tuple(Rung(*row) for row in rows)
+
+
+def test_open_span_reaches_every_rung_of_the_size():
+    ladder = load_ladder()
+    by_size = {(r.width, r.height): ladder.open_span(r) for r in ladder.rungs}
+    # CIF: 256k at 12.5 frames/s asks 512k of an encoder opened at 25; 1200k is the top
+    assert by_size[(352, 288)] == (25.0, 1200.0)
+    assert by_size[(256, 208)] == (12.5, 128.0)
+    fps, ceiling = by_size[(176, 144)]
+    assert fps == 8.333333 and ceiling == 40.0
+    lone = Rung(100, 64, 48, 10)
+    assert ladder.open_span(lone) == (10.0, 100.0)

@@ -18,6 +18,7 @@ from uma.video.ladder import (
     load_ladder,
     settings_class,
 )
+from uma.video.pyav_codec import Retarget
 from uma.video.scale import resize_yuv420, split_planes
 from uma.video.sources import PatternSource, RawYuvSource, VideoFileSource
 from uma.video.vp8 import VP8Decoder, VP8Encoder, VP8Settings
@@ -28,6 +29,7 @@ __all__ = [
     "EncodedFrame",
     "nal_unit_types",
     "NAL_IDR",
+    "Retarget",
     "VP8Encoder",
     "VP8Decoder",
     "VP8Settings",

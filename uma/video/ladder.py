@@ -126,6 +126,20 @@ class Ladder:
                     f"below ({below:g}), got {rung:g}"
                 )
 
+    def open_span(self, rung: Rung) -> tuple[float, float]:
+        """(fps, max_rate_kbps) to open an encoder for `rung` with, so that `set_target`
+        reaches every rung of the same size without a key frame.
+
+        The highest frame rate among the rungs of `rung`'s size, and the highest rate asked of
+        an encoder opened at that frame rate: a rung at a lower frame rate asks
+        `rate_kbps * fps / rung.fps` (x264 with `tune=zerolatency` budgets per frame; see
+        `H264Encoder.set_target`).
+        """
+        size = (rung.width, rung.height)
+        same = [r for r in self.rungs if (r.width, r.height) == size] or [rung]
+        fps = max(r.fps for r in same)
+        return fps, max(r.rate_kbps * fps / r.fps for r in same)
+
 
 def _check_encoder(values: dict[str, Any], where: Callable[[str], str]) -> None:
     preset, tune = values.get("preset", "ultrafast"), values.get("tune", "zerolatency")

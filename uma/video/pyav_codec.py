@@ -21,11 +21,14 @@ from uma.errors import ConfigError, VideoError
 
 __all__ = [
     "EncodedFrame",
+    "Retarget",
     "PyavEncoder",
     "PyavDecoder",
     "CodecSettings",
     "check_rung",
+    "check_target",
     "check_keyint_vbv",
+    "positive_number",
 ]
 
 
@@ -43,12 +46,45 @@ class EncodedFrame:
         return 8 * len(self.data)
 
 
+@dataclass(frozen=True)
+class Retarget:
+    """What `set_target` did: the rate the open encoder now aims at, or why it could not.
+
+    Falsy when the encoder kept its old target (`reason` says why); the caller then has to open
+    a new encoder, whose first frame is a key frame.
+    """
+
+    rate_kbps: float
+    fps: float
+    reason: str = ""
+
+    def __bool__(self) -> bool:
+        return not self.reason
+
+
 def check_rung(where: str, width: int, height: int, fps: float, rate_kbps: float) -> None:
     """Refuse a size that is not even and positive, or a frame rate or rate that is not positive."""
     if width <= 0 or height <= 0 or width % 2 or height % 2:
         raise VideoError(f"{where}: expected an even positive size, got {width}x{height}")
     if not fps > 0 or not rate_kbps > 0:
         raise VideoError(f"{where}: expected positive fps and rate, got {fps}, {rate_kbps}")
+
+
+def positive_number(value: Any) -> bool:
+    """A finite number above 0 (not a bool)."""
+    return (
+        isinstance(value, int | float) and not isinstance(value, bool) and 0 < value < float("inf")
+    )
+
+
+def check_target(where: str, rate_kbps: float, fps: float | None = None) -> None:
+    """Refuse a target rate, or a frame rate other than None, that is not a positive number."""
+    if not positive_number(rate_kbps):
+        raise VideoError(
+            f"{where}: set_target: expected a positive rate in kbit/s, got {rate_kbps!r}"
+        )
+    if fps is not None and not positive_number(fps):
+        raise VideoError(f"{where}: set_target: expected a positive fps, got {fps!r}")
 
 
 def check_keyint_vbv(values: dict[str, Any], where: Callable[[str], str]) -> None:
@@ -112,6 +148,7 @@ class PyavEncoder:
         check_rung(name, width, height, fps, rate_kbps)
         self.name, self.library = name, library
         self.width, self.height, self.fps, self.rate_kbps = width, height, float(fps), rate_kbps
+        self.frame_fps = self.fps  # the rate frames come in at; `set_target` may change it
         self.bit_rate = int(round(rate_kbps * 1000))
         self.options = dict(options)
         rate = Fraction(fps).limit_denominator(1001)
@@ -130,6 +167,23 @@ class PyavEncoder:
         self._context = context
         self._picture_i = av.video.frame.PictureType.I
         self._pts = 0
+
+    def set_target(self, rate_kbps: float, fps: float | None = None) -> Retarget:
+        """Aim the open encoder at `rate_kbps` from the next frame on, without a key frame,
+        with frames coming in at `fps` (None: as before).
+
+        The base class cannot: FFmpeg's libvpx and SVT-AV1 wrappers (PyAV 18, libavcodec 62)
+        read the rate once, when the encoder opens, and PyAV exposes no per-frame quantiser
+        (docs/keyframe-free.md). It returns a falsy `Retarget` and keeps the old target;
+        `H264Encoder` overrides it.
+        """
+        check_target(self.name, rate_kbps, fps)
+        return Retarget(
+            self.rate_kbps,
+            self.frame_fps,
+            f"{self.name}: {self.library} through FFmpeg does not change the rate of an open "
+            "encoder; open a new one (its first frame is a key frame)",
+        )
 
     def encode(self, frame: np.ndarray, *, force_idr: bool = False) -> EncodedFrame:
         """Encode one YUV 4:2:0 frame of the encoder's size; `force_idr` makes it a key frame."""
