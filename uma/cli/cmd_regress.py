@@ -53,7 +53,7 @@ def handle(args: argparse.Namespace) -> int:
 
     if args.workers < 1:
         raise ConfigError(f"--workers: expected a positive integer, got {args.workers}")
-    if args.results and args.out:
+    if args.results and args.out is not None:
         raise ConfigError("--results and --out: give one (--results reads, --out runs)")
     suite = load_suite(args.suite)
     scenarios = [load_scenario(path) for path in suite.scenarios]
@@ -77,7 +77,7 @@ def handle(args: argparse.Namespace) -> int:
     else:
         from uma.experiments.executor import LocalExecutor
 
-        out = prepare_out_dir(Path(args.out) if args.out else Path("results") / "regress")
+        out = prepare_out_dir(args.out if args.out is not None else Path("results") / "regress")
         for name in names:  # each run's folder is replaced whole: refuse before running
             prepare_out_dir(out / name, what="--out", replaceable=RUN_FILES)
         tasks = [

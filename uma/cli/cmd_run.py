@@ -55,7 +55,7 @@ def handle(args: argparse.Namespace) -> int:
 
     # Checked before the simulation: the folder is replaced whole, so it may hold only results.
     out_dir = prepare_out_dir(
-        Path(args.out) if args.out else Path("results") / scenario.name, replaceable=RUN_FILES
+        args.out if args.out is not None else Path("results") / scenario.name, replaceable=RUN_FILES
     )
 
     bar = None
