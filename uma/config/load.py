@@ -58,19 +58,38 @@ def scenario_from_dict(data: Any, lines: KeyLines, *, base_dir: Path) -> Scenari
 
 
 def _check_files(scenario: Scenario, lines: KeyLines) -> None:
+    """Every file the scenario names is a regular file: a FIFO or a device would block the run
+    or never end, a symlink loop would raise deep in `pathlib`."""
+    import errno
+    import os
+    import stat
+
     wanted: list[tuple[tuple, str | None]] = [
         (
             ("source", "path"),
             scenario.source.path if scenario.source.kind in ("file", "yuv") else None,
         ),
         (("engine", "ladder"), scenario.engine.ladder),
+        (("engine", "mbc", "description"), scenario.engine.mbc.description),
     ]
     wanted += [(("route", i, "trace"), seg.trace) for i, seg in enumerate(scenario.route)]
     for key_path, path in wanted:
-        if path is not None and Path(path).is_dir():
+        if path is None:
+            continue
+        try:
+            mode = os.stat(path).st_mode
+        except OSError as err:
+            found = "a symlink loop" if err.errno == errno.ELOOP else "no such file"
+            raise ConfigError(
+                f"{lines.where(key_path)}: expected an existing file, got {path!r} ({found})"
+            ) from None
+        if stat.S_ISDIR(mode):
             raise ConfigError(f"{lines.where(key_path)}: expected a file, got a folder {path!r}")
-        if path is not None and not Path(path).is_file():
-            raise ConfigError(f"{lines.where(key_path)}: expected an existing file, got {path!r}")
+        if not stat.S_ISREG(mode):
+            raise ConfigError(
+                f"{lines.where(key_path)}: expected a regular file, got {path!r} "
+                f"(a FIFO, socket or device)"
+            )
 
 
 def _check_names(scenario: Scenario, lines: KeyLines) -> None:

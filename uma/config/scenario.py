@@ -8,6 +8,7 @@ the resolved scenario written beside the results repeats the run from anywhere.
 
 from __future__ import annotations
 
+from os.path import realpath
 from pathlib import Path
 from typing import Annotated, Literal
 
@@ -131,7 +132,8 @@ class Scenario(Section):
             if path is None:
                 return None
             candidate = Path(path).expanduser()
-            return str(candidate if candidate.is_absolute() else (base_dir / candidate).resolve())
+            # realpath, not resolve(): a symlink loop is left for `_check_files` to name.
+            return str(candidate if candidate.is_absolute() else realpath(base_dir / candidate))
 
         route = tuple(
             segment.model_copy(update={"trace": absolute(segment.trace)}) for segment in self.route
