@@ -20,6 +20,13 @@ def default_scenario_path() -> Path:
     return scenarios_dir() / DEFAULT_SCENARIO
 
 
+def _number(value: Any) -> str:
+    """`100000.0` as `100000`, `1e-06` as `1e-06`: a bound's message reads like the file."""
+    if isinstance(value, float) and value.is_integer() and abs(value) < 1e15:
+        return str(int(value))
+    return repr(value)
+
+
 def _describe_error(error: dict[str, Any]) -> str:
     kind = error["type"]
     found = error.get("input")
@@ -30,10 +37,18 @@ def _describe_error(error: dict[str, Any]) -> str:
     found_text = repr(found)
     if len(found_text) > 60:
         found_text = found_text[:57] + "..."
+    limits = error.get("ctx") or {}
+    if kind == "less_than_equal":
+        return f"{_number(found)} is above the maximum {_number(limits['le'])}"
+    if kind == "greater_than_equal":
+        return f"{_number(found)} is below the minimum {_number(limits['ge'])}"
     message = error["msg"]
+    if kind == "value_error" and isinstance(found, dict | list | tuple):
+        found_text = ""  # a section's check: its message names the values it compares
     if message.startswith("Value error, "):
         message = message[len("Value error, ") :]
-    return f"{message[:1].lower()}{message[1:]}, got {found_text}"
+    got = f", got {found_text}" if found_text else ""
+    return f"{message[:1].lower()}{message[1:]}{got}"
 
 
 def scenario_from_dict(data: Any, lines: KeyLines, *, base_dir: Path) -> Scenario:

@@ -7,6 +7,7 @@
 
 from __future__ import annotations
 
+import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -84,6 +85,9 @@ def _walk(node: Any, key_path: tuple, lines: dict[tuple, int], path: Path) -> No
             _walk(item, key_path + (index,), lines, path)
 
 
+_EXPONENT = re.compile(r"^[-+]?[0-9][0-9_]*(\.[0-9_]*)?[eE][-+]?[0-9]+$")
+
+
 def _bounded_loader(text: str, path: Path):
     """A SafeLoader whose composer refuses nesting deeper than `MAX_YAML_DEPTH` and more than
     `MAX_YAML_ALIASES` alias uses, each with a `ConfigError` naming the line."""
@@ -115,6 +119,9 @@ def _bounded_loader(text: str, path: Path):
             finally:
                 Loader.depth -= 1
 
+    # YAML 1.2 reads `1e5` and `1e-05` as numbers; PyYAML's 1.1 rules wanted a dot (`1.0e5`)
+    # and read them as text, which the schema then refused as "not a number".
+    Loader.add_implicit_resolver("tag:yaml.org,2002:float", _EXPONENT, list("-+0123456789"))
     return Loader(text)
 
 
