@@ -34,7 +34,9 @@ def _command_modules(prefix: str) -> list[str]:
 
 def build_parser() -> argparse.ArgumentParser:
     """The full parser, with every `cmd_*` sub-command registered."""
-    parser = argparse.ArgumentParser(
+    from uma.cli.args import OneLineParser
+
+    parser = OneLineParser(
         prog="uma",
         description=DESCRIPTION,
         formatter_class=argparse.RawDescriptionHelpFormatter,

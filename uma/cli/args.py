@@ -3,8 +3,47 @@
 from __future__ import annotations
 
 import argparse
+import re
+import sys
+from typing import NoReturn
 
-__all__ = ["frame_size"]
+__all__ = ["frame_size", "OneLineParser", "one_line"]
+
+_REWORDED = (
+    (re.compile(r"^argument (\S+): invalid int value: (.*)$"), r"\1: expected an integer, got \2"),
+    (re.compile(r"^argument (\S+): invalid float value: (.*)$"), r"\1: expected a number, got \2"),
+    (re.compile(r"^argument (\S+): invalid choice: (.*) \(choose from (.*)\)$"), None),
+    (re.compile(r"^argument (\S+): (.*)$"), r"\1: \2"),
+)
+
+
+def one_line(message: str, prog: str) -> str:
+    """argparse's `message` as uma words errors: `OPTION: expected ..., got ...`, then where
+    to read more. `argument --frames: invalid int value: 'ten'` becomes
+    `--frames: expected an integer, got 'ten' (uma bench codec --help)`."""
+    message = " ".join(message.split())
+    for pattern, replacement in _REWORDED:
+        found = pattern.match(message)
+        if found is None:
+            continue
+        if replacement is None:
+            choices = ", ".join(c.strip("'") for c in found.group(3).split(", "))
+            message = f"{found.group(1)}: expected one of {choices}, got {found.group(2)}"
+        else:
+            message = found.expand(replacement)
+        break
+    return f"{message} ({prog} --help)"
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """An `ArgumentParser` whose errors are one line, `uma: error: ...`, and exit 2, as every
+    other bad input gets, rather than the usage block and the error. Sub-parsers added with
+    `add_subparsers` are of this class too."""
+
+    def error(self, message: str) -> NoReturn:
+        sys.stderr.write(f"uma: error: {one_line(message, self.prog)}\n")
+        self.exit(2)
+
 
 NAMED_SIZES = {"cif": (352, 288), "qcif": (176, 144)}
 
