@@ -55,7 +55,18 @@ def _version() -> str:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit status."""
+    """Run the command line; returns the exit status.
+
+    Ctrl-C at any moment, imports and parsing included, is one line and exit 130.
+    """
+    try:
+        return _main(argv)
+    except KeyboardInterrupt:
+        print("uma: interrupted", file=sys.stderr)
+        return 130
+
+
+def _main(argv: Sequence[str] | None) -> int:
     from uma.errors import UmaError
 
     parser = build_parser()
@@ -68,9 +79,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     except UmaError as err:
         print(f"uma: error: {err}", file=sys.stderr)
         return err.exit_code
-    except KeyboardInterrupt:
-        print("uma: interrupted", file=sys.stderr)
-        return 130
 
 
 if __name__ == "__main__":  # pragma: no cover
