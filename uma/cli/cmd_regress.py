@@ -43,6 +43,8 @@ def handle(args: argparse.Namespace) -> int:
     from uma.experiments.point import point_task, run_point
     from uma.experiments.regress import (
         baseline_yaml,
+        check_metric_paths,
+        check_only,
         compare,
         format_checks,
         load_baseline,
@@ -60,6 +62,7 @@ def handle(args: argparse.Namespace) -> int:
     names = [s.name for s in scenarios]
     if len(set(names)) != len(names):
         raise ConfigError(f"{suite.path} (scenarios): two scenarios share a name: {names}")
+    check_only(suite, names)
     baseline = None
     if not args.update or suite.baseline_path.exists():
         baseline = load_baseline(suite.baseline_path)
@@ -98,6 +101,7 @@ def handle(args: argparse.Namespace) -> int:
             if reply["status"] != "ok":
                 failures.append(f"{name}: the run failed: {reply['error']}")
 
+    check_metric_paths(suite, now, baseline=baseline, update=args.update)
     for line in failures:
         print(f"uma regress: {line}", file=sys.stderr)
     if args.update:
