@@ -55,6 +55,10 @@ def shared_data_dir() -> Path:
     return Path(env) if env else project_root().parent / "shared" / "data"
 
 
+def _a(what: str) -> str:
+    return f"{'an' if what[:1].lower() in 'aeiou' else 'a'} {what}"
+
+
 def _mib(size_bytes: int) -> str:
     return f"{size_bytes / 2**20:g} MiB"
 
@@ -72,11 +76,11 @@ def check_regular_file(path: str | os.PathLike, *, error: type[Exception], what:
         raise error(f"{path}: no such {what}") from None
     except OSError as err:
         if err.errno == errno.ELOOP:
-            raise error(f"{path}: a symlink loop, expected a {what}") from None
+            raise error(f"{path}: a symlink loop, expected {_a(what)}") from None
         raise error(f"{path}: cannot read ({err.strerror or err})") from None
     for test, kind in _KINDS:
         if test(info.st_mode):
-            raise error(f"{path}: expected a {what} (a regular file), got {kind}")
+            raise error(f"{path}: expected {_a(what)} (a regular file), got {kind}")
     return info.st_size
 
 
@@ -95,7 +99,7 @@ def read_capped(
     never held whole. A truncated or corrupt gzip is `error` too.
     """
     size = check_regular_file(path, error=error, what=what)
-    limit = f"above the maximum {_mib(max_bytes)} for a {what}"
+    limit = f"above the maximum {_mib(max_bytes)} for {_a(what)}"
     if size > max_bytes:
         raise error(f"{path}: {size} bytes, {limit}")
     try:
@@ -125,7 +129,7 @@ def _gunzip_capped(
             if len(out) > max_bytes:
                 raise error(
                     f"{path}: decompresses to more than {max_bytes} bytes, above the maximum "
-                    f"{_mib(max_bytes)} for a {what}"
+                    f"{_mib(max_bytes)} for {_a(what)}"
                 )
             if not unzip.eof:
                 raise error(

@@ -110,3 +110,20 @@ def test_an_empty_out_is_an_error(folder, capsys, monkeypatch, command):
     err = capsys.readouterr().err
     assert code == 2 and err == "uma: error: --out: expected a folder name, got ''\n"
     assert not (folder / "results").exists()
+
+
+@pytest.mark.parametrize("which", ["image", "--points", "--model"])
+def test_describe_refuses_a_fifo_a_device_or_a_loop_without_blocking(tmp_path, capsys, which):
+    points = REPO / "codecs" / "face" / "akiyo.yaml"
+    os.mkfifo(tmp_path / "fifo")
+    (tmp_path / "loop").symlink_to(tmp_path / "loop")
+    for bad, said in (("fifo", "got a FIFO"), ("loop", "a symlink loop"), ("/dev/zero", "device")):
+        path = bad if bad.startswith("/") else str(tmp_path / bad)
+        argv = {
+            "image": ["describe", path, "--points", str(points)],
+            "--points": ["describe", "--points", path],
+            "--model": ["describe", "--points", str(points), "--model", path],
+        }[which]
+        assert main([*argv, "--out", str(tmp_path / "out")]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and said in err, err
