@@ -102,3 +102,27 @@ def test_only_must_name_a_scenario_of_the_suite(folder, capsys, only):
     assert f"got {only!r}" in out.err
     assert ("not its file" in out.err) == only.endswith(".yaml")
     assert not (folder / "baseline.yaml").exists()
+
+
+@pytest.mark.parametrize(
+    "make, said",
+    [
+        ("fifo", "expected a metrics.json of a finished run (a regular file), got a FIFO"),
+        ("deep", "got JSON nested too deeply"),
+        ("inf", "(freeze_ratio): expected a finite number or null for the baseline, got inf"),
+    ],
+)
+def test_hostile_results_are_one_line_and_no_baseline(folder, capsys, make, said):
+    import os
+
+    path = folder / "results" / "cell-edge" / "metrics.json"
+    path.unlink()
+    if make == "fifo":
+        os.mkfifo(path)
+    elif make == "deep":
+        path.write_text('{"a":' * 100_000 + "1" + "}" * 100_000)
+    else:
+        path.write_text('{"freeze_ratio": 1e999}')
+    code, out = regress(folder, capsys, "  freeze_ratio: {worse: up, absolute: 0.1}\n", update=True)
+    assert code == 2 and out.err.count("\n") == 1 and said in out.err, out.err
+    assert not (folder / "baseline.yaml").exists()

@@ -51,7 +51,7 @@ def handle(args: argparse.Namespace) -> int:
         load_suite,
     )
     from uma.experiments.spec import scenario_hash
-    from uma.metrics.results import RUN_FILES, read_metrics
+    from uma.metrics.results import RUN_FILES
 
     if args.workers < 1:
         raise ConfigError(f"--workers: expected a positive integer, got {args.workers}")
@@ -74,7 +74,7 @@ def handle(args: argparse.Namespace) -> int:
         if not results.is_dir():
             raise ConfigError(f"--results: expected a folder of results, got {str(results)!r}")
         for name in names:
-            now[name] = read_metrics(results / name / "metrics.json")
+            now[name] = _read_metrics(results / name / "metrics.json")
             if now[name] is None:
                 failures.append(f"{name}: no {results / name / 'metrics.json'}")
     else:
@@ -125,3 +125,20 @@ def handle(args: argparse.Namespace) -> int:
     bad = sum(check.failed for check in checks)
     print(f"{len(checks)} checks, {bad} regressed" + (" or missing" if bad else ""))
     return 1 if bad or failures else 0
+
+
+def _read_metrics(path):
+    """`uma.metrics.results.read_metrics`, after refusing what is no regular file (a FIFO
+    would block it) and with a JSON nested past Python's recursion limit as one line."""
+    from uma.errors import ConfigError
+    from uma.metrics.results import read_metrics
+    from uma.paths import check_regular_file
+
+    if path.exists() or path.is_symlink():
+        check_regular_file(path, error=ConfigError, what="metrics.json of a finished run")
+    try:
+        return read_metrics(path)
+    except RecursionError:
+        raise ConfigError(
+            f"{path}: expected the JSON metrics of a finished run, got JSON nested too deeply"
+        ) from None

@@ -359,5 +359,10 @@ def baseline_yaml(suite: Suite, now: dict[str, dict[str, Any]]) -> str:
         lines.append(f"{scenario}:")
         for metric in suite.metrics_of(scenario):
             value = metric_value(metrics, metric)
+            if value is not None and not _number(value):
+                raise ConfigError(
+                    f"{scenario}'s metrics.json ({metric}): expected a finite number or null "
+                    f"for the baseline, got {value!r}"
+                )
             lines.append(f"  {metric}: {'null' if value is None else repr(float(value))}")
     return "\n".join(lines) + "\n"
