@@ -57,3 +57,29 @@ def test_any_non_integer_is_one_line(text):
     assert exit_info.value.code == 2
     assert err.getvalue().count("\n") == 1
     assert err.getvalue().startswith("uma: error: --frames: expected an integer, got ")
+
+
+@pytest.mark.parametrize(
+    "argv, expected",
+    [
+        (["run", "--seed", "100000000000000000000"], "--seed: expected an integer from 0 to 2**63"),
+        (["run", "--seed", "-1"], "--seed: expected an integer from 0 to 2**63 - 1, got '-1'"),
+        (["bench", "sim", "--seed", "x"], "--seed: expected an integer, got 'x'"),
+        (["sweep", "e.yaml", "--workers", "1000"], "--workers: expected 1 to 64 worker processes"),
+        (["regress", "s.yaml", "--workers", "0"], "--workers: expected 1 to 64 worker processes"),
+        (
+            ["sweep", "e.yaml", "--timeout", "inf"],
+            "--timeout: expected a number of seconds above 0",
+        ),
+        (["bench", "headline", "--timeout", "nan"], "--timeout: expected a number of seconds"),
+    ],
+)
+def test_numbers_are_bounded_on_the_command_line(capsys, argv, expected):
+    assert expected in run(capsys, argv)
+
+
+def test_a_seed_set_from_code_is_bounded_too():
+    from uma.config import load_scenario
+
+    with pytest.raises(ValueError, match=r"seed: expected an integer from 0 to 2\*\*63 - 1"):
+        load_scenario().with_seed(2**64)

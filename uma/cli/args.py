@@ -7,7 +7,11 @@ import re
 import sys
 from typing import NoReturn
 
-__all__ = ["frame_size", "OneLineParser", "one_line"]
+__all__ = ["frame_size", "seed", "workers", "seconds", "OneLineParser", "one_line"]
+
+MAX_SEED = 2**63 - 1  # the scenario's own bound on `seed` (uma.config.scenario)
+MAX_WORKERS = 64  # local processes; a cluster (--scheduler) brings its own
+MAX_SECONDS = 3600.0
 
 _REWORDED = (
     (re.compile(r"^argument (\S+): invalid int value: (.*)$"), r"\1: expected an integer, got \2"),
@@ -59,3 +63,41 @@ def frame_size(text: str) -> tuple[int, int]:
     if width < 16 or height < 16 or width % 2 or height % 2:
         raise argparse.ArgumentTypeError(f"expected even sides of at least 16 pixels, got {text!r}")
     return width, height
+
+
+def _integer(text: str) -> int:
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+
+
+def seed(text: str) -> int:
+    """A random seed: an integer from 0 to 2**63 - 1, as a scenario's `seed` may be."""
+    value = _integer(text)
+    if not 0 <= value <= MAX_SEED:
+        raise argparse.ArgumentTypeError(f"expected an integer from 0 to 2**63 - 1, got {text!r}")
+    return value
+
+
+def workers(text: str) -> int:
+    """A count of local worker processes, 1 to `MAX_WORKERS` (each holds a whole run)."""
+    value = _integer(text)
+    if not 1 <= value <= MAX_WORKERS:
+        raise argparse.ArgumentTypeError(
+            f"expected 1 to {MAX_WORKERS} worker processes, got {text!r}"
+        )
+    return value
+
+
+def seconds(text: str) -> float:
+    """A positive duration in seconds, at most an hour."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number of seconds, got {text!r}") from None
+    if not 0 < value <= MAX_SECONDS:
+        raise argparse.ArgumentTypeError(
+            f"expected a number of seconds above 0 and at most {MAX_SECONDS:g}, got {text!r}"
+        )
+    return value

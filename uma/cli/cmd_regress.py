@@ -19,6 +19,8 @@ tolerance, 1 a regression (a missing metric, a missing metrics.json or a failed 
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    from uma.cli.args import workers
+
     parser = sub.add_parser(
         "regress",
         help="compare metrics with the repository's baselines; exit 1 on a regression",
@@ -28,7 +30,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("suite", metavar="SUITE.yaml", help="suite file")
     parser.add_argument("--results", metavar="DIR", help="read finished results instead of running")
     parser.add_argument("--out", metavar="DIR", help="where runs go (default results/regress)")
-    parser.add_argument("--workers", type=int, default=2, help="worker processes (default 2)")
+    parser.add_argument(
+        "--workers", type=workers, default=2, help="worker processes (default 2, at most 64)"
+    )
     parser.add_argument("--update", action="store_true", help="rewrite the baseline on purpose")
     parser.set_defaults(func=handle)
 

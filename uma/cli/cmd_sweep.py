@@ -35,6 +35,8 @@ is refused. Exit status: 0 all points ran, 1 some point failed, 2 bad input."""
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    from uma.cli.args import seconds, workers
+
     parser = sub.add_parser(
         "sweep",
         help="run a grid of scenarios (local processes or Dask), one table of results",
@@ -42,10 +44,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("experiment", metavar="EXPERIMENT.yaml", help="experiment file")
-    parser.add_argument("--workers", type=int, help="local worker processes (default 2)")
+    parser.add_argument(
+        "--workers", type=workers, help="local worker processes (default 2, at most 64)"
+    )
     parser.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler, tcp://host:port")
     parser.add_argument(
-        "--timeout", type=float, default=10.0, metavar="S", help="seconds to reach the scheduler"
+        "--timeout", type=seconds, default=10.0, metavar="S", help="seconds to reach the scheduler"
     )
     parser.add_argument("--out", metavar="DIR", help="results folder (default results/<name>)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar or summary")

@@ -80,6 +80,7 @@ MAX_DURATION_S = 4 * 3600.0
 MAX_SIDE_PX = 4096
 MAX_FPS = 120.0
 MAX_WORK_PIXELS = 3e11
+MAX_SEED = 2**63 - 1  # numpy's generators take any; this is what an int64 column holds
 
 
 class SourceConfig(Section):
@@ -117,7 +118,7 @@ class Scenario(Section):
 
     name: Annotated[str, Strict(), Field(pattern=r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")]
     description: Str = ""
-    seed: bounded(0, 2**63 - 1, integer=True) = 0
+    seed: bounded(0, MAX_SEED, integer=True) = 0
     duration_s: bounded(0, MAX_DURATION_S, open_low=True) | None = None
     source: SourceConfig = Field(default_factory=SourceConfig)
     sender: SenderConfig = Field(default_factory=SenderConfig)
@@ -184,4 +185,7 @@ class Scenario(Section):
         return self.model_copy(update={"route": route, "source": source, "engine": engine})
 
     def with_seed(self, seed: int) -> Scenario:
+        """A copy with `seed`, checked against the key's bound (a copy skips validation)."""
+        if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= MAX_SEED:
+            raise ValueError(f"seed: expected an integer from 0 to 2**63 - 1, got {seed!r}")
         return self.model_copy(update={"seed": seed})
