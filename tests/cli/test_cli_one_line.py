@@ -26,7 +26,10 @@ def run(capsys, argv):
         ),
         (["bench", "codec", "--frames", "ten"], "--frames: expected an integer, got 'ten'"),
         (["regress", "s.yaml", "--workers", "two"], "--workers: expected an integer, got 'two'"),
-        (["sweep", "e.yaml", "--timeout", "soon"], "--timeout: expected a number, got 'soon'"),
+        (
+            ["sweep", "e.yaml", "--timeout", "soon"],
+            "--timeout: expected a number of seconds, got 'soon'",
+        ),
         (["sweep"], "the following arguments are required: EXPERIMENT.yaml (uma sweep --help)"),
         (["rnu"], "COMMAND: expected one of bench, describe, regress"),
         (["run", "--what"], "unrecognized arguments: --what"),
