@@ -70,11 +70,11 @@ def _main(argv: Sequence[str] | None) -> int:
     from uma.errors import UmaError
 
     parser = build_parser()
-    args = parser.parse_args(argv)
-    if not getattr(args, "func", None):
-        parser.print_help()
-        return 2
     try:
+        args = parser.parse_args(argv)  # a bad option is a ConfigError (`OneLineParser`)
+        if not getattr(args, "func", None):
+            parser.print_help()
+            return 2
         return int(args.func(args) or 0)
     except UmaError as err:
         print(f"uma: error: {err}", file=sys.stderr)

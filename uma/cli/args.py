@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import re
-import sys
 from typing import NoReturn
 
 __all__ = ["frame_size", "seed", "workers", "seconds", "OneLineParser", "one_line"]
@@ -40,13 +39,14 @@ def one_line(message: str, prog: str) -> str:
 
 
 class OneLineParser(argparse.ArgumentParser):
-    """An `ArgumentParser` whose errors are one line, `uma: error: ...`, and exit 2, as every
-    other bad input gets, rather than the usage block and the error. Sub-parsers added with
-    `add_subparsers` are of this class too."""
+    """An `ArgumentParser` whose errors are a `ConfigError`, which `uma.cli.main` prints as
+    one line, `uma: error: ...`, and exit 2, as every other bad input gets, rather than the
+    usage block and the error. Sub-parsers added with `add_subparsers` are of this class too."""
 
     def error(self, message: str) -> NoReturn:
-        sys.stderr.write(f"uma: error: {one_line(message, self.prog)}\n")
-        self.exit(2)
+        from uma.errors import ConfigError
+
+        raise ConfigError(one_line(message, self.prog))
 
 
 NAMED_SIZES = {"cif": (352, 288), "qcif": (176, 144)}

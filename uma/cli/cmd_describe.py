@@ -59,7 +59,7 @@ def handle(args: argparse.Namespace) -> int:
     from uma.paths import check_regular_file
 
     # A FIFO or a device would block the readers, a symlink loop raise inside pathlib.
-    for path, what in ((args.image, "image or video"), (args.points, "points file")):
+    for path, what in ((args.image, "image or video file"), (args.points, "points file")):
         if path is not None:
             check_regular_file(path, error=FaceError, what=what)
     if args.model is not None:
