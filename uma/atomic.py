@@ -59,6 +59,13 @@ def prepare_out_dir(
     if not str(path).strip():
         raise OutputError(f"{what}: expected a folder name, got {str(path)!r}")
     out = Path(path)
+    longest = max(len(os.fsencode(part)) for part in out.parts)
+    if longest > 255 or len(os.fsencode(str(out))) > 4000:
+        shown = str(out) if len(str(out)) <= 60 else str(out)[:57] + "..."
+        raise OutputError(
+            f"{what}: expected a path the file system can hold (names of at most 255 bytes), "
+            f"got {shown!r} (a name of {longest} bytes)"
+        )
     existing = out if replaceable is None else out.parent
     while not existing.exists() and existing != existing.parent:
         existing = existing.parent
@@ -72,6 +79,13 @@ def prepare_out_dir(
         raise OutputError(f"{what}: cannot write into {str(existing)!r} (permission denied)")
     if replaceable is not None:
         check_replaceable(out, replaceable, what=what)
+        # The staging folder beside it is `.NAME.uma-PID@HOST-RANDOM.tmp.old` at worst.
+        most = 255 - len(os.fsencode(_prefix(""))) - len("12345678.tmp.old")
+        if len(os.fsencode(out.name)) > most:
+            raise OutputError(
+                f"{what}: expected a folder name of at most {most} bytes (uma stages the "
+                f"results beside it under a longer name), got {len(os.fsencode(out.name))}"
+            )
     return out
 
 

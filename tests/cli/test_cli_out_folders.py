@@ -127,3 +127,23 @@ def test_describe_refuses_a_fifo_a_device_or_a_loop_without_blocking(tmp_path, c
         assert main([*argv, "--out", str(tmp_path / "out")]) == 2
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and said in err, err
+
+
+def test_names_and_paths_too_long_for_the_file_system_are_refused_before_running(folder, capsys):
+    (folder / "long.yaml").write_text(BASE.replace("name: base", "name: " + "x" * 240))
+    assert main(["run", str(folder / "long.yaml"), "--quiet"]) == 2
+    assert "(name): string should have at most 100 characters" in capsys.readouterr().err
+    out = str(folder / ("y" * 230))
+    assert main(["run", str(folder / "base.yaml"), "--out", out, "--quiet"]) == 2
+    assert "--out: expected a folder name of at most" in capsys.readouterr().err
+    assert main(["sweep", str(folder / "exp.yaml"), "--out", "z" * 300, "--quiet"]) == 2
+    assert "(names of at most 255 bytes)" in capsys.readouterr().err
+    assert sorted(p.name for p in folder.iterdir()) == ["base.yaml", "exp.yaml", "long.yaml"]
+
+
+@pytest.mark.parametrize("name", ["../../etc", "a/b", "x" * 101, ".hidden"])
+def test_an_experiment_s_name_is_a_name_not_a_path(folder, capsys, name):
+    (folder / "exp.yaml").write_text(EXPERIMENT.replace("name: grid", f"name: {name!r}"))
+    assert main(["sweep", str(folder / "exp.yaml"), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "exp.yaml:1 (name): expected a name of letters, digits" in err, err

@@ -116,7 +116,8 @@ class SenderConfig(Section):
 class Scenario(Section):
     """A whole experiment; `Scenario.load(path)` is the way in (`uma.config.load_scenario`)."""
 
-    name: Annotated[str, Strict(), Field(pattern=r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")]
+    # The results folder's name (results/<name>): short enough for uma's staging name beside it.
+    name: Annotated[str, Strict(), Field(pattern=r"^[A-Za-z0-9][A-Za-z0-9_.-]*$", max_length=100)]
     description: Str = ""
     seed: bounded(0, MAX_SEED, integer=True) = 0
     duration_s: bounded(0, MAX_DURATION_S, open_low=True) | None = None
