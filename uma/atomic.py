@@ -59,7 +59,7 @@ def prepare_out_dir(
     if not str(path).strip():
         raise OutputError(f"{what}: expected a folder name, got {str(path)!r}")
     out = Path(path)
-    longest = max(len(os.fsencode(part)) for part in out.parts)
+    longest = max((len(os.fsencode(part)) for part in out.parts), default=0)
     if longest > 255 or len(os.fsencode(str(out))) > 4000:
         shown = str(out) if len(str(out)) <= 60 else str(out)[:57] + "..."
         raise OutputError(
