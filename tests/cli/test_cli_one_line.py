@@ -2,7 +2,7 @@
 2, for every sub-command, never argparse's usage block."""
 
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from uma.cli import main
@@ -46,6 +46,7 @@ def _not_int(text: str) -> bool:
     return False
 
 
+@settings(deadline=None, max_examples=60)  # file I/O on a loaded machine
 @given(text=st.text(min_size=1).filter(_not_int))
 def test_any_non_integer_is_one_line(text):
     import contextlib

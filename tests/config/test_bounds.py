@@ -4,7 +4,7 @@ technologies named anywhere are uma's labels; estimator settings that contradict
 import re
 
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from uma.config import load_scenario
@@ -31,6 +31,7 @@ numbers = st.floats(allow_nan=False, allow_infinity=False, min_value=1e-300, max
 
 
 @pytest.mark.parametrize("key", ["far_ring_head_radii", "head_ring_outlines"])
+@settings(deadline=None, max_examples=60)  # file I/O on a loaded machine
 @given(value=numbers)
 def test_ring_sizes_are_bounded(tmp_path_factory, key, value):
     tmp_path = tmp_path_factory.mktemp("ring")
@@ -51,6 +52,7 @@ def test_the_bound_is_stated_as_the_issue_asks(tmp_path):
     )
 
 
+@settings(deadline=None, max_examples=60)  # file I/O on a loaded machine
 @given(value=numbers)
 def test_the_feedback_interval_is_bounded(tmp_path_factory, value):
     tmp_path = tmp_path_factory.mktemp("feedback")
@@ -61,6 +63,7 @@ def test_the_feedback_interval_is_bounded(tmp_path_factory, value):
         refused(tmp_path, text, r"\(feedback\.interval_ms\): .* is (below the minimum 10|above)")
 
 
+@settings(deadline=None, max_examples=60)  # file I/O on a loaded machine
 @given(width=st.integers(-10, 10**6), height=st.integers(-10, 10**6), fps=st.floats(1e-9, 1e9))
 def test_picture_sizes_and_rates_are_bounded(tmp_path_factory, width, height, fps):
     tmp_path = tmp_path_factory.mktemp("picture")
@@ -122,6 +125,7 @@ def test_unknown_technologies_are_refused_everywhere(tmp_path, text, key):
     )
 
 
+@settings(deadline=None, max_examples=60)  # file I/O on a loaded machine
 @given(
     low=st.floats(1, 1e5),
     high=st.floats(1, 1e5),
