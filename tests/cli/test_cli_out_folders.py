@@ -73,25 +73,40 @@ def test_uma_s_own_leftovers_are_replaceable(tmp_path):
 
 
 def test_a_sweep_refuses_a_run_folder_and_a_run_refuses_a_sweep_folder(folder, capsys):
+    # Refused before any work, so folders laid out as uma writes them will do.
     run = folder / "R"
-    assert main(["run", str(folder / "base.yaml"), "--out", str(run), "--quiet"]) == 0
-    before = sorted(p.name for p in run.iterdir())
+    run.mkdir()
+    for name in ("scenario.yaml", "metrics.json", "frames.csv", "events.csv"):
+        (run / name).write_text("x")
     code = main(["sweep", str(folder / "exp.yaml"), "--out", str(run), "--quiet"])
     err = capsys.readouterr().err
     assert code == 2 and err.count("\n") == 1, err
     assert "holds files that are not results (events.csv, frames.csv, metrics.json, ...)" in err
-    assert sorted(p.name for p in run.iterdir()) == before
+    assert sorted(p.name for p in run.iterdir()) == [
+        "events.csv",
+        "frames.csv",
+        "metrics.json",
+        "scenario.yaml",
+    ]
 
     sweep = folder / "S"
-    assert main(["sweep", str(folder / "exp.yaml"), "--out", str(sweep), "--quiet"]) == 0
-    before = sorted(p.name for p in sweep.iterdir())
-    assert before == ["points", "sweep.csv", "sweep.parquet"]
+    (sweep / "points" / "0123456789abcdef").mkdir(parents=True)
+    (sweep / "sweep.csv").write_text("x")
+    (sweep / "sweep.parquet").write_text("x")
     code = main(["run", str(folder / "base.yaml"), "--out", str(sweep), "--quiet"])
     err = capsys.readouterr().err
     assert code == 2 and "holds files that are not results (points" in err, err
-    assert sorted(p.name for p in sweep.iterdir()) == before
-    # A finished sweep's folder takes the same sweep again (it resumes).
-    assert main(["sweep", str(folder / "exp.yaml"), "--out", str(sweep), "--quiet"]) == 0
+    assert sorted(p.name for p in sweep.iterdir()) == ["points", "sweep.csv", "sweep.parquet"]
+
+
+def test_a_sweep_s_folder_takes_the_sweep_again(folder):
+    from uma.experiments.sweep import check_sweep_out
+
+    sweep = folder / "S"
+    (sweep / "points").mkdir(parents=True)
+    (sweep / "sweep.csv").write_text("x")
+    (sweep / ".sweep.csv.uma-1@host-abc.tmp").write_text("x")
+    assert check_sweep_out(sweep) == sweep
 
 
 @pytest.mark.parametrize("command", ["run", "sweep", "regress"])
