@@ -275,3 +275,10 @@ def test_only_an_ended_writers_leftovers_on_this_host_are_removed(tmp_path):
     atomic_files(tmp_path, {"sweep.csv": b"new"})
     left = {p.name for p in tmp_path.iterdir()}
     assert left == {"sweep.csv"} | {n for n, why in names.items() if why.endswith("kept")}
+
+
+def test_the_current_folder_is_a_place_for_results(tmp_path, monkeypatch):
+    from uma.atomic import prepare_out_dir
+
+    monkeypatch.chdir(tmp_path)
+    assert prepare_out_dir(".") == tmp_path.relative_to(tmp_path)  # Path("."), no parts

@@ -21,6 +21,7 @@ from __future__ import annotations
 import contextlib
 import errno
 import os
+import re
 import shutil
 import sys
 import tempfile
@@ -55,7 +56,16 @@ def prepare_out_dir(
     """
     from uma.errors import OutputError
 
+    if not str(path).strip():
+        raise OutputError(f"{what}: expected a folder name, got {str(path)!r}")
     out = Path(path)
+    longest = max((len(os.fsencode(part)) for part in out.parts), default=0)
+    if longest > 255 or len(os.fsencode(str(out))) > 4000:
+        shown = str(out) if len(str(out)) <= 60 else str(out)[:57] + "..."
+        raise OutputError(
+            f"{what}: expected a path the file system can hold (names of at most 255 bytes), "
+            f"got {shown!r} (a name of {longest} bytes)"
+        )
     existing = out if replaceable is None else out.parent
     while not existing.exists() and existing != existing.parent:
         existing = existing.parent
@@ -69,18 +79,29 @@ def prepare_out_dir(
         raise OutputError(f"{what}: cannot write into {str(existing)!r} (permission denied)")
     if replaceable is not None:
         check_replaceable(out, replaceable, what=what)
+        # The staging folder beside it is `.NAME.uma-PID@HOST-RANDOM.tmp.old` at worst.
+        most = 255 - len(os.fsencode(_prefix(""))) - len("12345678.tmp.old")
+        if len(os.fsencode(out.name)) > most:
+            raise OutputError(
+                f"{what}: expected a folder name of at most {most} bytes (uma stages the "
+                f"results beside it under a longer name), got {len(os.fsencode(out.name))}"
+            )
     return out
 
 
 def check_replaceable(
-    path: str | os.PathLike, patterns: Sequence[str], *, what: str = "--out"
+    path: str | os.PathLike,
+    patterns: Sequence[str],
+    *,
+    what: str = "--out",
+    folders: Sequence[str] = (),
 ) -> None:
-    """Raise `OutputError` unless folder `path` is absent, empty or holds only `patterns` names.
+    """Raise `OutputError` unless folder `path` is absent, empty or holds only what uma wrote:
+    regular files matching `patterns`, sub-folders named in `folders`, uma's temporaries.
 
-    Swapping a folder whole deletes what it held: this keeps `--out ~` from deleting a home.
+    Swapping a folder whole deletes what it held: this keeps `--out ~` from deleting a home,
+    and a user's `notes.tmp` or folder `timeline-notes.png/` from going with an old run.
     """
-    from fnmatch import fnmatchcase
-
     from uma.errors import OutputError
 
     folder = Path(os.path.realpath(path))
@@ -100,16 +121,39 @@ def check_replaceable(
             f"{what}: expected a folder for the results, got an existing file {str(folder)!r}"
         )
     try:
-        names = sorted(entry.name for entry in os.scandir(folder))
+        entries = sorted(os.scandir(folder), key=lambda entry: entry.name)
     except OSError as err:
         raise OutputError(f"{what}: cannot read {str(folder)!r} ({err.strerror or err})") from None
-    foreign = [n for n in names if not any(fnmatchcase(n, p) for p in patterns)]
+    foreign = [entry.name for entry in entries if not _is_ours(entry, patterns, folders)]
     if foreign:
         shown = ", ".join(foreign[:3]) + (", ..." if len(foreign) > 3 else "")
         raise OutputError(
             f"{what}: {str(folder)!r} holds files that are not results ({shown}); expected an "
             f"empty folder or one written by uma, so replacing it loses nothing else"
         )
+
+
+# What uma's own temporaries are named (`_prefix`): `.NAME.uma-PID@HOST-RANDOM.tmp`.
+_UMA_TEMPORARY = re.compile(r"^\..+\.uma-[0-9]+@[^/]*-[^/]+\.tmp(\.old)?$")
+
+
+def _is_ours(entry: os.DirEntry, patterns: Sequence[str], folders: Sequence[str] = ()) -> bool:
+    """Whether uma may have written `entry`: one of its temporaries (by name), or a regular
+    file (not a folder, not a link) matching a pattern. A pattern for temporaries
+    (`.*.tmp`) matches only names uma gives them, so a user's `.precious.tmp` is kept."""
+    from fnmatch import fnmatchcase
+
+    if _UMA_TEMPORARY.match(entry.name):
+        return True
+    try:
+        if entry.name in folders:
+            return entry.is_dir(follow_symlinks=False)
+        plain_file = entry.is_file(follow_symlinks=False)
+    except OSError:
+        return False
+    return plain_file and any(
+        fnmatchcase(entry.name, p) for p in patterns if not p.endswith(".tmp")
+    )
 
 
 @contextlib.contextmanager

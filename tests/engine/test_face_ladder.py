@@ -18,7 +18,9 @@ POINTS = (
 def engine(initial_kbps: float, **face):
     config = EngineConfig.model_validate(
         {
-            "estimator": EstimatorConfig(initial_kbps=initial_kbps),
+            "estimator": EstimatorConfig(
+                initial_kbps=initial_kbps, min_kbps=min(5.0, initial_kbps)
+            ),
             "safety": 1.0,
             "face_region": {"enabled": True} | face,
         }

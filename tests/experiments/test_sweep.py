@@ -38,7 +38,7 @@ def test_grid_expands_with_repeats_and_distinct_hashes(folder):
         ),
         (
             "grid:\n  engine.safety: [0.5, 2]\n",
-            r"exp.yaml:4 \(grid.engine.safety\[1\]\): input should be .* got 2 \(grid point",
+            r"exp.yaml:4 \(grid.engine.safety\[1\]\): 2 is above the maximum 1 \(grid point",
         ),
     ],
 )

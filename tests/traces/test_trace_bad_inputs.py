@@ -235,5 +235,7 @@ def test_gzip_trace_is_read_and_a_broken_one_named(tmp_path):
     packed.write_bytes(gzip.compress(VALID["pensieve"].encode()))
     assert read_trace(packed) == read_trace(plain)
     packed.write_bytes(gzip.compress(VALID["pensieve"].encode())[:20])
-    with pytest.raises(TraceError, match=r"trace.log.gz: a gzip-compressed trace that does not"):
+    with pytest.raises(
+        TraceError, match=r"trace.log.gz: a gzip-compressed trace file that does not"
+    ):
         read_trace(packed)

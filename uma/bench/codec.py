@@ -17,12 +17,15 @@ time per frame. `plot_rate_quality` draws those rate-quality curves.
 from __future__ import annotations
 
 import time
+from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from uma.bench.codec_clip import Clip, open_clip
 from uma.bench.timing import median_ms
+from uma.codecs import full_frame_names, spec
 
 __all__ = [
     "run_codec_bench",
@@ -35,9 +38,9 @@ __all__ = [
     "CODEC_COLOURS",
 ]
 
-CODEC_NAMES = ("h264", "vp8", "av1")
-# plot colours; H.264's is the timeline's (uma/report/timeline.py)
-CODEC_COLOURS = {"h264": "#1f5fbf", "vp8": "#f39c12", "av1": "#6c3483"}
+# The full-frame codecs and their plot colours, as the codec registry names them.
+CODEC_NAMES = full_frame_names()
+CODEC_COLOURS = {name: spec(name).colour for name in CODEC_NAMES}
 CLIP_FPS = 25.0
 RUNG_KEYS = (
     "target_kbps",
@@ -51,32 +54,22 @@ RUNG_KEYS = (
 )
 
 
-def _frames(video: Path | None, count: int) -> tuple[list[np.ndarray], str]:
-    from uma.video import PatternSource, VideoFileSource
-
-    if video is not None and video.is_file():
-        source = VideoFileSource(video, loop=True, max_frames=count)
-        name = video.name
-    else:
-        source = PatternSource(352, 288, seed=0)
-        name = "pattern"
-    iterator = iter(source.frames())
-    return [next(iterator) for _ in range(count)], name
-
-
 def run_codec_bench(*, video: Path | None, frames: int = 300) -> dict[str, Any]:
+    """libx264's rate accuracy per rung, its speed and the metrics' cost on one clip (or the
+    pattern when `video` is None), streaming the clip: at most `frames` of the frames it holds."""
     from uma.metrics.quality import psnr_db, ssim
     from uma.video import H264Decoder, H264Encoder, load_ladder, resize_yuv420
 
-    clip, name = _frames(video, frames)
-    height = clip[0].shape[0] * 2 // 3
-    width = clip[0].shape[1]
+    clip = open_clip(video, frames, faces=False)
     rungs = []
     for rung in load_ladder().rungs:
         step = max(1, int(round(25.0 / rung.fps)))
-        chosen = [resize_yuv420(f, rung.width, rung.height) for f in clip[::step]]
         encoder = H264Encoder(rung.width, rung.height, rung.fps, rung.rate_kbps)
-        bits = [encoder.encode(f).size_bits for f in chosen]
+        bits = [
+            encoder.encode(resize_yuv420(f, rung.width, rung.height)).size_bits
+            for i, f in enumerate(clip.frames())
+            if i % step == 0
+        ]
         skip = max(1, int(rung.fps))
         measured = sum(bits[skip:]) / ((len(bits) - skip) / rung.fps) / 1000.0
         rungs.append(
@@ -87,22 +80,27 @@ def run_codec_bench(*, video: Path | None, frames: int = 300) -> dict[str, Any]:
                 "error_pct": round(100.0 * (measured / rung.rate_kbps - 1.0), 2),
             }
         )
-    encoder, decoder = H264Encoder(width, height, 25.0, 768), H264Decoder()
-    start = time.perf_counter()
-    packets = [encoder.encode(f) for f in clip]
-    encode_s = time.perf_counter() - start
-    start = time.perf_counter()
-    pictures = [decoder.decode(p.data) for p in packets]
-    decode_s = time.perf_counter() - start
-    ref, test = clip[len(clip) // 2][:height], pictures[len(clip) // 2][:height]
+    encoder, decoder = H264Encoder(clip.width, clip.height, 25.0, 768), H264Decoder()
+    encode_s = decode_s = 0.0
+    middle = None
+    for index, frame in enumerate(clip.frames()):
+        start = time.perf_counter()
+        unit = encoder.encode(frame)
+        coded = time.perf_counter()
+        picture = decoder.decode(unit.data)
+        decode_s += time.perf_counter() - coded
+        encode_s += coded - start
+        if index == clip.count // 2:
+            middle = (frame[: clip.height], picture[: clip.height])
+    ref, test = middle
     from skimage.metrics import structural_similarity
 
     return {
-        "video": f"{name} {width}x{height}",
-        "frames": len(clip),
+        "video": f"{clip.name} {clip.width}x{clip.height}",
+        "frames": clip.count,
         "rungs": rungs,
-        "encode_fps": round(len(clip) / encode_s, 1),
-        "decode_fps": round(len(clip) / decode_s, 1),
+        "encode_fps": round(clip.count / encode_s, 1),
+        "decode_fps": round(clip.count / decode_s, 1),
         "ssim_ms_float32": round(median_ms(lambda: ssim(ref, test)), 3),
         "ssim_ms_uint8": round(
             median_ms(lambda: structural_similarity(ref, test, data_range=255)), 3
@@ -130,34 +128,33 @@ def format_table(result: dict[str, Any]) -> str:
 
 
 def codec_classes(codec: str) -> tuple[type, type]:
-    """(encoder class, decoder class) of a codec name in `CODEC_NAMES`."""
-    from uma.video import AV1Decoder, AV1Encoder, H264Decoder, H264Encoder, VP8Decoder, VP8Encoder
+    """(encoder class, decoder class) of a full-frame codec, as the registry names them."""
+    import uma.video
 
-    table = {
-        "h264": (H264Encoder, H264Decoder),
-        "vp8": (VP8Encoder, VP8Decoder),
-        "av1": (AV1Encoder, AV1Decoder),
-    }
-    return table[codec]
+    entry = spec(codec)
+    return getattr(uma.video, entry.video_encoder), getattr(uma.video, entry.video_decoder)
 
 
 def _round(value: float, digits: int) -> float | None:
     return None if value != value else round(float(value), digits)  # NaN (no face) is null
 
 
-def measure_rung(codec: str, rung, settings, frames: list[np.ndarray], boxes) -> dict[str, Any]:
-    """Code `frames` (a clip at 25 frames/s) at one rung and score the decoded pictures."""
+def measure_rung(codec: str, rung, settings, frames: Iterable[np.ndarray], boxes) -> dict[str, Any]:
+    """Code `frames` (a clip at 25 frames/s, read once, in order) at one rung and score the
+    decoded pictures; `boxes[i]` is frame i's face box or None."""
     from uma.metrics.quality import psnr_db, region_scores, ssim
     from uma.video import resize_yuv420
 
     encoder_class, decoder_class = codec_classes(codec)
-    height, width = frames[0].shape[0] * 2 // 3, frames[0].shape[1]
     encoder = encoder_class(rung.width, rung.height, rung.fps, rung.rate_kbps, **settings.kwargs())
     decoder = decoder_class()
     step = max(1, int(round(CLIP_FPS / rung.fps)))
     bits, encode_s, decode_s, scores = [], 0.0, 0.0, []
-    for index in range(0, len(frames), step):
-        small = resize_yuv420(frames[index], rung.width, rung.height)
+    for index, frame in enumerate(frames):
+        if index % step:
+            continue
+        height, width = frame.shape[0] * 2 // 3, frame.shape[1]
+        small = resize_yuv420(frame, rung.width, rung.height)
         start = time.perf_counter()
         unit = encoder.encode(small)
         middle = time.perf_counter()
@@ -166,7 +163,7 @@ def measure_rung(codec: str, rung, settings, frames: list[np.ndarray], boxes) ->
         encode_s += middle - start
         bits.append(unit.size_bits)
         shown = resize_yuv420(picture, width, height)[:height]
-        reference = frames[index][:height]
+        reference = frame[:height]
         face = region_scores(reference, shown, boxes[index])
         scores.append((psnr_db(reference, shown), ssim(reference, shown), *face))
     skip = max(1, int(round(rung.fps)))
@@ -188,24 +185,6 @@ def measure_rung(codec: str, rung, settings, frames: list[np.ndarray], boxes) ->
     }
 
 
-def clip_frames(
-    video: Path | None, count: int, *, pattern_size: tuple[int, int] = (352, 288)
-) -> tuple[str, list[np.ndarray], list]:
-    """(name, frames, face boxes) of a clip, or of the built-in pattern when `video` is None."""
-    from uma.face.region import FaceBoxes
-    from uma.video import PatternSource, VideoFileSource
-
-    if video is None:
-        source = PatternSource(*pattern_size, seed=0, frame_count=count)
-        name = "pattern"
-    else:
-        source = VideoFileSource(video, max_frames=count)
-        name = video.stem.removesuffix("_qcif")
-    boxes = FaceBoxes(source)
-    frames = list(boxes.wrap(source.frames()))
-    return name, frames, boxes.boxes
-
-
 def run_codecs_bench(
     codecs: tuple[str, ...],
     videos: list[Path | None],
@@ -220,22 +199,21 @@ def run_codecs_bench(
     """
     from uma.video import default_ladder_path, load_ladder
 
-    clips = [clip_frames(video, frames, pattern_size=pattern_size) for video in videos]
+    clips: list[Clip] = [open_clip(video, frames, pattern_size=pattern_size) for video in videos]
     result: dict[str, Any] = {"codecs": {}}
     for codec in codecs:
         path = default_ladder_path(codec)
         ladder = load_ladder(path)
         entry = {"ladder": f"codecs/{path.name}", "clips": {}}
-        for name, clip, boxes in clips:
+        for clip in clips:
             rungs = []
             for rung in ladder.rungs:
                 if progress is not None:
-                    progress(f"{codec} {name} {rung.label}")
-                rungs.append(measure_rung(codec, rung, ladder.encoder, clip, boxes))
-            height, width = clip[0].shape[0] * 2 // 3, clip[0].shape[1]
-            entry["clips"][name] = {
-                "frames": len(clip),
-                "size": f"{width}x{height}",
+                    progress(f"{codec} {clip.name} {rung.label}")
+                rungs.append(measure_rung(codec, rung, ladder.encoder, clip.frames(), clip.boxes))
+            entry["clips"][clip.name] = {
+                "frames": clip.count,
+                "size": f"{clip.width}x{clip.height}",
                 "rungs": rungs,
             }
         result["codecs"][codec] = entry

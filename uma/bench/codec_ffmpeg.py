@@ -10,11 +10,13 @@ codec libraries, whose versions may differ from PyAV's: `ffmpeg_version` says wh
 
 from __future__ import annotations
 
+import contextlib
 import os
 import shutil
 import struct
 import subprocess
 import tempfile
+from collections.abc import Iterable
 from fractions import Fraction
 from pathlib import Path
 from typing import Any
@@ -69,32 +71,48 @@ def _steady_kbps(sizes_bytes: list[int], fps: float) -> float:
     return 8 * sum(sizes_bytes[skip:]) / ((len(sizes_bytes) - skip) / fps) / 1000.0
 
 
-def compare_rung(codec: str, rung, settings, frames: list[np.ndarray]) -> dict[str, Any]:
-    """PyAV's and the command line's rate at one rung on the same frames (a clip at 25 fps)."""
+def compare_rung(codec: str, rung, settings, frames: Iterable[np.ndarray]) -> dict[str, Any]:
+    """PyAV's and the command line's rate at one rung on the same frames (a clip at 25 fps,
+    read once, in order: each frame goes to both encoders as it comes, none is held)."""
     from uma.bench.codec import CLIP_FPS, codec_classes
     from uma.video import resize_yuv420
 
     encoder_class, _ = codec_classes(codec)
     step = max(1, int(round(CLIP_FPS / rung.fps)))
-    chosen = [resize_yuv420(f, rung.width, rung.height) for f in frames[::step]]
     encoder = encoder_class(rung.width, rung.height, rung.fps, rung.rate_kbps, **settings.kwargs())
-    pyav = [len(encoder.encode(f).data) for f in chosen]
     rate = Fraction(rung.fps).limit_denominator(1001)
     args, muxer = encoder_arguments(codec, encoder)
+    pyav = []
     with tempfile.TemporaryDirectory() as folder:
         out = Path(folder) / f"out.{muxer}"
         command = ["ffmpeg", "-hide_banner", "-loglevel", "error", "-f", "rawvideo"]
         command += ["-pix_fmt", "yuv420p", "-s", f"{rung.width}x{rung.height}"]
         command += ["-framerate", f"{rate.numerator}/{rate.denominator}", "-i", "-"]
         command += [*args, "-f", muxer, "-y", str(out)]
-        done = subprocess.run(
-            command,
-            input=b"".join(np.ascontiguousarray(f).tobytes() for f in chosen),
-            capture_output=True,
-            env={**os.environ, "SVT_LOG": os.environ.get("SVT_LOG", "1")},
-        )
-        if done.returncode != 0:
-            message = done.stderr.decode(errors="replace").strip().splitlines()
+        errors = Path(folder) / "stderr.txt"
+        with open(errors, "wb") as stderr:
+            process = subprocess.Popen(
+                command,
+                stdin=subprocess.PIPE,
+                stdout=subprocess.DEVNULL,
+                stderr=stderr,
+                env={**os.environ, "SVT_LOG": os.environ.get("SVT_LOG", "1")},
+            )
+            try:
+                for index, frame in enumerate(frames):
+                    if index % step:
+                        continue
+                    small = np.ascontiguousarray(resize_yuv420(frame, rung.width, rung.height))
+                    pyav.append(len(encoder.encode(small).data))
+                    process.stdin.write(small.tobytes())
+            except BrokenPipeError:
+                pass  # ffmpeg stopped early: its message is read below
+            finally:
+                with contextlib.suppress(BrokenPipeError):
+                    process.stdin.close()
+                returncode = process.wait()
+        if returncode != 0:
+            message = errors.read_bytes().decode(errors="replace").strip().splitlines()
             raise RunError(f"ffmpeg failed on {codec} {rung.label}: {message[-1:]}")
         cli = _annexb_sizes(out) if muxer == "h264" else _ivf_sizes(out.read_bytes())
     if len(cli) != len(pyav):
@@ -113,21 +131,21 @@ def compare_codecs(
     codecs: tuple[str, ...], videos: list, *, frames: int = 300, progress=None
 ) -> dict[str, Any]:
     """`{"version", "codecs": {codec: {clip: [compare_rung rows]}}}` over every ladder rung."""
-    from uma.bench.codec import clip_frames
+    from uma.bench.codec_clip import open_clip
     from uma.video import default_ladder_path, load_ladder
 
     result: dict[str, Any] = {"version": ffmpeg_version(), "codecs": {}}
-    clips = [clip_frames(video, frames)[:2] for video in videos]
+    clips = [open_clip(video, frames, faces=False) for video in videos]
     for codec in codecs:
         ladder = load_ladder(default_ladder_path(codec))
         result["codecs"][codec] = {}
-        for name, clip in clips:
+        for clip in clips:
             rows = []
             for rung in ladder.rungs:
                 if progress is not None:
-                    progress(f"ffmpeg {codec} {name} {rung.label}")
-                rows.append(compare_rung(codec, rung, ladder.encoder, clip))
-            result["codecs"][codec][name] = rows
+                    progress(f"ffmpeg {codec} {clip.name} {rung.label}")
+                rows.append(compare_rung(codec, rung, ladder.encoder, clip.frames()))
+            result["codecs"][codec][clip.name] = rows
     return result
 
 

@@ -34,7 +34,9 @@ def _command_modules(prefix: str) -> list[str]:
 
 def build_parser() -> argparse.ArgumentParser:
     """The full parser, with every `cmd_*` sub-command registered."""
-    parser = argparse.ArgumentParser(
+    from uma.cli.args import OneLineParser
+
+    parser = OneLineParser(
         prog="uma",
         description=DESCRIPTION,
         formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -53,22 +55,30 @@ def _version() -> str:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit status."""
+    """Run the command line; returns the exit status.
+
+    Ctrl-C at any moment, imports and parsing included, is one line and exit 130.
+    """
+    try:
+        return _main(argv)
+    except KeyboardInterrupt:
+        print("uma: interrupted", file=sys.stderr)
+        return 130
+
+
+def _main(argv: Sequence[str] | None) -> int:
     from uma.errors import UmaError
 
     parser = build_parser()
-    args = parser.parse_args(argv)
-    if not getattr(args, "func", None):
-        parser.print_help()
-        return 2
     try:
+        args = parser.parse_args(argv)  # a bad option is a ConfigError (`OneLineParser`)
+        if not getattr(args, "func", None):
+            parser.print_help()
+            return 2
         return int(args.func(args) or 0)
     except UmaError as err:
         print(f"uma: error: {err}", file=sys.stderr)
         return err.exit_code
-    except KeyboardInterrupt:
-        print("uma: interrupted", file=sys.stderr)
-        return 130
 
 
 if __name__ == "__main__":  # pragma: no cover

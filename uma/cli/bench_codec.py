@@ -22,9 +22,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         "face box, and encode and decode ms per frame. With H.264 also libx264's rate accuracy "
         "on one clip, its speed, and the cost of SSIM and PSNR on one luma plane.",
     )
+    from uma.codecs import full_frame_names
+
     parser.add_argument(
         "--codec",
-        choices=("h264", "vp8", "av1", "all"),
+        choices=(*full_frame_names(), "all"),
         default="h264",
         help="codec to measure (default h264; all: every one)",
     )
@@ -57,14 +59,18 @@ def handle(args: argparse.Namespace) -> int:
         run_codec_bench,
         run_codecs_bench,
     )
+    from uma.bench.codec_clip import MIN_FRAMES
     from uma.cli.cmd_bench import emit
     from uma.errors import ConfigError
-    from uma.paths import shared_data_dir
+    from uma.paths import check_regular_file, shared_data_dir
 
-    if args.frames < 30:
-        raise ConfigError(f"--frames: expected at least 30, got {args.frames}")
-    if args.video and not Path(args.video).is_file():
-        raise ConfigError(f"--video: expected an existing video file, got {args.video!r}")
+    if args.frames < MIN_FRAMES:
+        raise ConfigError(f"--frames: expected at least {MIN_FRAMES}, got {args.frames}")
+    if args.video is not None:
+        try:
+            check_regular_file(args.video, error=ConfigError, what="video file")
+        except ConfigError as err:
+            raise ConfigError(f"--video: {err}") from None
     if args.plot and not Path(args.plot).parent.is_dir():
         raise ConfigError(f"--plot: expected a file in an existing folder, got {args.plot!r}")
     folder = shared_data_dir() / "faces" / "video"
@@ -73,6 +79,7 @@ def handle(args: argparse.Namespace) -> int:
     else:
         videos = [folder / name for name in CLIPS if (folder / name).is_file()] or [None]
     codecs = CODEC_NAMES if args.codec == "all" else (args.codec,)
+    _note_the_work(videos, args.frames, codecs, quiet=args.quiet)
 
     def progress(what: str) -> None:
         if not args.quiet and sys.stderr.isatty():
@@ -81,6 +88,7 @@ def handle(args: argparse.Namespace) -> int:
     result, tables = {}, []
     if "h264" in codecs:
         legacy_video = Path(args.video) if args.video else folder / "akiyo.mp4"
+        legacy_video = legacy_video if legacy_video.is_file() else None  # the pattern
         result = run_codec_bench(video=legacy_video, frames=args.frames)
         tables.append(format_table(result))
     result.update(run_codecs_bench(codecs, videos, frames=args.frames, progress=progress))
@@ -97,3 +105,22 @@ def handle(args: argparse.Namespace) -> int:
         tables.append(f"rate-quality plot: {args.plot}")
     emit(result, "\n\n".join(tables), as_json=args.json)
     return 0
+
+
+def _note_the_work(videos: list, frames: int, codecs: tuple[str, ...], *, quiet: bool) -> None:
+    """Refuse a clip the benchmark cannot score, and say on stderr what a large one will cost
+    (in pixels coded and scored, against the default clips') before spending it."""
+    import sys
+
+    from uma.bench.codec_clip import work_pixels
+    from uma.video import default_ladder_path, load_ladder
+
+    rungs = sum(len(load_ladder(default_ladder_path(codec)).rungs) for codec in codecs)
+    total, largest = work_pixels(videos, frames, rungs)
+    usual = (352 * 288 + 176 * 144) * 300 * rungs  # akiyo (CIF) and carphone (QCIF), 300 frames
+    if total > 10 * usual and not quiet:
+        print(
+            f"uma bench codec: {largest} at {rungs} rungs: {total:.2g} pixels to code and score, "
+            f"{total / usual:.0f} times the default clips' {usual:.2g}; --frames bounds it",
+            file=sys.stderr,
+        )

@@ -10,6 +10,7 @@ SCENARIOS = ("stockholm-uppsala.yaml", "stockholm-uppsala-real.yaml")
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    from uma.cli.args import seconds, workers
     from uma.cli.cmd_bench import add_common_arguments
 
     parser = sub.add_parser(
@@ -44,7 +45,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--out", metavar="DIR", help="save each run's results under DIR")
     parser.add_argument(
         "--workers",
-        type=int,
+        type=workers,
         help="run the scenario-engine pairs on this many local worker processes "
         "(default: one after another in this process)",
     )
@@ -52,7 +53,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--scheduler", metavar="ADDRESS", help="run the pairs on a Dask cluster, tcp://host:port"
     )
     parser.add_argument(
-        "--timeout", type=float, default=10.0, metavar="S", help="seconds to reach the scheduler"
+        "--timeout", type=seconds, default=10.0, metavar="S", help="seconds to reach the scheduler"
     )
     add_common_arguments(parser)
     parser.set_defaults(func=handle)

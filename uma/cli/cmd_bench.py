@@ -33,7 +33,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 def add_common_arguments(parser: argparse.ArgumentParser) -> None:
     """`--json`, `--seed` and `--quiet`, shared by every benchmark."""
     parser.add_argument("--json", action="store_true", help="print one JSON object on stdout only")
-    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    from uma.cli.args import seed
+
+    parser.add_argument("--seed", type=seed, default=0, help="random seed (default 0)")
     parser.add_argument("--quiet", action="store_true", help="no progress output on stderr")
 
 

@@ -55,8 +55,15 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def handle(args: argparse.Namespace) -> int:
     from uma.atomic import prepare_out_dir
-    from uma.errors import OutputError
+    from uma.errors import FaceError, OutputError
+    from uma.paths import check_regular_file
 
+    # A FIFO or a device would block the readers, a symlink loop raise inside pathlib.
+    for path, what in ((args.image, "image or video file"), (args.points, "points file")):
+        if path is not None:
+            check_regular_file(path, error=FaceError, what=what)
+    if args.model is not None:
+        check_regular_file(args.model, error=FaceError, what="face model file")
     prepare_out_dir(args.out)
     try:
         return _describe(args)

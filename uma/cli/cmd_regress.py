@@ -19,6 +19,8 @@ tolerance, 1 a regression (a missing metric, a missing metrics.json or a failed 
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    from uma.cli.args import workers
+
     parser = sub.add_parser(
         "regress",
         help="compare metrics with the repository's baselines; exit 1 on a regression",
@@ -28,7 +30,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("suite", metavar="SUITE.yaml", help="suite file")
     parser.add_argument("--results", metavar="DIR", help="read finished results instead of running")
     parser.add_argument("--out", metavar="DIR", help="where runs go (default results/regress)")
-    parser.add_argument("--workers", type=int, default=2, help="worker processes (default 2)")
+    parser.add_argument(
+        "--workers", type=workers, default=2, help="worker processes (default 2, at most 64)"
+    )
     parser.add_argument("--update", action="store_true", help="rewrite the baseline on purpose")
     parser.set_defaults(func=handle)
 
@@ -43,23 +47,26 @@ def handle(args: argparse.Namespace) -> int:
     from uma.experiments.point import point_task, run_point
     from uma.experiments.regress import (
         baseline_yaml,
+        check_metric_paths,
+        check_only,
         compare,
         format_checks,
         load_baseline,
         load_suite,
     )
     from uma.experiments.spec import scenario_hash
-    from uma.metrics.results import RUN_FILES, read_metrics
+    from uma.metrics.results import RUN_FILES
 
     if args.workers < 1:
         raise ConfigError(f"--workers: expected a positive integer, got {args.workers}")
-    if args.results and args.out:
+    if args.results and args.out is not None:
         raise ConfigError("--results and --out: give one (--results reads, --out runs)")
     suite = load_suite(args.suite)
     scenarios = [load_scenario(path) for path in suite.scenarios]
     names = [s.name for s in scenarios]
     if len(set(names)) != len(names):
         raise ConfigError(f"{suite.path} (scenarios): two scenarios share a name: {names}")
+    check_only(suite, names)
     baseline = None
     if not args.update or suite.baseline_path.exists():
         baseline = load_baseline(suite.baseline_path)
@@ -71,13 +78,13 @@ def handle(args: argparse.Namespace) -> int:
         if not results.is_dir():
             raise ConfigError(f"--results: expected a folder of results, got {str(results)!r}")
         for name in names:
-            now[name] = read_metrics(results / name / "metrics.json")
+            now[name] = _read_metrics(results / name / "metrics.json")
             if now[name] is None:
                 failures.append(f"{name}: no {results / name / 'metrics.json'}")
     else:
         from uma.experiments.executor import LocalExecutor
 
-        out = prepare_out_dir(Path(args.out) if args.out else Path("results") / "regress")
+        out = prepare_out_dir(args.out if args.out is not None else Path("results") / "regress")
         for name in names:  # each run's folder is replaced whole: refuse before running
             prepare_out_dir(out / name, what="--out", replaceable=RUN_FILES)
         tasks = [
@@ -98,6 +105,7 @@ def handle(args: argparse.Namespace) -> int:
             if reply["status"] != "ok":
                 failures.append(f"{name}: the run failed: {reply['error']}")
 
+    check_metric_paths(suite, now, baseline=baseline, update=args.update)
     for line in failures:
         print(f"uma regress: {line}", file=sys.stderr)
     if args.update:
@@ -121,3 +129,20 @@ def handle(args: argparse.Namespace) -> int:
     bad = sum(check.failed for check in checks)
     print(f"{len(checks)} checks, {bad} regressed" + (" or missing" if bad else ""))
     return 1 if bad or failures else 0
+
+
+def _read_metrics(path):
+    """`uma.metrics.results.read_metrics`, after refusing what is no regular file (a FIFO
+    would block it) and with a JSON nested past Python's recursion limit as one line."""
+    from uma.errors import ConfigError
+    from uma.metrics.results import read_metrics
+    from uma.paths import check_regular_file
+
+    if path.exists() or path.is_symlink():
+        check_regular_file(path, error=ConfigError, what="metrics.json of a finished run")
+    try:
+        return read_metrics(path)
+    except RecursionError:
+        raise ConfigError(
+            f"{path}: expected the JSON metrics of a finished run, got JSON nested too deeply"
+        ) from None

@@ -21,6 +21,8 @@ Exit status: 0 done, 2 bad input."""
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    from uma.cli.args import seed
+
     parser = sub.add_parser(
         "run",
         help="simulate a scenario (default: Stockholm to Uppsala) and write its results",
@@ -29,7 +31,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     parser.add_argument("scenario", nargs="?", metavar="SCENARIO.yaml", help="scenario file")
     parser.add_argument("--out", metavar="DIR", help="results folder (default results/<scenario>)")
-    parser.add_argument("--seed", type=int, help="random seed, overriding the scenario's")
+    parser.add_argument("--seed", type=seed, help="random seed, overriding the scenario's")
     parser.add_argument("--quiet", action="store_true", help="no progress bar or summary")
     parser.add_argument(
         "--report", action="store_true", help="draw timeline.png in the results folder too"
@@ -55,7 +57,7 @@ def handle(args: argparse.Namespace) -> int:
 
     # Checked before the simulation: the folder is replaced whole, so it may hold only results.
     out_dir = prepare_out_dir(
-        Path(args.out) if args.out else Path("results") / scenario.name, replaceable=RUN_FILES
+        args.out if args.out is not None else Path("results") / scenario.name, replaceable=RUN_FILES
     )
 
     bar = None

@@ -35,6 +35,8 @@ is refused. Exit status: 0 all points ran, 1 some point failed, 2 bad input."""
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    from uma.cli.args import seconds, workers
+
     parser = sub.add_parser(
         "sweep",
         help="run a grid of scenarios (local processes or Dask), one table of results",
@@ -42,10 +44,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("experiment", metavar="EXPERIMENT.yaml", help="experiment file")
-    parser.add_argument("--workers", type=int, help="local worker processes (default 2)")
+    parser.add_argument(
+        "--workers", type=workers, help="local worker processes (default 2, at most 64)"
+    )
     parser.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler, tcp://host:port")
     parser.add_argument(
-        "--timeout", type=float, default=10.0, metavar="S", help="seconds to reach the scheduler"
+        "--timeout", type=seconds, default=10.0, metavar="S", help="seconds to reach the scheduler"
     )
     parser.add_argument("--out", metavar="DIR", help="results folder (default results/<name>)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar or summary")
@@ -55,16 +59,18 @@ def register(sub: argparse._SubParsersAction) -> None:
 def handle(args: argparse.Namespace) -> int:
     from pathlib import Path
 
-    from uma.atomic import prepare_out_dir
     from uma.errors import ConfigError
     from uma.experiments import load_experiment, make_executor, run_sweep
+    from uma.experiments.sweep import check_sweep_out
 
     if args.workers is not None and args.workers < 1:
         raise ConfigError(f"--workers: expected a positive integer, got {args.workers}")
     if args.workers is not None and args.scheduler:
         raise ConfigError("--workers and --scheduler: give one (a cluster has its own workers)")
     experiment = load_experiment(args.experiment)
-    out_dir = prepare_out_dir(Path(args.out) if args.out else Path("results") / experiment.name)
+    out_dir = check_sweep_out(
+        args.out if args.out is not None else Path("results") / experiment.name
+    )
     executor = make_executor(workers=args.workers, scheduler=args.scheduler, timeout_s=args.timeout)
 
     bar = None

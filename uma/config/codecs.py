@@ -22,7 +22,12 @@ __all__ = [
 
 # libx264's presets a refresh may use (`uma.video.PRESETS` up to `slow`).
 RefreshPreset = Literal["ultrafast", "superfast", "veryfast", "faster", "fast", "medium", "slow"]
-RingSize = Annotated[float, Strict(), AllowInfNan(False), Field(gt=1)]
+# The scene mesh's rings (`uma.mbc.scene_render`): beyond 8 radii a ring lies far outside any
+# picture, and its coordinates overflow the renderer's integers near 1e5.
+RingSize = Annotated[float, Strict(), AllowInfNan(False), Field(gt=1, le=8)]
+Fps = Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, le=120)]
+FrameBits = Annotated[int, Strict(), Field(ge=1000, le=100_000_000)]
+Interval = Annotated[float, Strict(), AllowInfNan(False), Field(ge=40, le=3_600_000)]
 
 
 class RefreshConfig(Section):
@@ -61,11 +66,11 @@ class RefreshConfig(Section):
     """
 
     enabled: Bool = False
-    interval_ms: Annotated[float, Strict(), AllowInfNan(False), Field(ge=40)] = 1000.0
-    min_frame_bits: Annotated[int, Strict(), Field(ge=1000)] = 8000
-    max_frame_bits: Annotated[int, Strict(), Field(ge=1000)] = 32000
-    min_interval_ms: Annotated[float, Strict(), AllowInfNan(False), Field(ge=40)] = 400.0
-    max_interval_ms: Annotated[float, Strict(), AllowInfNan(False), Field(ge=40)] = 3000.0
+    interval_ms: Interval = 1000.0
+    min_frame_bits: FrameBits = 8000
+    max_frame_bits: FrameBits = 32000
+    min_interval_ms: Interval = 400.0
+    max_interval_ms: Interval = 3000.0
     min_spare_kbps: PosNum = 10.0
     share: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, le=1)] = 0.8
     queue_high_ms: PosNum = 100.0
@@ -128,7 +133,7 @@ class MbcConfig(Section):
 
     description: Str | None = None
     rate_kbps: PosNum = 4.8
-    fps: PosNum = 25.0
+    fps: Fps = 25.0
     frames_per_packet: Annotated[int, Strict(), Field(ge=1, le=255)] = 4
     init_us_per_evaluation: PosNum = 143.0
     track_us_per_evaluation: PosNum = 1021.0
@@ -156,9 +161,9 @@ class FaceRungConfig(Section):
     of the face crop in pixels (even) and the frame rate."""
 
     rate_kbps: PosNum
-    width: PosInt
-    height: PosInt
-    fps: PosNum
+    width: Annotated[int, Strict(), Field(gt=0, le=4096)]
+    height: Annotated[int, Strict(), Field(gt=0, le=4096)]
+    fps: Fps
 
     @model_validator(mode="after")
     def _even(self) -> FaceRungConfig:

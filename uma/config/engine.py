@@ -13,7 +13,7 @@ from pydantic import AllowInfNan, Field, Strict, field_validator, model_validato
 
 from uma.codecs import full_frame_names
 from uma.config.codecs import FaceRegionConfig, MbcConfig
-from uma.config.technologies import LABELS
+from uma.config.technologies import check_technologies
 from uma.config.types import Bool, Fraction, NonNeg, NonNegInt, PosInt, PosNum, Section, Str
 
 __all__ = [
@@ -67,6 +67,24 @@ class EstimatorConfig(Section):
     # Which estimator: `engine.estimator: webrtc` is short for `engine.estimator: {kind: webrtc}`.
     kind: EstimatorKind = "uma"
 
+    @model_validator(mode="after")
+    def _consistent(self) -> EstimatorConfig:
+        if self.min_kbps > self.max_kbps:
+            raise ValueError(
+                f"min_kbps ({self.min_kbps:g}) must not exceed max_kbps ({self.max_kbps:g})"
+            )
+        if not self.min_kbps <= self.initial_kbps <= self.max_kbps:
+            raise ValueError(
+                f"initial_kbps ({self.initial_kbps:g}) must lie within min_kbps "
+                f"({self.min_kbps:g}) and max_kbps ({self.max_kbps:g})"
+            )
+        if self.queue_low_ms > self.queue_high_ms:
+            raise ValueError(
+                f"queue_low_ms ({self.queue_low_ms:g}) must not exceed queue_high_ms "
+                f"({self.queue_high_ms:g})"
+            )
+        return self
+
     @model_validator(mode="before")
     @classmethod
     def _kind_shorthand(cls, data):
@@ -112,9 +130,7 @@ class HandoverConfig(Section):
     @field_validator("priors_kbps")
     @classmethod
     def _technologies(cls, value: dict[str, float]) -> dict[str, float]:
-        for name in value:
-            if name not in LABELS:
-                raise ValueError(f"expected technologies among {', '.join(LABELS)}, got {name!r}")
+        check_technologies(value)
         return value
 
 
@@ -142,6 +158,12 @@ class SwitchingConfig(Section):
     lookahead_ms: NonNeg = 3000.0
     oracle_lookahead_ms: NonNeg = 1000.0
     low_technologies: tuple[Str, ...] = ("GPRS", "GSM")
+
+    @field_validator("low_technologies")
+    @classmethod
+    def _technologies(cls, value: tuple[str, ...]) -> tuple[str, ...]:
+        check_technologies(value)
+        return value
 
     @model_validator(mode="after")
     def _hysteresis(self):

@@ -20,6 +20,13 @@ def default_scenario_path() -> Path:
     return scenarios_dir() / DEFAULT_SCENARIO
 
 
+def _number(value: Any) -> str:
+    """`100000.0` as `100000`, `1e-06` as `1e-06`: a bound's message reads like the file."""
+    if isinstance(value, float) and value.is_integer() and abs(value) < 1e15:
+        return str(int(value))
+    return repr(value)
+
+
 def _describe_error(error: dict[str, Any]) -> str:
     kind = error["type"]
     found = error.get("input")
@@ -30,10 +37,18 @@ def _describe_error(error: dict[str, Any]) -> str:
     found_text = repr(found)
     if len(found_text) > 60:
         found_text = found_text[:57] + "..."
+    limits = error.get("ctx") or {}
+    if kind == "less_than_equal":
+        return f"{_number(found)} is above the maximum {_number(limits['le'])}"
+    if kind == "greater_than_equal":
+        return f"{_number(found)} is below the minimum {_number(limits['ge'])}"
     message = error["msg"]
+    if kind == "value_error" and isinstance(found, dict | list | tuple):
+        found_text = ""  # a section's check: its message names the values it compares
     if message.startswith("Value error, "):
         message = message[len("Value error, ") :]
-    return f"{message[:1].lower()}{message[1:]}, got {found_text}"
+    got = f", got {found_text}" if found_text else ""
+    return f"{message[:1].lower()}{message[1:]}{got}"
 
 
 def scenario_from_dict(data: Any, lines: KeyLines, *, base_dir: Path) -> Scenario:
@@ -58,19 +73,38 @@ def scenario_from_dict(data: Any, lines: KeyLines, *, base_dir: Path) -> Scenari
 
 
 def _check_files(scenario: Scenario, lines: KeyLines) -> None:
+    """Every file the scenario names is a regular file: a FIFO or a device would block the run
+    or never end, a symlink loop would raise deep in `pathlib`."""
+    import errno
+    import os
+    import stat
+
     wanted: list[tuple[tuple, str | None]] = [
         (
             ("source", "path"),
             scenario.source.path if scenario.source.kind in ("file", "yuv") else None,
         ),
         (("engine", "ladder"), scenario.engine.ladder),
+        (("engine", "mbc", "description"), scenario.engine.mbc.description),
     ]
     wanted += [(("route", i, "trace"), seg.trace) for i, seg in enumerate(scenario.route)]
     for key_path, path in wanted:
-        if path is not None and Path(path).is_dir():
+        if path is None:
+            continue
+        try:
+            mode = os.stat(path).st_mode
+        except OSError as err:
+            found = "a symlink loop" if err.errno == errno.ELOOP else "no such file"
+            raise ConfigError(
+                f"{lines.where(key_path)}: expected an existing file, got {path!r} ({found})"
+            ) from None
+        if stat.S_ISDIR(mode):
             raise ConfigError(f"{lines.where(key_path)}: expected a file, got a folder {path!r}")
-        if path is not None and not Path(path).is_file():
-            raise ConfigError(f"{lines.where(key_path)}: expected an existing file, got {path!r}")
+        if not stat.S_ISREG(mode):
+            raise ConfigError(
+                f"{lines.where(key_path)}: expected a regular file, got {path!r} "
+                f"(a FIFO, socket or device)"
+            )
 
 
 def _check_names(scenario: Scenario, lines: KeyLines) -> None:

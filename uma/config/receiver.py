@@ -9,7 +9,7 @@ from typing import Annotated, Literal
 
 from pydantic import AllowInfNan, Field, Strict
 
-from uma.config.types import Bool, NonNeg, NonNegInt, PosNum, Section
+from uma.config.types import Bool, NonNeg, PosNum, Section
 
 __all__ = [
     "AdaptivePlayoutConfig",
@@ -58,4 +58,4 @@ class MetricsConfig(Section):
     psnr: Bool = True
     ssim: Bool = True
     # Threads that score frames beside the simulation (0: inline); results do not depend on it.
-    workers: NonNegInt = 2
+    workers: Annotated[int, Strict(), Field(ge=0, le=64)] = 2

@@ -8,6 +8,7 @@ the resolved scenario written beside the results repeats the run from anywhere.
 
 from __future__ import annotations
 
+from os.path import realpath
 from pathlib import Path
 from typing import Annotated, Literal
 
@@ -37,7 +38,7 @@ from uma.config.network import (
     UplinkConfig,
 )
 from uma.config.receiver import AdaptivePlayoutConfig, MetricsConfig, ReceiverConfig
-from uma.config.types import Bool, NonNegInt, PosInt, PosNum, Section, Str
+from uma.config.types import Bool, PosInt, PosNum, Section, Str, bounded
 
 __all__ = [
     "Scenario",
@@ -65,7 +66,21 @@ __all__ = [
     "FaceRegionConfig",
     "FaceRungConfig",
     "SWITCHING_NAMES",
+    "MAX_DURATION_S",
+    "MAX_SIDE_PX",
+    "MAX_FPS",
+    "MAX_WORK_PIXELS",
 ]
+
+
+# What one run may hold: four hours (memory grows about 75 KB per simulated second), pictures
+# up to 4K, and at most this many source pixels in all (CIF at 25 frames/s for 4 h is 3.6e10,
+# 1080p at 30 frames/s for an hour 2.2e11).
+MAX_DURATION_S = 4 * 3600.0
+MAX_SIDE_PX = 4096
+MAX_FPS = 120.0
+MAX_WORK_PIXELS = 3e11
+MAX_SEED = 2**63 - 1  # numpy's generators take any; this is what an int64 column holds
 
 
 class SourceConfig(Section):
@@ -73,9 +88,10 @@ class SourceConfig(Section):
 
     kind: Literal["pattern", "file", "yuv", "talking-head"] = "pattern"
     path: Str | None = None
-    width: PosInt = 352
-    height: PosInt = 288
-    fps: PosNum = 25.0
+    # Up to 4K (DCI): a picture holds several copies of itself per frame in the codec chain.
+    width: bounded(16, MAX_SIDE_PX, integer=True) = 352
+    height: bounded(16, MAX_SIDE_PX, integer=True) = 288
+    fps: bounded(0, MAX_FPS, open_low=True) = 25.0
     loop: Bool = True
 
     @model_validator(mode="after")
@@ -100,10 +116,11 @@ class SenderConfig(Section):
 class Scenario(Section):
     """A whole experiment; `Scenario.load(path)` is the way in (`uma.config.load_scenario`)."""
 
-    name: Annotated[str, Strict(), Field(pattern=r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")]
+    # The results folder's name (results/<name>): short enough for uma's staging name beside it.
+    name: Annotated[str, Strict(), Field(pattern=r"^[A-Za-z0-9][A-Za-z0-9_.-]*$", max_length=100)]
     description: Str = ""
-    seed: NonNegInt = 0
-    duration_s: PosNum | None = None
+    seed: bounded(0, MAX_SEED, integer=True) = 0
+    duration_s: bounded(0, MAX_DURATION_S, open_low=True) | None = None
     source: SourceConfig = Field(default_factory=SourceConfig)
     sender: SenderConfig = Field(default_factory=SenderConfig)
     uplink: UplinkConfig = Field(default_factory=UplinkConfig)
@@ -114,6 +131,30 @@ class Scenario(Section):
     receiver: ReceiverConfig = Field(default_factory=ReceiverConfig)
     metrics: MetricsConfig = Field(default_factory=MetricsConfig)
     faults: FaultsConfig = Field(default_factory=FaultsConfig)
+
+    @model_validator(mode="after")
+    def _bounded_run(self) -> Scenario:
+        """At least one frame, a route no longer than a run may be, and bounded total work."""
+        if self.duration_s is None and self.route_duration_s > MAX_DURATION_S:
+            raise ValueError(
+                f"the route's {self.route_duration_s:g} s is above the maximum "
+                f"{MAX_DURATION_S:g} s a run may last; set duration_s or shorten the route"
+            )
+        duration_s, fps = self.run_duration_s, self.source.fps
+        if duration_s * fps < 1:
+            raise ValueError(
+                f"duration_s ({duration_s:g}) x source.fps ({fps:g}) holds no frame; "
+                f"expected at least {1 / fps:g} s"
+            )
+        work = duration_s * fps * self.source.width * self.source.height
+        if work > MAX_WORK_PIXELS:
+            raise ValueError(
+                f"duration_s ({duration_s:g}) x source.fps ({fps:g}) x source.width "
+                f"({self.source.width}) x source.height ({self.source.height}) is {work:.3g} "
+                f"pixels to simulate, above the maximum {MAX_WORK_PIXELS:.0e}; shorten the run "
+                f"or make the picture smaller"
+            )
+        return self
 
     @property
     def route_duration_s(self) -> float:
@@ -131,7 +172,8 @@ class Scenario(Section):
             if path is None:
                 return None
             candidate = Path(path).expanduser()
-            return str(candidate if candidate.is_absolute() else (base_dir / candidate).resolve())
+            # realpath, not resolve(): a symlink loop is left for `_check_files` to name.
+            return str(candidate if candidate.is_absolute() else realpath(base_dir / candidate))
 
         route = tuple(
             segment.model_copy(update={"trace": absolute(segment.trace)}) for segment in self.route
@@ -144,4 +186,7 @@ class Scenario(Section):
         return self.model_copy(update={"route": route, "source": source, "engine": engine})
 
     def with_seed(self, seed: int) -> Scenario:
+        """A copy with `seed`, checked against the key's bound (a copy skips validation)."""
+        if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= MAX_SEED:
+            raise ValueError(f"seed: expected an integer from 0 to 2**63 - 1, got {seed!r}")
         return self.model_copy(update={"seed": seed})

@@ -10,7 +10,13 @@ become "3G", as the project's engine cares about the class of link, not the 3GPP
 
 from __future__ import annotations
 
-__all__ = ["LABELS", "UNKNOWN_NAMES", "normalise_technology", "technology_label"]
+__all__ = [
+    "LABELS",
+    "UNKNOWN_NAMES",
+    "normalise_technology",
+    "technology_label",
+    "check_technologies",
+]
 
 LABELS: tuple[str, ...] = ("GSM", "GPRS", "EDGE", "3G", "LTE", "5G", "WLAN")
 
@@ -65,3 +71,11 @@ def normalise_technology(name: str) -> str:
     """
     label = technology_label(name)
     return name.strip() if label is None else label
+
+
+def check_technologies(names) -> None:
+    """Raise `ValueError` (a schema error once pydantic words it) unless every name of `names`
+    is one of `LABELS`: the keys that name technologies take uma's labels, nothing else."""
+    for name in names:
+        if name not in LABELS:
+            raise ValueError(f"expected technologies among {', '.join(LABELS)}, got {name!r}")

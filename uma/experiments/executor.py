@@ -55,6 +55,12 @@ def end_with_parent(parent_pid: int) -> None:
             pass  # the polling thread below still ends this worker
     if os.getppid() != parent_pid:  # the parent died before the watch was set
         os._exit(1)
+    # Ctrl-C reaches the whole process group: the parent decides (it ends the workers), a
+    # worker interrupted while it waits for work would print a traceback of its own. It was
+    # spawned with SIGINT and SIGTERM blocked (`_signals_held`): a held Ctrl-C is dropped.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if hasattr(signal, "pthread_sigmask"):
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, (signal.SIGINT, signal.SIGTERM))
 
     def watch() -> None:
         while True:
@@ -67,20 +73,50 @@ def end_with_parent(parent_pid: int) -> None:
 
 @contextlib.contextmanager
 def _signals_held() -> Iterator[None]:
-    """Hold SIGINT and SIGTERM until the block ends, then deliver them to their own handlers."""
+    """Hold SIGINT and SIGTERM until the block ends, then deliver them to their own handlers.
+
+    They are also blocked in this thread, so a worker spawned inside the block starts with
+    them blocked (a mask survives `exec`): a Ctrl-C to the whole group while the worker is
+    still importing waits until its initializer ignores it (`end_with_parent`).
+    """
     if threading.current_thread() is not threading.main_thread():
         yield
         return
     caught: list[int] = []
     held = (signal.SIGINT, signal.SIGTERM)
     previous = {number: signal.signal(number, lambda n, _f: caught.append(n)) for number in held}
+    blocking = hasattr(signal, "pthread_sigmask")
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, held) if blocking else None
     try:
         yield
     finally:
+        if blocking:
+            signal.pthread_sigmask(signal.SIG_SETMASK, mask)  # what came is caught here
         for number, handler in previous.items():
             signal.signal(number, handler)
         for number in dict.fromkeys(caught):
             signal.raise_signal(number)
+
+
+@contextlib.contextmanager
+def _quiet_pool_breaking() -> Iterator[None]:
+    """While the workers are killed, a pool's manager thread that marks the already cancelled
+    futures broken (CPython 3.11's `terminate_broken` sets an exception on each) raises
+    `InvalidStateError`, and the thread's traceback would follow the sweep's one line. That
+    exception alone is dropped; any other still reaches the previous hook."""
+    from concurrent.futures import InvalidStateError
+
+    previous = threading.excepthook
+
+    def hook(args) -> None:
+        if not issubclass(args.exc_type, InvalidStateError):
+            previous(args)
+
+    threading.excepthook = hook
+    try:
+        yield
+    finally:
+        threading.excepthook = previous
 
 
 class LocalExecutor:
@@ -128,11 +164,12 @@ class LocalExecutor:
             return
         # The pool has no public way to stop a running task; its processes are in `_processes`.
         processes = list((getattr(self._pool, "_processes", None) or {}).values())
-        for process in processes:
-            process.kill()
-        for process in processes:
-            process.join(5.0)
-        self._pool.shutdown(wait=True, cancel_futures=True)
+        with _quiet_pool_breaking():
+            for process in processes:
+                process.kill()
+            for process in processes:
+                process.join(5.0)
+            self._pool.shutdown(wait=True, cancel_futures=True)  # joins its manager thread
         self._pool = None
 
 

@@ -75,14 +75,20 @@ def _as_file(value: str, folder: Path | None) -> Path | None:
 
 
 def _references(path: Path) -> list[str]:
+    """The strings of YAML or JSON file `path`, read within the bounds a scenario is read in
+    (`uma.config.yamlfile`): an alias bomb or a huge file names nothing, and the run that
+    reads it refuses it in one line."""
     if path.suffix.lower() not in _FOLLOWED:
         return []
-    try:
-        import yaml
+    from uma.config.yamlfile import MAX_YAML_BYTES, parse_yaml_bounded
+    from uma.errors import ConfigError
+    from uma.paths import read_capped
 
-        return list(_strings(yaml.safe_load(path.read_text(encoding="utf-8"))))
-    except Exception:  # a file the run cannot read either; its bytes are in the hash already
-        return []
+    try:
+        text = read_capped(path, max_bytes=MAX_YAML_BYTES, error=ConfigError).decode("utf-8")
+        return list(_strings(parse_yaml_bounded(text, path)[0]))  # JSON is YAML too
+    except (ConfigError, UnicodeDecodeError, RecursionError):
+        return []  # a file the run cannot read either; its bytes are in the hash already
 
 
 def file_digests(data: Any) -> dict[str, str]:

@@ -27,11 +27,17 @@ def point_task(scenario, out_dir: str | Path, *, index: int, hash: str) -> dict[
 
 def completed_metrics(out_dir: str | Path) -> dict[str, Any] | None:
     """The metrics of a finished run in `out_dir` (metrics.json is written last), or None."""
+    from uma.errors import ConfigError
+    from uma.paths import read_capped
+
     path = Path(out_dir) / "metrics.json"
-    try:
-        return json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
+    if not path.exists():
         return None
+    try:  # a FIFO or a device left there is no finished run (and would block a plain read)
+        data = json.loads(read_capped(path, max_bytes=16 * 2**20, error=ConfigError))
+    except (ConfigError, ValueError, RecursionError):
+        return None
+    return data if isinstance(data, dict) else None
 
 
 def run_point(task: dict[str, Any]) -> dict[str, Any]:

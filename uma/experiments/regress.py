@@ -25,7 +25,7 @@ number, is a regression. Units are those of the metric's name.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -40,6 +40,9 @@ __all__ = [
     "compare",
     "format_checks",
     "metric_value",
+    "has_metric",
+    "check_only",
+    "check_metric_paths",
 ]
 
 _SUITE_KEYS = ("baseline", "scenarios", "metrics", "description")
@@ -75,6 +78,8 @@ class Suite:
     baseline_path: Path
     scenarios: tuple[Path, ...]
     metrics: dict[str, Tolerance]
+    # metric -> `FILE:LINE (metrics.NAME)`, for the messages of checks made once runs are read
+    where: dict[str, str] = field(default_factory=dict)
 
     def metrics_of(self, scenario: str) -> dict[str, Tolerance]:
         """The metrics this suite gates for `scenario`."""
@@ -176,7 +181,86 @@ def load_suite(path: str | Path) -> Suite:
         baseline_path=(folder / baseline).resolve(),
         scenarios=tuple((folder / s).resolve() for s in scenarios),
         metrics=tolerances,
+        where={str(name): lines.where(("metrics", name)) for name in metrics},
     )
+
+
+def check_only(suite: Suite, names: list[str]) -> None:
+    """Raise `ConfigError` when a tolerance's `only:` names no scenario of the suite (by name,
+    as its file's `name:` says), so no metric silently gates nothing."""
+    for metric, tol in suite.metrics.items():
+        for name in tol.only or ():
+            if name not in names:
+                hint = (
+                    " (a scenario's name, not its file)" if name.endswith((".yaml", ".yml")) else ""
+                )
+                raise ConfigError(
+                    f"{suite.where.get(metric, suite.path)} only: expected scenario names of "
+                    f"this suite ({', '.join(names)}){hint}, got {name!r}"
+                )
+
+
+def has_metric(metrics: dict[str, Any] | None, name: str) -> bool:
+    """Whether `metrics` holds `name` (a key, or a dotted path), null or not."""
+    if not metrics:
+        return False
+    if name in metrics:
+        return True
+    value: Any = metrics
+    for part in name.split("."):
+        if not isinstance(value, dict) or part not in value:
+            return False
+        value = value[part]
+    return True
+
+
+def _paths(metrics: dict[str, Any], prefix: str = "") -> list[str]:
+    out = []
+    for key, value in metrics.items():
+        out.append(prefix + str(key))
+        if isinstance(value, dict):
+            out += _paths(value, f"{prefix}{key}.")
+    return out
+
+
+def check_metric_paths(
+    suite: Suite,
+    now: dict[str, dict[str, Any] | None],
+    *,
+    baseline: dict[str, dict[str, Any]] | None = None,
+    update: bool = False,
+) -> None:
+    """Raise `ConfigError` for a gated metric that no scenario's `metrics.json` holds (a typo
+    would otherwise gate nothing, `null` in the baseline); with `update`, also for one that a
+    scenario it gates lacks (writing `null` for it would gate nothing: narrow it with `only:`).
+
+    A metric the `baseline` has a number for is no typo: when it vanishes from the results,
+    that is a regression (`compare` says "missing"), not bad input. Scenarios without results
+    (a failed run) are not looked at: the run's failure is reported.
+    """
+    import difflib
+
+    read = {name: metrics for name, metrics in now.items() if metrics}
+    for metric in suite.metrics:
+        gated = [name for name in read if suite.metrics[metric].gates(name)]
+        lacking = [name for name in gated if not has_metric(read[name], metric)]
+        where = suite.where.get(metric, str(suite.path))
+        known = not update and any(
+            _number((baseline or {}).get(name, {}).get(metric)) for name in gated
+        )
+        if gated and len(lacking) == len(gated) and not known:
+            known = sorted({p for name in gated for p in _paths(read[name])})
+            close = difflib.get_close_matches(metric, known, n=1)
+            hint = f"; did you mean {close[0]!r}?" if close else ""
+            raise ConfigError(
+                f"{where}: no scenario's metrics.json has {metric!r} "
+                f"(looked in {', '.join(gated)}){hint}"
+            )
+        if update and lacking:
+            raise ConfigError(
+                f"{where}: {', '.join(lacking)}'s metrics.json has no {metric!r}; gate it with "
+                f"only: [the scenarios that have it] rather than write null"
+            )
 
 
 def load_baseline(path: Path) -> dict[str, dict[str, float | None]]:
@@ -275,5 +359,10 @@ def baseline_yaml(suite: Suite, now: dict[str, dict[str, Any]]) -> str:
         lines.append(f"{scenario}:")
         for metric in suite.metrics_of(scenario):
             value = metric_value(metrics, metric)
+            if value is not None and not _number(value):
+                raise ConfigError(
+                    f"{scenario}'s metrics.json ({metric}): expected a finite number or null "
+                    f"for the baseline, got {value!r}"
+                )
             lines.append(f"  {metric}: {'null' if value is None else repr(float(value))}")
     return "\n".join(lines) + "\n"

@@ -23,6 +23,7 @@ from __future__ import annotations
 import copy
 import itertools
 import json
+import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -109,8 +110,14 @@ def load_experiment(path: str | Path) -> Experiment:
     if not isinstance(base_data, dict):
         raise ConfigError(f"{base_lines.where(())}: expected a mapping of scenario keys")
     name = data.get("name", path.stem)
-    if not isinstance(name, str) or not name:
-        raise ConfigError(f"{lines.where(('name',))}: expected a name, got {name!r}")
+    # The default results folder is results/<name>: a name, not a path ("../x", "a/b").
+    named = re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,99}", name) if isinstance(name, str) else 0
+    if "name" in data and not named:
+        shown = repr(name) if len(repr(name)) <= 60 else repr(name)[:57] + "..."
+        raise ConfigError(
+            f"{lines.where(('name',))}: expected a name of letters, digits, '_', '.' and '-' "
+            f"(at most 100, not starting with a punctuation mark), got {shown}"
+        )
     repeat = data.get("repeat", 1)
     if isinstance(repeat, bool) or not isinstance(repeat, int) or repeat < 1:
         raise ConfigError(

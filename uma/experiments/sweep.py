@@ -23,7 +23,11 @@ from uma.experiments.point import completed_metrics, point_task, run_point
 from uma.experiments.spec import Experiment
 from uma.experiments.table import STATUSES, cell, flatten, write_table
 
-__all__ = ["SweepResult", "run_sweep", "STATUSES"]
+__all__ = ["SweepResult", "run_sweep", "check_sweep_out", "STATUSES", "SWEEP_FILES"]
+
+# What a sweep folder holds: its tables, and `points/` (uma's temporaries aside).
+SWEEP_FILES = ("sweep.csv", "sweep.parquet")
+SWEEP_FOLDERS = ("points",)
 
 _TABLE_EVERY_S = 2.0  # rewrite the table at most this often while points finish
 
@@ -51,6 +55,19 @@ def _row(experiment: Experiment, point, reply: dict[str, Any]) -> dict[str, Any]
     return row
 
 
+def check_sweep_out(out_dir: str | Path, *, what: str = "--out") -> Path:
+    """Raise `OutputError` unless `out_dir` can take a sweep: absent, empty, or a sweep's folder.
+
+    A folder holding a run's results (or anything else uma did not write there as a sweep) is
+    refused before any point runs, so a sweep folder and a run folder never mix.
+    """
+    from uma.atomic import check_replaceable, prepare_out_dir
+
+    out = prepare_out_dir(out_dir, what=what)
+    check_replaceable(out, SWEEP_FILES, folders=SWEEP_FOLDERS, what=what)
+    return out
+
+
 def run_sweep(
     experiment: Experiment,
     out_dir: str | Path,
@@ -64,7 +81,7 @@ def run_sweep(
     Ctrl-C or a SIGTERM handler) writes the table of what is done, the rest `missing`, and
     propagates.
     """
-    out = Path(out_dir)
+    out = check_sweep_out(out_dir)
     points_dir = out / "points"
     csv_path, parquet_path = out / "sweep.csv", out / "sweep.parquet"
     replies: dict[int, dict[str, Any]] = {}

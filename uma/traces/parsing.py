@@ -13,8 +13,9 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from uma.errors import TraceError
+from uma.paths import read_capped
 
-__all__ = ["TraceText", "shown"]
+__all__ = ["TraceText", "shown", "MAX_TRACE_BYTES"]
 
 # Plain decimal numbers only: float() would also take "1_000", "nan", "infinity" and spaces.
 _NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
@@ -27,16 +28,10 @@ def shown(text: str, limit: int = 60) -> str:
     return repr(text if len(text) <= limit else text[:limit] + "...")
 
 
-def _gunzip(data: bytes, name: str) -> bytes:
-    import gzip
-    import zlib
-
-    try:
-        return gzip.decompress(data)
-    except (OSError, EOFError, zlib.error) as err:
-        raise TraceError(
-            f"{name}: a gzip-compressed trace that does not decompress ({err})"
-        ) from None
+# A trace file, or what a gzip trace expands to, may hold at most this much text: a day of a
+# fast Mahimahi trace (one line per 1,500-byte packet) is a few hundred MiB, beyond what the
+# reader's lists hold comfortably; anything near it is a mistake (/dev/zero, a video).
+MAX_TRACE_BYTES = 64 * 2**20
 
 
 class TraceText:
@@ -45,16 +40,10 @@ class TraceText:
     def __init__(self, path: str | os.PathLike, *, comments: bool = False) -> None:
         self.path = Path(path)
         self.name = str(path)
-        try:
-            data = self.path.read_bytes()
-        except FileNotFoundError:
-            raise TraceError(f"{self.name}: no such trace file") from None
-        except IsADirectoryError:
-            raise TraceError(f"{self.name}: expected a trace file, got a folder") from None
-        except OSError as err:
-            raise TraceError(f"{self.name}: cannot read ({err.strerror})") from None
-        if data[:2] == b"\x1f\x8b":  # gzip's magic: traces are often shipped compressed
-            data = _gunzip(data, self.name)
+        # gzip: traces are often shipped compressed
+        data = read_capped(
+            path, max_bytes=MAX_TRACE_BYTES, error=TraceError, what="trace file", gunzip=True
+        )
         try:
             if b"\0" in data:
                 raise UnicodeDecodeError("utf-8", data, data.index(b"\0"), 1, "NUL byte")

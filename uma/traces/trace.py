@@ -20,11 +20,15 @@ import numpy as np
 from uma.errors import TraceError
 from uma.traces.labels import LABELS, technology_label
 
-__all__ = ["Trace", "concatenate", "MAX_STEPS"]
+__all__ = ["Trace", "concatenate", "MAX_STEPS", "MAX_RATE_KBPS"]
 
 # Ten million steps (80 MB an array; 11.6 days of 100 ms bins): readers and the generator refuse
 # to build more, as a file or a duration asking for that is a mistake, not a commute.
 MAX_STEPS = 10_000_000
+
+# A terabit: no radio link comes near, and beyond it a packet's serialisation time rounds to
+# nothing (a rate of 1e300 made the link compute negative delays).
+MAX_RATE_KBPS = 1e9
 
 _ALLOWED = frozenset(LABELS) | {""}
 
@@ -84,6 +88,13 @@ class Trace:
             i = int(bad[0])
             raise TraceError(
                 f"{where}: step {i}: expected a finite rate >= 0, got {float(rates[i])!r}"
+            )
+        bad = np.flatnonzero(rates > MAX_RATE_KBPS)
+        if bad.size:
+            i = int(bad[0])
+            raise TraceError(
+                f"{where}: step {i}: a rate of {float(rates[i]):g} kbit/s is above the maximum "
+                f"{MAX_RATE_KBPS:g} kbit/s (a terabit)"
             )
         for i, tech in enumerate(self.technologies):
             if tech not in _ALLOWED:

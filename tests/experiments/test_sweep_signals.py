@@ -1,0 +1,71 @@
+"""Issue 28, item 9: `uma sweep` interrupted by SIGINT or SIGTERM, at start-up or mid-run, to
+the process or its whole group (Ctrl-C in a terminal): one line, exit 130 or 143, never a
+`concurrent.futures` traceback."""
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+BASE = """\
+name: base
+seed: 1
+source: {kind: pattern, width: 96, height: 64, fps: 25}
+route:
+  - {technology: 3G, duration_s: 1.0}
+"""
+EXPERIMENT = "name: grid\nbase: base.yaml\ngrid:\n  seed: [1, 2, 3, 4, 5, 6]\n"
+
+
+def interrupt(tmp_path: Path, number: int, *, group: bool, when: str) -> tuple[int, str]:
+    (tmp_path / "base.yaml").write_text(BASE)
+    (tmp_path / "exp.yaml").write_text(EXPERIMENT)
+    out = tmp_path / "out"
+    process = subprocess.Popen(
+        [sys.executable, "-m", "uma", "sweep", "exp.yaml", "--out", str(out), "--quiet"],
+        cwd=tmp_path,
+        env=dict(os.environ, PYTHONPATH=str(REPO)),
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    deadline = time.monotonic() + 30
+    if when == "start-up":
+        time.sleep(0.3)  # uma is importing (the interpreter itself is up after ~0.1 s)
+    else:  # the table is written before the first point runs; then the workers start
+        while not (out / "sweep.csv").exists() and time.monotonic() < deadline:
+            time.sleep(0.02)
+        time.sleep(0.8 if when == "mid-run" else 0.05)
+    if group:
+        os.killpg(process.pid, number)
+    else:
+        process.send_signal(number)
+    _, err = process.communicate(timeout=60)
+    return process.returncode, err
+
+
+@pytest.mark.parametrize(
+    "number, group, when",
+    [
+        (signal.SIGINT, False, "start-up"),
+        (signal.SIGINT, True, "spawning"),
+        (signal.SIGINT, False, "mid-run"),
+        (signal.SIGINT, True, "mid-run"),
+        (signal.SIGTERM, False, "spawning"),
+        (signal.SIGTERM, False, "mid-run"),
+    ],
+)
+def test_an_interrupted_sweep_is_one_line(tmp_path, number, group, when):
+    code, err = interrupt(tmp_path, number, group=group, when=when)
+    assert "Traceback" not in err and err.count("\n") == 1, err
+    if number == signal.SIGINT:
+        assert code == 130, (code, err)
+    else:
+        assert code in (143, -signal.SIGTERM), (code, err)  # before its handler: killed
+        if when == "mid-run":
+            assert code == 143 and "interrupted (SIGTERM)" in err
