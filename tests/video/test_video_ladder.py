@@ -73,6 +73,18 @@ RUNG = "  - {rate_kbps: 20, width: 176, height: 144, fps: 5}\n"
             "rungs:\n  - {rate_kbps: 20, width: 176, height: 144}\n",
             r"\(rungs\[0\]\): missing key 'fps'",
         ),
+        (
+            "rungs:\n  - {rate_kbps: 1.0e+15, width: 176, height: 144, fps: 5}\n",
+            r"h\.yaml:2 \(rungs\[0\]\.rate_kbps\): 1e\+15 is above the maximum 1e\+06",
+        ),
+        (
+            "rungs:\n  - {rate_kbps: 20, width: 100000, height: 144, fps: 5}\n",
+            r"h\.yaml:2 \(rungs\[0\]\.width\): 100000 is above the maximum 4096",
+        ),
+        (
+            "rungs:\n  - {rate_kbps: 20, width: 176, height: 144, fps: 1e6}\n",
+            r"h\.yaml:2 \(rungs\[0\]\.fps\): 1e\+06 is above the maximum 120",
+        ),
         ("rungs:\n  - 20\n", r"\(rungs\[0\]\): expected a mapping"),
         ("rungs: 20\n", r"h\.yaml:1 \(rungs\): expected a list of rungs, got 20"),
         ("rungs: []\n", r"h\.yaml:1 \(rungs\): expected at least one rung"),

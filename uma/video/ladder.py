@@ -38,7 +38,16 @@ _ENCODER_KEYS = ("preset", "tune", "keyint_frames", "vbv_frames")
 LADDER_CODECS = ("h264", "vp8", "av1")  # the values of a ladder file's `codec`
 
 
-def _positive(value: Any, where: str, *, integer: bool = False, even: bool = False):
+# What a rung may ask for: a source is at most 4096 px a side and 120 frames/s (uma/config),
+# and no codec here takes more than 1 Gbit/s.
+MAX_RATE_KBPS = 1e6
+MAX_SIDE_PX = 4096
+MAX_FPS = 120.0
+
+
+def _positive(
+    value: Any, where: str, *, integer: bool = False, even: bool = False, maximum: float = math.inf
+):
     ok = isinstance(value, int | float) and not isinstance(value, bool)
     ok = ok and math.isfinite(value) and value > 0
     if ok and integer:
@@ -46,6 +55,8 @@ def _positive(value: Any, where: str, *, integer: bool = False, even: bool = Fal
     if not ok:
         kind = "a positive integer" if integer else "a positive number"
         raise ConfigError(f"{where}: expected {kind}, got {value!r}")
+    if value > maximum:
+        raise ConfigError(f"{where}: {value:g} is above the maximum {maximum:g}")
     if even and int(value) % 2:
         raise ConfigError(f"{where}: expected an even number (4:2:0 chroma), got {value!r}")
     return int(value) if integer else float(value)
@@ -224,14 +235,24 @@ def load_ladder(path: str | Path | None = None) -> Ladder:
         item = _mapping(item, _RUNG_KEYS, _RUNG_KEYS, lines, key)
         rungs.append(
             Rung(
-                rate_kbps=_positive(item["rate_kbps"], lines.where(key + ("rate_kbps",))),
+                rate_kbps=_positive(
+                    item["rate_kbps"], lines.where(key + ("rate_kbps",)), maximum=MAX_RATE_KBPS
+                ),
                 width=_positive(
-                    item["width"], lines.where(key + ("width",)), integer=True, even=True
+                    item["width"],
+                    lines.where(key + ("width",)),
+                    integer=True,
+                    even=True,
+                    maximum=MAX_SIDE_PX,
                 ),
                 height=_positive(
-                    item["height"], lines.where(key + ("height",)), integer=True, even=True
+                    item["height"],
+                    lines.where(key + ("height",)),
+                    integer=True,
+                    even=True,
+                    maximum=MAX_SIDE_PX,
                 ),
-                fps=_positive(item["fps"], lines.where(key + ("fps",))),
+                fps=_positive(item["fps"], lines.where(key + ("fps",)), maximum=MAX_FPS),
             )
         )
     for index in range(1, len(rungs)):
