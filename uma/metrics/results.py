@@ -7,6 +7,7 @@ earlier run holds, after any failure or kill, that earlier run whole, or else th
 from __future__ import annotations
 
 import json
+import os
 from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
@@ -14,6 +15,9 @@ from typing import Any
 from uma.atomic import atomic_dir
 
 __all__ = ["write_results", "read_metrics", "events_csv", "RUN_FILES"]
+
+# A run's metrics are a few kB; a file far past that is not one.
+MAX_METRICS_BYTES = 64 * 2**20
 
 # What a run's folder may hold and a new run may therefore replace: the result files, the
 # pictures and video `uma report` draws from them, a failed sweep point's error, and the
@@ -72,16 +76,21 @@ def read_metrics(path: str | Path) -> dict[str, Any] | None:
     `ConfigError` naming the file and line, not "missing".
     """
     from uma.errors import ConfigError
+    from uma.paths import read_capped
 
     path = Path(path)
-    try:
-        data = path.read_bytes()
-    except FileNotFoundError:
+    if not os.path.lexists(path):
         return None
-    except OSError as err:
-        raise ConfigError(f"{path}: cannot read ({err.strerror or err})") from None
+    # A FIFO or device, a symlink loop and a file past the cap are refused in one line.
+    data = read_capped(
+        path, max_bytes=MAX_METRICS_BYTES, error=ConfigError, what="metrics.json of a finished run"
+    )
     try:
         metrics = json.loads(data.decode("utf-8"))
+    except RecursionError:
+        raise ConfigError(
+            f"{path}:1: expected the JSON metrics of a finished run, got JSON nested too deeply"
+        ) from None
     except UnicodeDecodeError as err:
         line = data[: err.start].count(b"\n") + 1
         raise ConfigError(
