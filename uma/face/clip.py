@@ -53,7 +53,12 @@ def read_picture(
 
     if str(path).startswith(SKIMAGE_PREFIX):
         return _skimage(str(path), frame)
+    from uma.paths import check_regular_file
+
     path = Path(path)
+    if not path.is_dir():  # a folder keeps its own message below
+        # a FIFO or device would block the read, a symlink loop would raise deep in pathlib
+        check_regular_file(path, error=FaceError, what="image or video file")
     if path.suffix.lower() in VIDEO_SUFFIXES and path.is_file():
         frame = frame if frame is not None else video_frame
         if frame is None:

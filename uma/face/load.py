@@ -17,7 +17,12 @@ __all__ = ["load_model"]
 
 def load_model(path: str | Path | None = None) -> FaceModel:
     """Read a face model: uma's YAML (default: the project's own wireframe) or a `.wfm` file."""
+    from uma.errors import FaceError
+    from uma.paths import check_regular_file
+
     path = Path(path) if path is not None else default_model_path()
+    if path.exists() or path.is_symlink():  # a missing file: the reader names it as before
+        check_regular_file(path, error=FaceError, what="face model file")
     try:
         stat = path.stat()
     except OSError:
