@@ -35,6 +35,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     parser.add_argument("--plot", metavar="PNG", help="write the delay-SSIM plot here")
     parser.add_argument(
+        "--loop",
+        action="store_true",
+        help="instead of the simulation: the rate controllers (uma, gcc, webrtc, oracle) in a "
+        "pure closed loop (no codec), on the tuning and held-out traces (or the --trace files)",
+    )
+    parser.add_argument(
         "--published",
         metavar="FILE",
         help=f"CSV of published figures (default: ../shared/data/{DEFAULT_PUBLISHED})",
@@ -112,6 +118,8 @@ def handle(args: argparse.Namespace) -> int:
 
         read_published(published)  # a malformed file is exit 2 before anything runs
     durations = _traces(args)
+    if args.loop:
+        return _loop(args, list(durations))
     scenario = load_scenario(scenarios_dir() / "salsify-tmobile-umts.yaml").with_seed(args.seed)
     config = LinksConfig(
         scenario=scenario,
@@ -141,4 +149,29 @@ def handle(args: argparse.Namespace) -> int:
     if args.plot:
         save_plot(result, Path(args.plot))
     emit(result, format_table(result), as_json=args.json)
+    return 0
+
+
+def _loop(args: argparse.Namespace, given: list[str]) -> int:
+    """`--loop`: the controllers in the pure closed loop (uma/bench/links_loop.py)."""
+    import sys
+    from pathlib import Path
+
+    from uma.bench.links_loop import LoopSettings
+    from uma.bench.links_split import HELD_OUT, TUNING, evaluate, format_loop_table
+    from uma.cli.cmd_bench import emit
+    from uma.paths import shared_data_dir
+
+    def progress(line: str) -> None:
+        if not args.quiet and not args.json:
+            print(line, file=sys.stderr, flush=True)
+
+    settings = LoopSettings(duration_s=args.duration_s)
+    if args.trace:
+        sets = {"given": [Path(p) for p in given]}
+    else:
+        root = shared_data_dir() / "traces"
+        sets = {"tuning": [root / p for p in TUNING], "held_out": [root / p for p in HELD_OUT]}
+    results = {name: evaluate(paths, settings, progress=progress) for name, paths in sets.items()}
+    emit({"loop": results}, format_loop_table(results), as_json=args.json)
     return 0

@@ -14,9 +14,10 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
 - **trend**: GCC's trendline and adaptive threshold over the same packets; an over-use signal
   while the queue is above `queue_low_ms` backs the target off by `beta`;
 - **loss**: GCC's loss-based bound (above 10 % down by half the loss, below 2 % free);
-- **probing**: while the stream is application-limited (received below `alr_fraction` of the
-  target) and no train measured the link for `probe_interval_ms`, a probe of padding packets
-  sent back to back, whose spacing measures the link;
+- **probing**: when no train measured the link for `probe_interval_ms` while the stream is
+  application-limited (received below `alr_fraction` of the target) or the queue is short (a
+  low target fills its own small frames, which make no trains), a probe of padding packets
+  sent back to back, whose spacing measures the link, sized to queue about `probe_ms`;
 - **handover**: the new technology's prior (`priors_kbps`) can only lower the capacity estimate,
   so a trace with no labelled handovers never sees it and a wrong prior costs one
   measurement's time, never a standing queue;
@@ -57,8 +58,13 @@ class UmaSettings:
     alr_fraction: float = 0.7
     probe_interval_ms: float = 1000.0
     probe_packets: int = 5
+    probe_ms: float = 50.0
+    probe_min_bits: int = 100 * 8
     packet_bits: int = 1200 * 8
-    silence_ms: float = 500.0
+    silence_ms: float = 250.0
+    skip_budget_ms: float = 400.0
+    max_skip_ms: float = 1000.0
+    silence_factor: float = 0.25
     priors_kbps: Mapping[str, float] = field(default_factory=lambda: DEFAULT_PRIORS_KBPS)
 
     def __post_init__(self) -> None:
@@ -67,7 +73,7 @@ class UmaSettings:
                 "UmaSettings: expected 0 < min_kbps <= initial_kbps <= max_kbps, got "
                 f"{self.min_kbps}, {self.initial_kbps}, {self.max_kbps}"
             )
-        for name in ("headroom", "beta", "alr_fraction"):
+        for name in ("headroom", "beta", "alr_fraction", "silence_factor"):
             if not 0 < getattr(self, name) <= 1:
                 raise ValueError(
                     f"UmaSettings.{name}: expected in (0, 1], got {getattr(self, name)}"
@@ -126,11 +132,11 @@ class UmaController:
         return RateDecision(self.target_kbps, self._probe(report, now_ms), reason)
 
     def on_silence(self, now_ms: float) -> RateDecision:
-        """No report for a while (an outage): halve the estimate once per `silence_ms`."""
+        """No report for `silence_ms` (an outage): the estimate x `silence_factor`, once each."""
         s = self.settings
         last = self._last_report_ms
         if last is not None and now_ms - last >= s.silence_ms:
-            self.capacity_kbps = max(self.capacity_kbps * 0.5, s.min_kbps)
+            self.capacity_kbps = max(self.capacity_kbps * s.silence_factor, s.min_kbps)
             self.target_kbps = max(self.capacity_kbps * s.headroom, s.min_kbps)
             self._last_report_ms = now_ms
             return RateDecision(self.target_kbps, None, "silence")
@@ -164,7 +170,13 @@ class UmaController:
         s = self.settings
         limited = report.received_kbps < s.alr_fraction * self.target_kbps
         unmeasured = now_ms - self._last_train_ms >= s.probe_interval_ms
-        if not (limited and unmeasured and now_ms - self._last_probe_ms >= s.probe_interval_ms):
+        idle = self.queue_ms < s.queue_target_ms
+        if not ((limited or idle) and unmeasured):
+            return None
+        if now_ms - self._last_probe_ms < s.probe_interval_ms:
             return None
         self._last_probe_ms = now_ms
-        return ProbeRequest(2.0 * self.capacity_kbps, s.probe_packets, s.packet_bits)
+        # small packets on a slow link, so that a probe queues about `probe_ms` there
+        bits = self.capacity_kbps * s.probe_ms / s.probe_packets
+        bits = int(min(max(bits, s.probe_min_bits), s.packet_bits))
+        return ProbeRequest(2.0 * self.capacity_kbps, s.probe_packets, bits)

@@ -7,19 +7,23 @@ The receiver feeds every packet to a `DeliveryTracker` (`on_packet(seq, send_ms,
 size_bits)`); each call returns None, or a frozen `DeliveryReport` once `interval_ms` of arrival
 time has passed since the previous report began (the feedback cadence). A report carries:
 
-- **capacity from packet trains.** Packets that left the sender together (send stamps within
-  `burst_ms`) queue behind one another at the bottleneck, so their arrival spacing is the link's
-  serialisation time. A packet sent after a pause still belongs to the running train when its
-  arrival gap exceeds its send gap by more than `grace_ms` (the grace period, Salsify's reading
-  of the sender's idle time): it waited behind the previous packet, so the link was busy in
-  between. Otherwise the link may have idled and a new train starts. A report's
+- **capacity from packet trains.** A packet that reached the bottleneck before the previous
+  one had left it queues behind it, so its arrival gap is the link's time to carry it: a
+  train. On an idle link a packet would arrive at its send time plus the base one-way delay
+  (the smallest of the last `base_window_ms`); when the previous packet arrived later than
+  that (less `grace_ms` for clock jitter), this one waited behind it. The sender's own pauses
+  are thereby forgiven (Salsify's grace period): a packet sent after a pause belongs to the
+  train only if the link was still busy with the ones before. Packets sent in one burst (a
+  frame) always queue behind each other, so every multi-packet frame measures the link. A report's
   `capacity_kbps` pools the trains' packets that arrived in it (each but a train's first, over
   its arrival gap: bits over time), so a link that delivers in clumps (cellular
   schedulers) reads as its mean rate over the clumps, not as queue growth.
 - **received rate**: bits over the report's arrival span.
 - **loss** from sequence gaps (a late packet that fills a gap is not counted lost twice).
 - **queueing-delay samples**: each packet's one-way delay minus the smallest one-way delay of
-  the last `base_window_ms` (the propagation estimate).
+  the last `base_window_ms` (the propagation estimate: a minute, longer than any standing
+  queue, or the queue itself would become the base; `on_path_change()` after a handover
+  forgets it).
 The packets themselves ride along (`records`) for controllers that group them their own way
 (the GCC baseline's inter-arrival groups).
 """
@@ -45,9 +49,8 @@ class DeliverySettings:
     """How packets are folded into reports; validated on creation."""
 
     interval_ms: float = 100.0
-    burst_ms: float = 5.0
     grace_ms: float = 1.0
-    base_window_ms: float = 10_000.0
+    base_window_ms: float = 60_000.0
 
     def __post_init__(self) -> None:
         for name in ("interval_ms", "base_window_ms"):
@@ -55,11 +58,8 @@ class DeliverySettings:
                 raise ValueError(
                     f"DeliverySettings.{name}: expected > 0, got {getattr(self, name)}"
                 )
-        for name in ("burst_ms", "grace_ms"):
-            if not getattr(self, name) >= 0:
-                raise ValueError(
-                    f"DeliverySettings.{name}: expected >= 0, got {getattr(self, name)}"
-                )
+        if not self.grace_ms >= 0:
+            raise ValueError(f"DeliverySettings.grace_ms: expected >= 0, got {self.grace_ms}")
 
 
 @dataclass(frozen=True)
@@ -120,9 +120,10 @@ class DeliveryTracker:
         if self._start_ms is None:
             self._start_ms = record.arrival_ms
         self._count_loss(record.seq)
-        self._extend_train(record)
+        delay_ms = self._queue_delay(record)
+        self._extend_train(record, base_ms=record.arrival_ms - record.send_ms - delay_ms)
         self._records.append(record)
-        self._delays.append(self._queue_delay(record))
+        self._delays.append(delay_ms)
         self._previous = record
         if record.arrival_ms - self._start_ms >= self.settings.interval_ms:
             return self.flush(record.arrival_ms)
@@ -147,6 +148,10 @@ class DeliveryTracker:
         self._start_ms = now_ms
         return report
 
+    def on_path_change(self) -> None:
+        """A new path (a handover): its propagation delay is measured afresh."""
+        self._minima.clear()
+
     def _count_loss(self, seq: int) -> None:
         if self._highest_seq is None or seq > self._highest_seq:
             if self._highest_seq is not None and seq > self._highest_seq + 1:
@@ -160,16 +165,16 @@ class DeliveryTracker:
             self._missing.discard(seq)
             self._lost -= 1
 
-    def _extend_train(self, record: PacketRecord) -> None:
+    def _extend_train(self, record: PacketRecord, *, base_ms: float) -> None:
         """Pool the packet's arrival gap into the trains when it queued behind the previous."""
         previous = self._previous
         if previous is None:
             return
-        send_gap = record.send_ms - previous.send_ms
+        # On an idle link the packet would have arrived at send + base; if the previous packet
+        # arrived later than that, this one waited behind it and the gap is the link's time.
+        queued = previous.arrival_ms > record.send_ms + base_ms - self.settings.grace_ms
         arrival_gap = record.arrival_ms - previous.arrival_ms
-        together = abs(send_gap) <= self.settings.burst_ms
-        waited = arrival_gap > send_gap + self.settings.grace_ms
-        if (together or waited) and arrival_gap >= 0:
+        if queued and arrival_gap >= 0:
             self._pooled_bits += record.size_bits
             self._pooled_ms += arrival_gap
 
