@@ -7,7 +7,8 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
 
 - **capacity** is the link's delivery rate measured by packet trains (`DeliveryReport.
   capacity_kbps`), smoothed with a time constant over the trains' own measured time, so a
-  clump of deliveries reads as the link's rate rather than as a queue;
+  clump of deliveries reads as the link's rate rather than as a queue; the report after a
+  probe weighs at least `probe_weight` (a probe's few packets measure little time);
 - **queue**: the smallest queueing-delay sample of a report (bursty delivery jitters the
   others; a standing queue raises every one); above `queue_target_ms` the excess is drained
   over `drain_ms`;
@@ -59,6 +60,7 @@ class UmaSettings:
     probe_interval_ms: float = 1000.0
     probe_packets: int = 5
     probe_ms: float = 50.0
+    probe_weight: float = 0.1
     probe_min_bits: int = 100 * 8
     packet_bits: int = 1200 * 8
     silence_ms: float = 250.0
@@ -73,7 +75,7 @@ class UmaSettings:
                 "UmaSettings: expected 0 < min_kbps <= initial_kbps <= max_kbps, got "
                 f"{self.min_kbps}, {self.initial_kbps}, {self.max_kbps}"
             )
-        for name in ("headroom", "beta", "alr_fraction", "silence_factor"):
+        for name in ("headroom", "beta", "alr_fraction", "silence_factor", "probe_weight"):
             if not 0 < getattr(self, name) <= 1:
                 raise ValueError(
                     f"UmaSettings.{name}: expected in (0, 1], got {getattr(self, name)}"
@@ -100,6 +102,7 @@ class UmaController:
         self._last_train_ms = float("-inf")
         self._last_probe_ms = float("-inf")
         self._last_report_ms: float | None = None
+        self._probe_pending = False
 
     def _reset_trend(self) -> None:
         self.groups = InterArrival()
@@ -114,8 +117,11 @@ class UmaController:
         self._last_report_ms = now_ms
         if report.capacity_kbps is not None:
             weight = 1.0 - math.exp(-report.train_ms / s.capacity_tau_ms)
+            if self._probe_pending:
+                weight = max(weight, s.probe_weight)
             self.capacity_kbps += weight * (report.capacity_kbps - self.capacity_kbps)
             self._last_train_ms = now_ms
+            self._probe_pending = False
         if report.queue_delay_ms:
             self.queue_ms = min(report.queue_delay_ms)
         for record in report.records:
@@ -176,6 +182,7 @@ class UmaController:
         if now_ms - self._last_probe_ms < s.probe_interval_ms:
             return None
         self._last_probe_ms = now_ms
+        self._probe_pending = True
         # small packets on a slow link, so that a probe queues about `probe_ms` there
         bits = self.capacity_kbps * s.probe_ms / s.probe_packets
         bits = int(min(max(bits, s.probe_min_bits), s.packet_bits))
