@@ -39,7 +39,8 @@ def format_table(result: dict[str, Any]) -> str:
     lines = [
         f"uma bench links: {result['scenario']} on {len(result['traces'])} traces, "
         f"first {result['duration_s']:g} s each",
-        "  sent/c: sent over capacity; key: share of the bits in keyframes",
+        "  sent/c: sent over capacity; key: share of the bits in keyframes; published figures"
+        " (publ.) are for each whole trace",
     ]
     for name, trace in result["traces"].items():
         lines += [
