@@ -64,7 +64,7 @@ class UmaSettings:
     probe_min_bits: int = 100 * 8
     packet_bits: int = 1200 * 8
     silence_ms: float = 250.0
-    skip_budget_ms: float = 400.0
+    skip_budget_ms: float = 300.0
     max_skip_ms: float = 1000.0
     silence_factor: float = 0.25
     priors_kbps: Mapping[str, float] = field(default_factory=lambda: DEFAULT_PRIORS_KBPS)
