@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -158,6 +158,68 @@ def _packets(rate_kbps: float, fps: float) -> list[int]:
     return [int(frame_bits / count) + HEADER_BITS] * count
 
 
+class _Bottleneck:
+    """The drop-tail FIFO: `send` returns a packet's arrival at the receiver, or None (dropped)."""
+
+    def __init__(self, link: Link, settings: LoopSettings) -> None:
+        self.link, self.settings = link, settings
+        self.queue: deque[tuple[float, int]] = deque()  # (departure, bits)
+        self.queued_bits = 0.0
+        self.free_bits = 0.0  # the link's cumulative bits when it is next free
+
+    def send(self, now_ms: float, bits: int) -> float | None:
+        while self.queue and self.queue[0][0] <= now_ms:
+            self.queued_bits -= self.queue.popleft()[1]
+        if self.queued_bits + bits > self.settings.queue_bytes * 8:
+            return None
+        self.free_bits = max(self.free_bits, self.link.bits_by(now_ms)) + bits
+        departure = self.link.time_of(self.free_bits)
+        self.queue.append((departure, bits))
+        self.queued_bits += bits
+        return departure + self.settings.delay_ms
+
+
+@dataclass
+class _Run:
+    """What one loop run accumulates."""
+
+    frame_send: list = field(default_factory=list)
+    frame_arrival: list = field(default_factory=list)
+    pending: deque = field(default_factory=deque)  # (time the sender learns it, rate, probe)
+    in_flight: deque = field(default_factory=deque)  # (arrival, seq, send, bits, frame)
+    sent_bits: int = 0
+    delivered_bits: int = 0
+    last_feedback_ms: float = 0.0
+    technology: str | None = None
+    seq: int = 0
+
+
+def _receive(run: _Run, feedback, now: float, s: LoopSettings, trace) -> None:
+    """Arrivals up to one way before `now` reach the receiver; their feedback heads back."""
+    while run.in_flight and run.in_flight[0][0] + s.delay_ms <= now:
+        arrival, seq, send, bits, frame = run.in_flight.popleft()
+        run.delivered_bits += bits
+        if frame >= 0:
+            run.frame_arrival[frame] = max(run.frame_arrival[frame], arrival)
+        decision = feedback.on_arrival(seq, send, arrival, bits) if feedback else None
+        if decision is not None:
+            run.pending.append((arrival + s.delay_ms, *decision))
+            run.last_feedback_ms = arrival + s.delay_ms
+    if feedback is None:
+        return
+    if now - run.last_feedback_ms >= s.quiet_ms:
+        quiet = feedback.on_quiet(now - s.delay_ms)
+        if quiet is not None:
+            run.pending.append((now, *quiet))
+    labels = trace.technologies
+    tech = labels[max(int(np.searchsorted(trace.times_s, now / 1000.0, "right")) - 1, 0)]
+    if tech and run.technology is not None and tech != run.technology:
+        change = feedback.on_handover(tech, now)
+        if change is not None:
+            run.pending.append((now, *change))
+    run.technology = tech
+
+
 def run_loop(
     trace, name: str, settings: LoopSettings | None = None, *, log: list | None = None
 ) -> dict[str, Any]:
@@ -168,80 +230,46 @@ def run_loop(
     s = settings or LoopSettings()
     duration_s = min(s.duration_s, float(trace.duration_s))
     link = Link(trace.times_s, trace.rates_kbps, float(trace.duration_s))
+    bottleneck = _Bottleneck(link, s)
     feedback = None if name == "oracle" else _Feedback(name, s)
-    rate = s.initial_kbps
-    pending: deque[tuple[float, float, Any]] = deque()  # (time the sender learns it, rate, probe)
-    in_flight: deque[tuple[float, int, float, int, int]] = (
-        deque()
-    )  # arrival, seq, send, bits, frame
-    queue: deque[tuple[float, int]] = deque()  # (departure, bits) at the bottleneck
-    link_free_bits = queued_bits = 0.0
-    seq, frame_arrival, frame_send = 0, [], []
-    probe = None
-    sent_bits = delivered_bits = 0
-    last_feedback_ms, technology = 0.0, None
+    run = _Run()
+    rate, probe = s.initial_kbps, None
     for index in range(int(duration_s * s.fps)):
         now = index * 1000.0 / s.fps
-        while in_flight and in_flight[0][0] + s.delay_ms <= now:
-            arrival, pseq, send, bits, frame = in_flight.popleft()
-            delivered_bits += bits
-            if frame >= 0:
-                frame_arrival[frame] = max(frame_arrival[frame], arrival)
-            decision = feedback.on_arrival(pseq, send, arrival, bits) if feedback else None
-            if decision is not None:
-                pending.append((arrival + s.delay_ms, *decision))
-                last_feedback_ms = arrival + s.delay_ms
-        if feedback is not None and now - last_feedback_ms >= s.quiet_ms:
-            quiet = feedback.on_quiet(now - s.delay_ms)
-            if quiet is not None:
-                pending.append((now, *quiet))
-        labels = trace.technologies
-        tech = labels[max(int(np.searchsorted(trace.times_s, now / 1000.0, "right")) - 1, 0)]
-        if tech and technology is not None and tech != technology and feedback is not None:
-            change = feedback.on_handover(tech, now)
-            if change is not None:
-                pending.append((now, *change))
-        technology = tech
-        while pending and pending[0][0] <= now:
-            _, rate, request = pending.popleft()
+        _receive(run, feedback, now, s, trace)
+        while run.pending and run.pending[0][0] <= now:
+            _, rate, request = run.pending.popleft()
             probe = request or probe
         if name == "oracle":
             rate = s.oracle_headroom * link.capacity_at(now)
         sizes = _packets(min(rate, s.app_max_kbps), s.fps)
         if log is not None:
-            log.append((now, rate, queued_bits))
-        frame_send.append(now)
-        frame_arrival.append(-math.inf)
-        frame = len(frame_send) - 1
+            log.append((now, rate, bottleneck.queued_bits))
+        frame = len(run.frame_send)
+        run.frame_send.append(now)
+        run.frame_arrival.append(-math.inf)
         batch = [(size, frame) for size in sizes]
-        if feedback is not None and feedback.skips(sum(sizes), sent_bits, now):
+        if feedback is not None and feedback.skips(sum(sizes), run.sent_bits, now):
             batch = []
-            frame_arrival[frame] = math.inf  # skipped: shown with the next frame that arrives
+            run.frame_arrival[frame] = math.inf  # skipped: shown with the next frame that arrives
         if probe is not None:
             batch += [(probe.packet_bits, -1)] * probe.packets
             probe = None
         for size, owner in batch:
-            sent_bits += size
-            while queue and queue[0][0] <= now:
-                queued_bits -= queue.popleft()[1]
-            if queued_bits + size > s.queue_bytes * 8:
-                if owner >= 0:
-                    frame_arrival[owner] = math.inf  # a lost packet: the frame never completes
-                seq += 1
-                continue
-            start_bits = max(link_free_bits, link.bits_by(now))
-            link_free_bits = start_bits + size
-            departure = link.time_of(link_free_bits)
-            queue.append((departure, size))
-            queued_bits += size
-            in_flight.append((departure + s.delay_ms, seq, now, size, owner))
-            seq += 1
-    return _summary(name, frame_send, frame_arrival, link, duration_s, s, sent_bits, delivered_bits)
+            run.sent_bits += size
+            arrival = bottleneck.send(now, size)
+            if arrival is None and owner >= 0:
+                run.frame_arrival[owner] = math.inf  # a lost packet: the frame never completes
+            elif arrival is not None:
+                run.in_flight.append((arrival, run.seq, now, size, owner))
+            run.seq += 1
+    return _summary(name, run, link, duration_s, s)
 
 
-def _summary(name, sends, arrivals, link, duration_s, s, sent_bits, delivered_bits):
-    send = np.asarray(sends)
-    arrival = np.asarray(arrivals, dtype=float)
+def _summary(name: str, run: _Run, link: Link, duration_s: float, s: LoopSettings):
+    sent_bits, delivered_bits = run.sent_bits, run.delivered_bits
+    send = np.asarray(run.frame_send)
+    arrival = np.asarray(run.frame_arrival, dtype=float)
     end_ms = duration_s * 1000.0
     arrival[~np.isfinite(arrival)] = np.inf  # lost, skipped, or not arrived within the run
     effective = np.minimum.accumulate(arrival[::-1])[::-1]
