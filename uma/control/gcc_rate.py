@@ -157,5 +157,5 @@ class LossController:
         elif loss < s.loss_low:
             # without loss the bound does not bind: it stays at least the delay-based rate
             self.bound_kbps = max(self.bound_kbps * s.loss_increase_per_s**dt_s, delay_based_kbps)
-        self.bound_kbps = max(self.bound_kbps, s.min_kbps)
+        self.bound_kbps = min(max(self.bound_kbps, s.min_kbps), s.max_kbps)
         return self.bound_kbps
