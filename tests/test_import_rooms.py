@@ -21,7 +21,7 @@ LEVELS: list[set[str]] = [
     {"atomic", "codecs"},  # `codecs`: the codec registry, pure data
     {"__init__"},
     {"config"},
-    {"traces", "engine", "metrics", "video"},
+    {"traces", "engine", "metrics", "video", "control"},
     {"face"},  # reads a template from a video frame (`uma.face.clip`)
     {"fit"},  # uses face
     {"mbc"},  # uses fit and face

@@ -1,0 +1,70 @@
+"""`uma bench links`: JSON keys on a tiny synthetic trace, bad input as exit 2, the loop."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from uma.bench.links import ENGINES, ROW_KEYS, median_row
+from uma.cli import main
+
+
+@pytest.fixture
+def tiny_trace(tmp_path):
+    path = tmp_path / "tiny.csv"
+    path.write_text("0,60000\n1,20000\n2,5000\n3,60000\n4,60000\n", encoding="utf-8")
+    return path
+
+
+def test_links_json_has_the_documented_keys(tiny_trace, tmp_path, capsys):
+    plot = tmp_path / "links.png"
+    args = ["bench", "links", "--trace", str(tiny_trace), "--duration", "0.8", "--json"]
+    assert main([*args, "--plot", str(plot), "--quiet"]) == 0
+    result = json.loads(capsys.readouterr().out)
+    trace = result["traces"]["tiny.csv"]
+    assert trace["capacity_kbps_mean"] > 0
+    assert set(trace["engines"]) == set(ENGINES)
+    for row in trace["engines"].values():
+        assert set(ROW_KEYS) <= set(row)
+        assert 0 <= row["keyframe_bits_share"] <= 1
+    assert trace["published"] == {}
+    assert set(result["median"]) == set(ENGINES)
+    assert plot.stat().st_size > 0
+
+
+@pytest.mark.parametrize(
+    "args, expected",
+    [
+        (["--trace", "/no/such/trace"], "--trace"),
+        (["--duration", "0"], "--duration"),
+        (["--workers", "0"], "--workers"),
+    ],
+)
+def test_links_bad_input_is_one_line_and_exit_2(args, expected, tiny_trace, capsys):
+    full = ["bench", "links", *args] + ([] if "--trace" in args else ["--trace", str(tiny_trace)])
+    assert main(full) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and expected in err[0]
+
+
+def test_links_malformed_trace_is_one_line_and_exit_2(tmp_path, capsys):
+    bad = tmp_path / "bad.csv"
+    bad.write_text("0,1000\n1,-5\n", encoding="utf-8")
+    assert main(["bench", "links", "--trace", str(bad)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "bad.csv" in err[0]
+
+
+def test_median_row_skips_missing_values():
+    rows = [dict.fromkeys(ROW_KEYS, 1.0), dict.fromkeys(ROW_KEYS, 3.0), dict.fromkeys(ROW_KEYS)]
+    assert median_row(rows) == dict.fromkeys(ROW_KEYS, 2.0)
+
+
+def test_links_loop_on_a_given_trace(tiny_trace, capsys):
+    args = ["bench", "links", "--loop", "--trace", str(tiny_trace), "--duration", "4", "--json"]
+    assert main(args) == 0
+    result = json.loads(capsys.readouterr().out)["loop"]["given"]
+    rows = result["traces"]["tiny.csv"]
+    assert set(rows) == {"uma", "gcc", "webrtc", "oracle"}
+    assert all(row["delay_p95_ms"] >= 20.0 for row in rows.values())  # one way at least

@@ -1,0 +1,146 @@
+"""uma's controller: bursty delivery is capacity, a handover's prior, an app-limited recovery."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from uma.control import DeliveryTracker, UmaController, UmaSettings, should_skip
+from uma.control.skip import frame_budget_bits
+
+PACKET_BITS = 9600
+HEADER_BITS = 320
+
+
+def _frame(rate_kbps: float) -> list[int]:
+    bits = rate_kbps * 40.0
+    count = max(1, math.ceil(bits / PACKET_BITS))
+    return [int(bits / count) + HEADER_BITS] * count
+
+
+def _loop(controller, capacity_kbps, *, seconds, app_max_kbps=1e9, scheduler=False):
+    """A sender at the controller's target (25 frames/s), 20 ms each way, over a FIFO whose
+    capacity follows `capacity_kbps(t_ms)`; with `scheduler`, the link delivers what its
+    capacity allows only at 40 ms slot boundaries, in one clump. Returns per-frame
+    (time_ms, target_kbps, queue_ms) and the probes asked for."""
+    tracker = DeliveryTracker()
+    target, probe = controller.target_kbps, None
+    pending, queue, rows, probes = [], [], [], 0
+    free_ms, credit_bits, seq = 0.0, 0.0, 0
+    for f in range(int(seconds * 25)):
+        now = 40.0 * f
+        pending.sort()
+        while pending and pending[0][0] <= now:
+            _, target, request = pending.pop(0)
+            probe = request or probe
+        sizes = _frame(min(target, app_max_kbps))
+        if probe is not None:
+            sizes += [probe.packet_bits] * probe.packets
+            probes, probe = probes + 1, None
+        arrivals = []
+        if scheduler:
+            queue += [(now + 1.0, bits) for bits in sizes]
+            credit_bits += capacity_kbps(now) * 40.0
+            while queue and queue[0][1] <= credit_bits:
+                send, bits = queue.pop(0)
+                credit_bits -= bits
+                arrivals.append((send, now + 40.0 + 20.0 + 0.01 * len(arrivals), bits))
+            if not queue:
+                credit_bits = min(credit_bits, 0.0)  # an idle link stores no credit
+        else:
+            for bits in sizes:
+                free_ms = max(free_ms, now) + bits / capacity_kbps(now)
+                arrivals.append((now, free_ms + 20.0, bits))
+        for send, arrival, bits in arrivals:
+            report = tracker.on_packet(seq, send, arrival, bits)
+            seq += 1
+            if report is not None:
+                decision = controller.on_report(report)
+                pending.append((arrival + 20.0, decision.target_kbps, decision.probe))
+        backlog = sum(b for _, b in queue) if scheduler else max(0.0, free_ms - now) * 1.0
+        rows.append((now, target, backlog))
+    return rows, probes
+
+
+def test_clumped_delivery_reads_as_capacity_not_as_queue_growth():
+    controller = UmaController()
+    rows, _ = _loop(controller, lambda t: 1000.0, seconds=30, scheduler=True)
+    late = [target for t, target, _ in rows if t > 10_000]
+    # it hunts around the link's mean rate (a clump's packets alone read fast, a queue's
+    # spans read the mean) and never collapses as if a queue kept building
+    assert min(late) > 0.6 * 1000.0
+    assert 0.8 * 1000.0 < float(np.median(late)) < 1.05 * 1000.0
+    assert max(backlog for t, _, backlog in rows if t > 10_000) < 150.0 * 1000.0  # < 150 ms
+
+
+def test_a_steady_fifo_is_followed_with_headroom():
+    controller = UmaController()
+    rows, _ = _loop(controller, lambda t: 600.0, seconds=20)
+    late = [target for t, target, _ in rows if t > 10_000]
+    assert min(late) > 0.75 * 600 and max(late) <= 0.9 * 600
+
+
+def test_a_handover_prior_lowers_the_estimate_at_once():
+    controller = UmaController()
+    _loop(controller, lambda t: 2000.0, seconds=10)
+    decision = controller.on_handover("GPRS", 10_000.0)
+    assert decision.target_kbps == pytest.approx(40.0 * 0.85)
+    assert decision.reason == "handover prior"
+
+
+def test_a_handover_prior_never_raises_the_estimate_and_unknown_labels_change_nothing():
+    controller = UmaController()
+    _loop(controller, lambda t: 100.0, seconds=10)
+    before = controller.capacity_kbps
+    assert controller.on_handover("3G", 10_000.0).target_kbps == pytest.approx(before * 0.85)
+    assert controller.on_handover("no-such-technology", 10_040.0).reason == "handover"
+    assert controller.capacity_kbps == before
+
+
+def _dip(t_ms: float) -> float:
+    return 30.0 if 5_000 <= t_ms < 10_000 else 1500.0
+
+
+def test_an_application_limited_stream_measures_its_way_back_up_after_a_dip():
+    # the encoder never needs more than 200 kbit/s: one packet a frame, no trains of its own
+    controller = UmaController()
+    rows, probes = _loop(controller, _dip, seconds=16, app_max_kbps=200.0)
+    assert min(target for t, target, _ in rows if 8_000 <= t < 10_000) < 60.0  # it followed
+    assert probes > 0
+    assert controller.capacity_kbps > 400.0  # measured the link again
+    assert all(target > 200.0 for t, target, _ in rows if t > 15_000)  # the stream is whole
+
+
+def test_without_probes_the_same_stream_stays_low():
+    controller = UmaController(UmaSettings(probe_interval_ms=1e9))
+    rows, _ = _loop(controller, _dip, seconds=16, app_max_kbps=200.0)
+    assert controller.capacity_kbps < 200.0
+    assert all(target < 200.0 for t, target, _ in rows if t > 15_000)
+
+
+def test_silence_cuts_the_estimate_once_per_interval():
+    controller = UmaController()
+    _loop(controller, lambda t: 1000.0, seconds=5)
+    last = controller._last_report_ms
+    before = controller.capacity_kbps
+    assert controller.on_silence(last + 100.0).reason == ""
+    assert controller.on_silence(last + 250.0).reason == "silence"
+    assert controller.capacity_kbps == pytest.approx(before * 0.25)
+
+
+def test_skip_rule():
+    # 100 kbit/s = 100 bits per ms: 40,000 bits drain in 400 ms
+    assert frame_budget_bits(20_000, 100.0, 400.0) == 20_000
+    assert not should_skip(20_000, 20_000, 100.0, 400.0)
+    assert should_skip(20_001, 20_000, 100.0, 400.0)
+    assert should_skip(1, 0, 0.0, 400.0)
+
+
+@pytest.mark.parametrize(
+    "field, value", [("headroom", 0.0), ("silence_factor", 1.5), ("probe_packets", 1)]
+)
+def test_settings_refuse_bad_values_naming_them(field, value):
+    with pytest.raises(ValueError, match=field):
+        UmaSettings(**{field: value})

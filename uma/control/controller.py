@@ -1,0 +1,189 @@
+"""uma's rate controller: capacity from delivery, a drained queue, a trend check, a loss bound.
+
+Units: kbit/s, ms, fractions. Events in, decisions out: `on_report(DeliveryReport)` after each
+feedback report, `on_silence(now_ms)` when the feedback has gone quiet, `on_handover(technology,
+now_ms)` when the link changes technology; each returns a `RateDecision`. One set of defaults
+(`UmaSettings`) for every link:
+
+- **capacity** is the link's delivery rate measured by packet trains (`DeliveryReport.
+  capacity_kbps`), smoothed with a time constant over the trains' own measured time, so a
+  clump of deliveries reads as the link's rate rather than as a queue; the report after a
+  probe weighs at least `probe_weight` (a probe's few packets measure little time);
+- **queue**: the smallest queueing-delay sample of a report (bursty delivery jitters the
+  others; a standing queue raises every one); above `queue_target_ms` the excess is drained
+  over `drain_ms`;
+- **trend**: GCC's trendline and adaptive threshold over the same packets; an over-use signal
+  while the queue is above `queue_low_ms` backs the target off by `beta`;
+- **loss**: GCC's loss-based bound (above 10 % down by half the loss, below 2 % free);
+- **probing**: when no train measured the link for `probe_interval_ms` while the stream is
+  application-limited (received below `alr_fraction` of the target) or the queue is short (a
+  low target fills its own small frames, which make no trains), a probe of padding packets
+  sent back to back, whose spacing measures the link, sized to queue about `probe_ms`;
+- **handover**: the new technology's prior (`priors_kbps`) can only lower the capacity estimate,
+  so a trace with no labelled handovers never sees it and a wrong prior costs one
+  measurement's time, never a standing queue;
+- **target** = capacity x `headroom` minus the drain, clamped to [min_kbps, max_kbps].
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from types import MappingProxyType
+
+from uma.control.actions import ProbeRequest, RateDecision
+from uma.control.delivery import DeliveryReport
+from uma.control.gcc_delay import InterArrival, OveruseDetector, Trendline, Usage
+from uma.control.gcc_rate import GccRateSettings, LossController
+
+__all__ = ["UmaSettings", "UmaController", "DEFAULT_PRIORS_KBPS"]
+
+# What each technology's downlink is expected to carry at most, as a prior (kbit/s).
+DEFAULT_PRIORS_KBPS: Mapping[str, float] = MappingProxyType(
+    {"GSM": 9.6, "GPRS": 40.0, "EDGE": 200.0, "3G": 2000.0, "UMTS": 2000.0}
+)
+
+
+@dataclass(frozen=True)
+class UmaSettings:
+    initial_kbps: float = 300.0
+    min_kbps: float = 5.0
+    max_kbps: float = 20_000.0
+    headroom: float = 0.85
+    capacity_tau_ms: float = 300.0
+    queue_target_ms: float = 60.0
+    queue_low_ms: float = 20.0
+    drain_ms: float = 500.0
+    beta: float = 0.85
+    alr_fraction: float = 0.7
+    probe_interval_ms: float = 1000.0
+    probe_packets: int = 5
+    probe_ms: float = 50.0
+    probe_weight: float = 0.1
+    probe_min_bits: int = 100 * 8
+    packet_bits: int = 1200 * 8
+    silence_ms: float = 250.0
+    skip_budget_ms: float = 300.0
+    max_skip_ms: float = 1000.0
+    silence_factor: float = 0.25
+    priors_kbps: Mapping[str, float] = field(default_factory=lambda: DEFAULT_PRIORS_KBPS)
+
+    def __post_init__(self) -> None:
+        if not 0 < self.min_kbps <= self.initial_kbps <= self.max_kbps:
+            raise ValueError(
+                "UmaSettings: expected 0 < min_kbps <= initial_kbps <= max_kbps, got "
+                f"{self.min_kbps}, {self.initial_kbps}, {self.max_kbps}"
+            )
+        for name in ("headroom", "beta", "alr_fraction", "silence_factor", "probe_weight"):
+            if not 0 < getattr(self, name) <= 1:
+                raise ValueError(
+                    f"UmaSettings.{name}: expected in (0, 1], got {getattr(self, name)}"
+                )
+        for name in ("capacity_tau_ms", "drain_ms", "probe_interval_ms", "silence_ms"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"UmaSettings.{name}: expected > 0, got {getattr(self, name)}")
+        if self.probe_packets < 2:
+            raise ValueError(f"UmaSettings.probe_packets: expected >= 2, got {self.probe_packets}")
+
+
+class UmaController:
+    """The controller the engine is to follow (wired in through the engine's actions)."""
+
+    def __init__(self, settings: UmaSettings | None = None) -> None:
+        self.settings = s = settings or UmaSettings()
+        self.capacity_kbps = s.initial_kbps
+        self.target_kbps = s.initial_kbps * s.headroom
+        self.queue_ms = 0.0
+        self.loss = LossController(
+            GccRateSettings(initial_kbps=s.initial_kbps, min_kbps=s.min_kbps, max_kbps=s.max_kbps)
+        )
+        self._reset_trend()
+        self._last_train_ms = float("-inf")
+        self._last_probe_ms = float("-inf")
+        self._last_report_ms: float | None = None
+        self._probe_pending = False
+
+    def _reset_trend(self) -> None:
+        self.groups = InterArrival()
+        self.trendline = Trendline()
+        self.detector = OveruseDetector()
+        self.usage = Usage.NORMAL
+
+    def on_report(self, report: DeliveryReport) -> RateDecision:
+        """One feedback report in; the target (and a probe when the link is unmeasured) out."""
+        s = self.settings
+        now_ms = report.end_ms
+        self._last_report_ms = now_ms
+        if report.capacity_kbps is not None:
+            weight = 1.0 - math.exp(-report.train_ms / s.capacity_tau_ms)
+            if self._probe_pending:
+                weight = max(weight, s.probe_weight)
+            self.capacity_kbps += weight * (report.capacity_kbps - self.capacity_kbps)
+            self._last_train_ms = now_ms
+            self._probe_pending = False
+        if report.queue_delay_ms:
+            self.queue_ms = min(report.queue_delay_ms)
+        for record in report.records:
+            delta = self.groups.on_packet(record.send_ms, record.arrival_ms)
+            if delta is not None:
+                trend = self.trendline.update(delta)
+                self.usage = self.detector.detect(trend, delta.send_delta_ms, delta.arrival_ms)
+        target, reason = self._target()
+        if report.packets:
+            target = min(target, self.loss.update(report.loss_fraction, now_ms, target))
+            if target < self.loss.bound_kbps * 1.0001 and report.loss_fraction > 0.1:
+                reason = "loss"
+        self.target_kbps = min(max(target, s.min_kbps), s.max_kbps)
+        return RateDecision(self.target_kbps, self._probe(report, now_ms), reason)
+
+    def on_silence(self, now_ms: float) -> RateDecision:
+        """No report for `silence_ms` (an outage): the estimate x `silence_factor`, once each."""
+        s = self.settings
+        last = self._last_report_ms
+        if last is not None and now_ms - last >= s.silence_ms:
+            self.capacity_kbps = max(self.capacity_kbps * s.silence_factor, s.min_kbps)
+            self.target_kbps = max(self.capacity_kbps * s.headroom, s.min_kbps)
+            self._last_report_ms = now_ms
+            return RateDecision(self.target_kbps, None, "silence")
+        return RateDecision(self.target_kbps, None, "")
+
+    def on_handover(self, technology: str, now_ms: float) -> RateDecision:
+        """The link changed technology: its prior may lower the estimate; the trend restarts."""
+        s = self.settings
+        prior = s.priors_kbps.get(technology)
+        self._reset_trend()
+        reason = "handover"
+        if prior is not None and prior < self.capacity_kbps:
+            self.capacity_kbps = prior
+            reason = "handover prior"
+        self.target_kbps = min(max(self.capacity_kbps * s.headroom, s.min_kbps), s.max_kbps)
+        self._last_train_ms = float("-inf")  # measure the new link soon
+        return RateDecision(self.target_kbps, None, reason)
+
+    def _target(self) -> tuple[float, str]:
+        s = self.settings
+        excess_ms = max(0.0, self.queue_ms - s.queue_target_ms)
+        drain_kbps = self.capacity_kbps * excess_ms / s.drain_ms
+        target = self.capacity_kbps * s.headroom - drain_kbps
+        reason = "drain" if drain_kbps > 0 else "capacity"
+        if self.usage is Usage.OVER and self.queue_ms > s.queue_low_ms:
+            target *= s.beta
+            reason = "trend"
+        return target, reason
+
+    def _probe(self, report: DeliveryReport, now_ms: float) -> ProbeRequest | None:
+        s = self.settings
+        limited = report.received_kbps < s.alr_fraction * self.target_kbps
+        unmeasured = now_ms - self._last_train_ms >= s.probe_interval_ms
+        idle = self.queue_ms < s.queue_target_ms
+        if not ((limited or idle) and unmeasured):
+            return None
+        if now_ms - self._last_probe_ms < s.probe_interval_ms:
+            return None
+        self._last_probe_ms = now_ms
+        self._probe_pending = True
+        # small packets on a slow link, so that a probe queues about `probe_ms` there
+        bits = self.capacity_kbps * s.probe_ms / s.probe_packets
+        bits = int(min(max(bits, s.probe_min_bits), s.packet_bits))
+        return ProbeRequest(2.0 * self.capacity_kbps, s.probe_packets, bits)
