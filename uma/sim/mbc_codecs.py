@@ -17,6 +17,11 @@ from uma.sim.packets import EncodedUnit
 __all__ = ["MbcPointEncoder", "MbcUnitDecoder", "SenderMbc", "SelectedMbcEncoder"]
 
 
+# The body motion sent changes only when the measured one moved more than this from it
+# (shift px, shift px, rotation rad; docs/mbc.md "In the simulation").
+BODY_HOLD = np.array([1.0, 1.0, 0.01])
+
+
 def _frames(packets) -> tuple[int, ...]:
     """The source frames MBC packets carry (their first frame numbers are the run's: the
     stream is fed the run's frame indices)."""
@@ -95,10 +100,12 @@ class MbcPointEncoder:
         self.width, self.height = source_size
         if self.tracks:
             self.tracker = context.tracker or FaceTracker(description, rng=context.seed)
+        self.selected = context.selected  # the selection scheme's (`SelectedMbcEncoder`)
         self.light = _light_on(context)
         self.layered = context.layered
         self.units = face_units(context)
         self.body = BodyTracker() if self.units.body else None
+        self._body_sent: np.ndarray | None = None  # the body motion last sent
         self.stream = ParameterEncoder(self.units, context.stream)
         self.description = description
         self.mbc = context.mbc
@@ -122,6 +129,7 @@ class MbcPointEncoder:
             self._make_mirror()
         picture = resize_yuv420(np.ascontiguousarray(picture), self.width, self.height)
         self.mirror.set_reference(picture, params)
+        self._body_sent = None  # motion is from the reference: a new one starts still
         self.refresh_frame = refresh_frame
         self._face_from_description = True
         self.mirror.set_face_source(True)
@@ -139,6 +147,7 @@ class MbcPointEncoder:
         if self.mirror is None:
             self._make_mirror()
         take_refresh(self.mirror, self.units, values, picture)
+        self._body_sent = None
         self.refresh_frame = refresh_frame
         self._face_from_description = True
         self.mirror.set_face_source(True)
@@ -182,12 +191,9 @@ class MbcPointEncoder:
             # The open packet still goes out, short; then the engine leaves MBC.
             packets = self.stream.push(frame, None)
             return _packets_coded(
-                packets,
-                self.width,
-                self.height,
-                evaluations=result.evaluations,
+                packets, self.width, self.height, evaluations=result.evaluations,
                 failure=result.reason,
-            )
+            )  # fmt: skip
         if intra:
             self.stream.request_intra()
         values = self._values(picture, result.params, frame)
@@ -195,12 +201,9 @@ class MbcPointEncoder:
         if self.first_params is None:
             self.first_params = self.decoded_params()
         return _packets_coded(
-            packets,
-            self.width,
-            self.height,
-            evaluations=result.evaluations,
+            packets, self.width, self.height, evaluations=result.evaluations,
             reinitialised=result.reinitialised,
-        )
+        )  # fmt: skip
 
     def _values(self, picture: np.ndarray, params: np.ndarray, frame: int) -> np.ndarray:
         """The frame's set: geometry, body motion (measured against the mirror), light."""
@@ -212,7 +215,12 @@ class MbcPointEncoder:
             if self.mirror is None:
                 self.set_reference(picture, params)
             self.body.measure(self.mirror, _luma(picture))  # a failure keeps the last motion
-            body = self.body.last
+            moved = self._body_sent is None or np.any(
+                np.abs(self.body.last - self._body_sent) > BODY_HOLD
+            )
+            if moved:  # a still torso sends the same motion again: almost no bits
+                self._body_sent = self.body.last.copy()
+            body = self._body_sent
         return np.concatenate([params, body, light])
 
     def flush(self) -> Coded:
@@ -262,14 +270,7 @@ class SelectedMbcEncoder(MbcPointEncoder):
     decodes them into `CodecContext.selected`) and codes them again for the downlink (its own
     packets and intra sets, so a keyframe request is answered at once)."""
 
-    tracks = False
-
-    def __init__(self, point: OperatingPoint, *, source_size, source_fps, settings, context):
-        super().__init__(
-            point, source_size=source_size, source_fps=source_fps, settings=settings,
-            context=context,
-        )  # fmt: skip
-        self.selected = as_context(context).selected
+    tracks = False  # `self.selected` (`CodecContext.selected`) has the sender's parameters
 
     def initialise(self, picture: np.ndarray, *, frame: int):
         """Nothing to fit: ready when the sender's parameters for `frame` arrived."""
