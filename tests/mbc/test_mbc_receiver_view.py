@@ -3,7 +3,7 @@
 import numpy as np
 
 from uma.face.talking_head import Motion, TalkingHeadSource
-from uma.mbc import FaceUnits, ParameterEncoder, StreamConfig
+from uma.mbc import ParameterEncoder, StreamConfig
 from uma.sim.mbc_codecs import MbcUnitDecoder
 from uma.sim.packets import EncodedUnit
 
@@ -20,11 +20,12 @@ def test_receiver_renders_colour_from_the_last_picture() -> None:
         "background": frames[0],
     }
     decoder = MbcUnitDecoder(context=context)
-    units = FaceUnits.of(head.model, head.description.params, light=True)
+    units = decoder.units  # the simulation's: geometry, body motion, light
+    assert units.body and units.light
     encoder = ParameterEncoder(units, context["stream"])
     packets = []
     for i in range(1, 9):
-        packets += encoder.push(i, np.append(head.params_at(i), (1.0, 0.0)))
+        packets += encoder.push(i, np.concatenate([head.params_at(i), np.zeros(3), (1.0, 0.0)]))
     shown = {}
     for seq, packet in enumerate(packets):
         frames_of = tuple(range(packet.first_frame, packet.first_frame + packet.count))

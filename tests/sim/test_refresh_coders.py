@@ -11,7 +11,7 @@ from uma.engine.refresh import RefreshOrder, RefreshPlanner
 from uma.metrics.framelog import FrameLog
 from uma.sim.packets import EncodedUnit, packetize
 from uma.sim.receiver import ReceiverState
-from uma.sim.refresh import RefreshChain, RefreshDecoder, RefreshEncoder, refresh_size
+from uma.sim.refresh import FACE_SCALE, RefreshChain, RefreshDecoder, RefreshEncoder
 
 SIZE = (176, 144)
 
@@ -30,10 +30,19 @@ def head():
     return source, frames
 
 
-def test_refresh_size_is_even_and_scaled():
-    assert refresh_size((352, 288), 1.0) == (352, 288)
-    assert refresh_size((352, 288), 0.5) == (176, 144)
-    assert refresh_size((176, 144), 0.3) == (52, 44)
+def _units(source, *, body=False):
+    from uma.mbc import FaceUnits
+
+    return FaceUnits.of(source.model, source.description.params, light=True, body=body)
+
+
+def _values(source, index, units):
+    body = (0.0, 0.0, 0.0) if units.body else ()
+    return np.concatenate([source.params_at(index), body, (1.0, 0.0)])
+
+
+def _encode(encoder, source, frames, index, order, units):
+    return encoder.encode(frames[index], order, source.model, _values(source, index, units), units)
 
 
 def test_the_engines_mirror_is_exactly_what_the_receiver_decodes(head):
@@ -41,19 +50,22 @@ def test_the_engines_mirror_is_exactly_what_the_receiver_decodes(head):
     config = RefreshConfig(enabled=True, preset="ultrafast")
     encoder = RefreshEncoder(config, source_size=SIZE)
     decoder = RefreshDecoder(source_size=SIZE)
+    units = _units(source)
     sizes = []
     for i, index in enumerate((0, 10, 20)):
         order = RefreshOrder(index, 12.0, 1.0, intra=i == 0)
-        data, intra = encoder.encode(frames[index], order, source.params_at(index))
+        data, intra = _encode(encoder, source, frames, index, order, units)
         assert intra == (i == 0)
         sizes.append(8 * len(data))
-        picture = decoder.decode(data)
-        kept, params = encoder.kept[index]
-        assert np.array_equal(picture, kept)
-        assert np.array_equal(params, source.params_at(index))
+        (corner, patch), (kept_corner, kept_patch) = decoder.decode(data), encoder.kept[index][0]
+        assert corner == kept_corner and np.array_equal(patch, kept_patch)
+        assert patch.shape[1] == encoder.box[0] and patch.shape[0] == encoder.box[1] * 3 // 2
+        assert encoder.coder.coded == tuple(int(v * FACE_SCALE) for v in encoder.box)
+        assert np.array_equal(encoder.kept[index][1], _values(source, index, units))
     assert max(sizes) <= 1.1 * 12000  # about its bits a frame each, the VBV one frame
     assert encoder.taken(20) is not None and sorted(encoder.kept) == [20]
-    assert decoder.decode(b"\x00\x00\x01\x65garbage") is None  # corrupt: no picture
+    assert decoder.decode(b"\x00\x00\x00\x00\x00\x00\x01\x65garbage") is None  # corrupt
+    assert decoder.decode(b"\x00") is None  # too short to carry a corner
 
 
 class Clock:
@@ -89,7 +101,8 @@ def test_a_lost_refresh_leaves_the_reference_and_asks_for_an_intra_one(head):
 
     def send(refresh_seq, index, *, intra, drop=()):
         nonlocal seq
-        data, key = encoder.encode(frames[index], RefreshOrder(index, 12.0, 1.0, intra), None)
+        order = RefreshOrder(index, 12.0, 1.0, intra)
+        data, key = _encode(encoder, source, frames, index, order, _units(source))
         packets = packetize(_refresh_unit(refresh_seq, index, data, key), first_seq=seq,
                             payload_bytes=200, sent_s=clock.t)  # fmt: skip
         seq += len(packets)
@@ -106,11 +119,11 @@ def test_a_lost_refresh_leaves_the_reference_and_asks_for_an_intra_one(head):
     assert receiver.make_report(0.1).refresh_frame == 0  # still the last good one
     send(3, 30, intra=True)
     assert taken == [0, 30] and receiver.make_report(0.1).refresh_frame == 30
-    assert 30 in receiver.decoded  # the best picture of that instant, if still to be shown
+    assert 30 not in receiver.decoded  # a box alone is nothing to show (the model codec's is)
 
 
 def test_the_model_codecs_receiver_renders_from_each_refresh_taken(head):
-    from uma.mbc import FaceUnits, ParameterEncoder, StreamConfig
+    from uma.mbc import ParameterEncoder, StreamConfig
     from uma.sim.mbc_codecs import MbcUnitDecoder
 
     source, frames = head
@@ -121,34 +134,46 @@ def test_the_model_codecs_receiver_renders_from_each_refresh_taken(head):
     }  # fmt: skip
     decoder = MbcUnitDecoder(context=context)
     chain = RefreshChain(mbc.refresh, source_size=SIZE)
-    units = FaceUnits.of(source.model, source.description.params, light=True)
+    units = decoder.units
+    assert units.body  # the layered scene: the body motion travels with the face
     stream = ParameterEncoder(units, context["stream"])
     packets = []
     for i in range(1, 13):
-        packets += stream.push(i, np.append(source.params_at(i), (1.0, 0.0)))
-    poses = {}
+        packets += stream.push(i, _values(source, i, units))
+    sets = {}
     for seq, packet in enumerate(packets):
         carried = tuple(range(packet.first_frame, packet.first_frame + packet.count))
         unit = EncodedUnit(seq, carried[-1], "mbc", 0, *SIZE, packet.intra, packet.to_bytes(),
                            carried)  # fmt: skip
         decoder.decode(unit)
-        poses.update({f: decoder.params_by_frame[f] for f in carried})
-    data, _ = chain.encoder.encode(frames[6], RefreshOrder(6, 16.0, 1.0, True), poses[6])
+        sets.update({f: decoder.values_by_frame[f] for f in carried})
+    order = RefreshOrder(6, 16.0, 1.0, True)
+    data, _ = chain.encoder.encode(frames[6], order, source.model, sets[6], units)
     before = decoder.renderer.reference.copy()
-    assert chain.receiver_decode(decoder, 6, data) is not None
-    assert decoder.refresh_frame == 6
-    assert np.array_equal(decoder.renderer.reference, chain.encoder.kept[6][0])
-    assert np.array_equal(decoder.renderer.reference_params, poses[6])
+    shown = chain.receiver_decode(decoder, 6, data)
+    assert decoder.refresh_frame == 6 and np.array_equal(shown, decoder.renderer.reference)
+    assert np.array_equal(decoder.renderer.reference_params, units.split(sets[6])[0])
     assert not np.array_equal(decoder.renderer.reference, before)
+    # The engine's mirror takes the same refresh the same way: the same reference.
+    from uma.sim.mbc_codecs import MbcPointEncoder
+
+    engine = MbcPointEncoder.__new__(MbcPointEncoder)
+    engine.units, engine.mirror = units, None
+    engine.description, engine.mbc, engine.layered = source.description, mbc, True
+    engine.width, engine.height = SIZE
+    engine.set_reference(frames[0], units.split(sets[1])[0])
+    assert chain.engine_adopt(engine, 6) and engine.refresh_frame == 6
+    assert np.array_equal(engine.mirror.reference, decoder.renderer.reference)
     # A corrupt refresh unit changes nothing: the last good reference stays.
     kept = decoder.renderer.reference.copy()
-    assert chain.receiver_decode(decoder, 9, b"\x00\x00\x01\x65\xff" * 40) is None
+    assert chain.receiver_decode(decoder, 9, b"\x00\x00\x00\x00\x00\x00\x01\x65\xff" * 40) is None
     assert decoder.refresh_frame == 6 and np.array_equal(decoder.renderer.reference, kept)
     # A refresh whose pose is still to come waits for it; one whose pose was lost is let go.
-    assert not decoder.refresh(40, frames[40])
+    box = chain.encoder.kept.get(6, (((0, 0), frames[40][:48, :32]), None))[0]
+    assert not decoder.refresh(40, box)
     assert decoder.refresh_frame == 6 and decoder.refresh_waiting[0] == 40
-    del decoder.params_by_frame[8]
-    assert not decoder.refresh(8, frames[8])
+    del decoder.values_by_frame[8]
+    assert not decoder.refresh(8, box)
     assert decoder.refresh_waiting is None and decoder.refresh_frame == 6
 
 
@@ -169,15 +194,13 @@ def test_the_face_comes_from_the_refresh_while_it_is_recent():
 def test_a_refresh_no_better_than_the_receivers_picture_is_not_sent(head):
     from types import SimpleNamespace
 
-    from uma.mbc import FaceUnits
-
     source, frames = head
     config = RefreshConfig(enabled=True, preset="ultrafast", min_gain_db=0.5)
-    units = FaceUnits.of(source.model, source.description.params, light=True)
+    units = _units(source)
     params = source.params_at(10)
 
     def encoder_showing(picture):
-        mirror = SimpleNamespace(render=lambda p, light: (picture, None))
+        mirror = SimpleNamespace(render=lambda p, light, body=None: (picture, None))
         stream = SimpleNamespace(decoded=np.append(params, (1.0, 0.0)))
         return SimpleNamespace(
             mirror=mirror, stream=stream, units=units, description=source.description,
@@ -197,7 +220,7 @@ def test_a_refresh_no_better_than_the_receivers_picture_is_not_sent(head):
     coded = chain.engine_code(encoder_showing(frames[10]), frames[10], order)
     assert not worth(coded)
     chain.discard(10)
-    assert chain.encoder.encoder is None and 10 not in chain.encoder.kept  # next: intra
+    assert chain.encoder.coder is None and 10 not in chain.encoder.kept  # next: intra
     # It shows an old picture of another pose: the refresh is sent, and starts intra.
     coded = chain.engine_code(encoder_showing(frames[40]), frames[10], order)
     assert worth(coded) and coded[1] is True and coded[2] > 0.5

@@ -104,6 +104,7 @@ class RefreshCoder:
         self.size, self.coded, self.box = tuple(size), tuple(coded), box
         self.encoder = H264Encoder(*self.coded, fps, rate_kbps, **settings)
         self.decoder = H264Decoder()
+        self.data = b""  # the last unit's H.264 bytes (a simulation carries them)
 
     def code(self, frame: np.ndarray, corner=None):
         """`frame` (YUV 4:2:0, source size) coded: (size in bits with the box's position,
@@ -115,6 +116,7 @@ class RefreshCoder:
         if self.box is not None:
             frame, extra_bits = _crop(frame, *corner, *self.box), POSITION_BITS
         unit = self.encoder.encode(resize_yuv420(frame, *self.coded))
+        self.data = unit.data
         picture = self.decoder.decode(unit.data)
         if picture is not None:
             if self.box is None:

@@ -28,7 +28,9 @@ class CodecContext:
     `seed`: the run's seed, for the tracker's random restarts; `source_size`: (width, height)
     of the source; `stream`: the model codec's `uma.mbc.StreamConfig` (None without a
     description); `face_region`: the scenario's `FaceRegionConfig` for the region codec;
-    `mbc`: the scenario's `MbcConfig` (light, ring sizes, refresh).
+    `mbc`: the scenario's `MbcConfig` (light, ring sizes, refresh); `layered`: the model
+    codec's receiver draws the layered scene and the engine sends the body motion (False: the
+    stretched scene, no body motion; docs/mbc.md "In the simulation" measured both).
     """
 
     description: Any = None
@@ -41,6 +43,7 @@ class CodecContext:
     tracker: Any = None  # a tracker to reuse instead of making one (benchmarks)
     mbc: Any = None  # the scenario's `engine.mbc` section (None: the codec's defaults)
     fps: float = 25.0  # the source's frame rate
+    layered: bool = True
 
 
 def as_context(context: CodecContext | Mapping[str, Any] | None) -> CodecContext:

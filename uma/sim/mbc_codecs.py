@@ -17,6 +17,11 @@ from uma.sim.packets import EncodedUnit
 __all__ = ["MbcPointEncoder", "MbcUnitDecoder", "SenderMbc", "SelectedMbcEncoder"]
 
 
+# The body motion sent changes only when the measured one moved more than this from it
+# (shift px, shift px, rotation rad; docs/mbc.md "In the simulation").
+BODY_HOLD = np.array([1.0, 1.0, 0.01])
+
+
 def _frames(packets) -> tuple[int, ...]:
     """The source frames MBC packets carry (their first frame numbers are the run's: the
     stream is fed the run's frame indices)."""
@@ -27,17 +32,28 @@ def _luma(picture: np.ndarray) -> np.ndarray:
     return picture[: picture.shape[0] * 2 // 3]
 
 
-def scene_renderer(description, size: tuple[int, int], mbc=None):
+def scene_renderer(description, size: tuple[int, int], mbc=None, *, layered: bool = True):
     """The receiver's `uma.mbc.SceneRenderer` for `description` at `size`, its rings as the
-    `engine.mbc` section `mbc` sizes them (None: the renderer's own)."""
+    `engine.mbc` section `mbc` sizes them (None: the renderer's own); layered or stretched."""
     from uma.mbc import SceneRenderer
 
     if mbc is None:
-        return SceneRenderer(description, size)
+        return SceneRenderer(description, size, layered=layered)
     return SceneRenderer(
         description, size, head_ring_outlines=mbc.head_ring_outlines,
-        far_ring_head_radii=mbc.far_ring_head_radii,
+        far_ring_head_radii=mbc.far_ring_head_radii, layered=layered,
     )  # fmt: skip
+
+
+def face_units(context):
+    """The model codec's `uma.mbc.FaceUnits` in a run of `context`: the geometry, the body
+    motion when the scene is layered, the light when `engine.mbc.light` is on."""
+    from uma.mbc import FaceUnits
+
+    description = context.description
+    return FaceUnits.of(
+        description.model, description.params, light=_light_on(context), body=context.layered
+    )
 
 
 def face_from_description(mbc, frame: int, refresh_frame: int, fps: float) -> bool:
@@ -77,15 +93,19 @@ class MbcPointEncoder:
     tracks = True  # this encoder tracks the face itself (the selection scheme's does not)
 
     def __init__(self, point: OperatingPoint, *, source_size, source_fps, settings, context):
-        from uma.mbc import FaceTracker, FaceUnits, ParameterEncoder
+        from uma.mbc import BodyTracker, FaceTracker, ParameterEncoder
 
         context = as_context(context)
         description = context.description
         self.width, self.height = source_size
         if self.tracks:
             self.tracker = context.tracker or FaceTracker(description, rng=context.seed)
+        self.selected = context.selected  # the selection scheme's (`SelectedMbcEncoder`)
         self.light = _light_on(context)
-        self.units = FaceUnits.of(description.model, description.params, light=self.light)
+        self.layered = context.layered
+        self.units = face_units(context)
+        self.body = BodyTracker() if self.units.body else None
+        self._body_sent: np.ndarray | None = None  # the body motion last sent
         self.stream = ParameterEncoder(self.units, context.stream)
         self.description = description
         self.mbc = context.mbc
@@ -106,9 +126,28 @@ class MbcPointEncoder:
         from uma.video import resize_yuv420
 
         if self.mirror is None:
-            self.mirror = scene_renderer(self.description, (self.width, self.height), self.mbc)
+            self._make_mirror()
         picture = resize_yuv420(np.ascontiguousarray(picture), self.width, self.height)
         self.mirror.set_reference(picture, params)
+        self._body_sent = None  # motion is from the reference: a new one starts still
+        self.refresh_frame = refresh_frame
+        self._face_from_description = True
+        self.mirror.set_face_source(True)
+
+    def _make_mirror(self) -> None:
+        size = (self.width, self.height)
+        self.mirror = scene_renderer(self.description, size, self.mbc, layered=self.layered)
+
+    def take_refresh(self, values: np.ndarray, picture, *, refresh_frame: int) -> None:
+        """The receiver took refresh `refresh_frame`, its decoded `picture`
+        (`uma.mbc.RefreshCoder.code`'s) at the decoded set `values` of that frame: the mirror
+        takes it the same way (`uma.mbc.take_refresh`); a `uma.mbc.SceneError` if it cannot."""
+        from uma.mbc import take_refresh
+
+        if self.mirror is None:
+            self._make_mirror()
+        take_refresh(self.mirror, self.units, values, picture)
+        self._body_sent = None
         self.refresh_frame = refresh_frame
         self._face_from_description = True
         self.mirror.set_face_source(True)
@@ -152,29 +191,37 @@ class MbcPointEncoder:
             # The open packet still goes out, short; then the engine leaves MBC.
             packets = self.stream.push(frame, None)
             return _packets_coded(
-                packets,
-                self.width,
-                self.height,
-                evaluations=result.evaluations,
+                packets, self.width, self.height, evaluations=result.evaluations,
                 failure=result.reason,
-            )
+            )  # fmt: skip
         if intra:
             self.stream.request_intra()
-        values = result.params
-        if self.light:
-            if self.mirror is not None:
-                self._face_source(frame)
-            values = np.append(values, self._light(picture, result.params))
+        values = self._values(picture, result.params, frame)
         packets = self.stream.push(frame, values)
         if self.first_params is None:
             self.first_params = self.decoded_params()
         return _packets_coded(
-            packets,
-            self.width,
-            self.height,
-            evaluations=result.evaluations,
+            packets, self.width, self.height, evaluations=result.evaluations,
             reinitialised=result.reinitialised,
-        )
+        )  # fmt: skip
+
+    def _values(self, picture: np.ndarray, params: np.ndarray, frame: int) -> np.ndarray:
+        """The frame's set: geometry, body motion (measured against the mirror), light."""
+        if self.mirror is not None:
+            self._face_source(frame)
+        light = self._light(picture, params) if self.light else ()
+        body = ()
+        if self.body is not None:
+            if self.mirror is None:
+                self.set_reference(picture, params)
+            self.body.measure(self.mirror, _luma(picture))  # a failure keeps the last motion
+            moved = self._body_sent is None or np.any(
+                np.abs(self.body.last - self._body_sent) > BODY_HOLD
+            )
+            if moved:  # a still torso sends the same motion again: almost no bits
+                self._body_sent = self.body.last.copy()
+            body = self._body_sent
+        return np.concatenate([params, body, light])
 
     def flush(self) -> Coded:
         """The open packet, short (the engine leaves MBC)."""
@@ -223,14 +270,7 @@ class SelectedMbcEncoder(MbcPointEncoder):
     decodes them into `CodecContext.selected`) and codes them again for the downlink (its own
     packets and intra sets, so a keyframe request is answered at once)."""
 
-    tracks = False
-
-    def __init__(self, point: OperatingPoint, *, source_size, source_fps, settings, context):
-        super().__init__(
-            point, source_size=source_size, source_fps=source_fps, settings=settings,
-            context=context,
-        )  # fmt: skip
-        self.selected = as_context(context).selected
+    tracks = False  # `self.selected` (`CodecContext.selected`) has the sender's parameters
 
     def initialise(self, picture: np.ndarray, *, frame: int):
         """Nothing to fit: ready when the sender's parameters for `frame` arrived."""
@@ -252,23 +292,24 @@ class MbcUnitDecoder:
     from the description's own. `set_reference` replaces the picture (the model-aided refresh)."""
 
     def __init__(self, *, context) -> None:
-        from uma.mbc import FaceUnits, ParameterDecoder
+        from uma.mbc import ParameterDecoder
         from uma.video import resize_yuv420
 
         context = as_context(context)
         description = context.description
         width, height = context.source_size
-        light = _light_on(context)
-        self.units = FaceUnits.of(description.model, description.params, light=light)
+        self.units = face_units(context)
         self.decoder = ParameterDecoder(self.units, context.stream)
-        self.renderer = scene_renderer(description, (width, height), context.mbc)
+        size = (width, height)
+        self.renderer = scene_renderer(description, size, context.mbc, layered=context.layered)
         self.mbc = context.mbc
         self.fps = float(context.fps)
         self._face_from_description = context.background is not None
-        self.params_by_frame: dict[int, np.ndarray] = {}  # decoded poses, for refreshes
-        self.refresh_waiting: tuple[int, np.ndarray] | None = None  # a refresh without its pose
+        self.values_by_frame: dict[int, np.ndarray] = {}  # decoded sets, for refreshes
+        self.refresh_waiting: tuple[int, object] | None = None  # a refresh without its pose
         self.refresh_frame = -1  # the refresh rendered from (-1: none)
         background = context.background
+        self._last: np.ndarray | None = None  # the last picture rendered
         self._pending = None
         if background is not None:
             self._pending = np.ascontiguousarray(resize_yuv420(background, width, height))
@@ -282,25 +323,28 @@ class MbcUnitDecoder:
         self.renderer.set_reference(picture, params)
         self._pending = None
 
-    def refresh(self, frame: int, picture: np.ndarray) -> bool:
-        """A model-aided refresh of `frame` decoded: render from it at the pose the stream
-        decoded for `frame` (kept waiting until that pose arrives). True when taken now."""
+    def refresh(self, frame: int, picture) -> bool:
+        """A model-aided refresh of `frame` decoded (`uma.mbc.RefreshCoder.code`'s picture: the
+        face box with its corner): render from it at the set the stream decoded for `frame`
+        (kept waiting until that set arrives). True when taken now."""
         self.refresh_waiting = (frame, picture)
         return self._take_refresh()
 
     def _take_refresh(self) -> bool:
-        from uma.mbc import SceneError
+        from uma.mbc import SceneError, take_refresh
 
         frame, picture = self.refresh_waiting
-        params = self.params_by_frame.get(frame)
-        if params is None:
+        values = self.values_by_frame.get(frame)
+        if values is None:
             # Packets carry frames in order: once a later pose came, this one was lost.
-            if self.params_by_frame and frame < max(self.params_by_frame):
+            if self.values_by_frame and frame < max(self.values_by_frame):
                 self.refresh_waiting = None
             return False
         self.refresh_waiting = None
         try:
-            self.set_reference(picture, params)
+            if self._pending is not None:
+                self.set_reference(self._pending, self.units.split(values)[0])
+            take_refresh(self.renderer, self.units, values, picture)
         except SceneError:
             return False  # the old reference stays
         self.refresh_frame = frame
@@ -316,6 +360,18 @@ class MbcUnitDecoder:
             self._face_from_description = wanted
             self.renderer.set_face_source(wanted)
 
+    def _render(self, params: np.ndarray, light, body) -> np.ndarray:
+        """The scene at the decoded set; one the renderer refuses (an absurd body motion or
+        light, a `uma.mbc.SceneError`) shows the last good picture again."""
+        from uma.mbc import SceneError
+
+        try:
+            self._last, _ = self.renderer.render(params, light, body)
+        except SceneError:
+            if self._last is None:
+                self._last, _ = self.renderer.render(params, None, None)
+        return self._last
+
     def decode(self, unit: EncodedUnit) -> dict[int, np.ndarray]:
         from uma.mbc import PacketError
 
@@ -328,13 +384,13 @@ class MbcUnitDecoder:
         pictures = {}
         for frame, (_, values) in zip(frames[-len(out.frames) :], out.frames, strict=False):
             params, light = self.units.split(values)
-            self.params_by_frame[frame] = params
+            self.values_by_frame[frame] = values
             if self._pending is not None:
                 self.set_reference(self._pending, params)
             if self.refresh_waiting is not None and self.refresh_waiting[0] == frame:
                 self._take_refresh()
             self._face_source(frame)
-            pictures[frame], _ = self.renderer.render(params, light)
-        for old in [f for f in self.params_by_frame if f < max(pictures or [0]) - 100]:
-            del self.params_by_frame[old]
+            pictures[frame] = self._render(params, light, self.units.body_of(values))
+        for old in [f for f in self.values_by_frame if f < max(pictures or [0]) - 100]:
+            del self.values_by_frame[old]
         return pictures

@@ -152,8 +152,9 @@ class ReceiverState:
         self.refresh_broken = False
         self.refresh_expected = unit.unit_seq + 1
         self.refresh_decoded += 1
-        # The best picture the receiver has of that instant, if it is still to be shown.
-        self.decoded[unit.frame] = picture
+        if isinstance(picture, np.ndarray):
+            # The best picture the receiver has of that instant, if it is still to be shown.
+            self.decoded[unit.frame] = picture
 
     def _refresh_broken(self, unit: EncodedUnit) -> None:
         """The refresh chain is broken (the last good reference stays): ask for an intra one."""

@@ -1,81 +1,85 @@
-"""The model-aided refresh's coders (docs/refresh.md): H.264 of the whole picture, one frame an
-interval, beside the model codec's parameters.
+"""The model-aided refresh's coders in a run (docs/refresh.md): `uma.mbc.RefreshCoder`, the
+one refresh coder `uma bench mbc` uses too, beside the model codec's parameters.
 
 Units: pictures are planar YUV 4:2:0 arrays (H * 3 // 2, W) uint8; sizes in pixels; rates in
 kbit/s.
 
-The engine's `RefreshEncoder` codes the pictures the engine orders (`uma.engine.refresh`) and
-decodes each again, so it holds exactly what the receiver will render from, with the pose the
-model codec's stream gives that frame (its decoded parameters, which the receiver has too).
-The receiver's `RefreshDecoder` decodes the refresh stream (a chain of its own: intra, then
-predicted from the previous refresh).
+A refresh codes a box around the face (`FACE_MARGIN` x the model's extent at the decoded pose
+when its stream starts, a multiple of 16 pixels) at `FACE_SCALE` of its size, one frame an
+interval, by libx264; the box's corner on that frame travels in the unit's first 4 bytes (two
+16-bit numbers: `uma.mbc.POSITION_BITS`), the H.264 unit after it. The engine's
+`RefreshEncoder` codes the pictures the engine orders (`uma.engine.refresh`) and keeps what the
+receiver will decode of each, by frame, with the model stream's decoded set of that frame (the
+receiver has it too); the receiver's `RefreshDecoder` decodes the refresh stream (intra, then
+predicted from the previous refresh). Both ends take a refresh by `uma.mbc.take_refresh`.
 """
 
 from __future__ import annotations
+
+import struct
 
 import numpy as np
 
 from uma.engine.refresh import RefreshOrder
 
-__all__ = ["RefreshEncoder", "RefreshDecoder", "refresh_size"]
+__all__ = ["RefreshEncoder", "RefreshDecoder", "RefreshChain", "FACE_MARGIN", "FACE_SCALE"]
 
 # Pictures the encoder keeps for the mirror, waiting for the receiver to say it took them.
 _KEPT = 8
-
-
-def refresh_size(source_size: tuple[int, int], scale: float) -> tuple[int, int]:
-    """The refresh's coded size: `scale` x the source's, even, at least 16 pixels."""
-    return tuple(max(16, int(round(v * scale / 2.0)) * 2) for v in source_size)  # type: ignore[return-value]
+FACE_MARGIN = 1.6  # the box: this many times the model's extent (as `uma bench mbc`)
+FACE_SCALE = 0.5  # the box coded at this fraction of its size (as `uma bench mbc`)
+_CORNER = struct.Struct(">HH")
 
 
 class RefreshEncoder:
-    """Codes refreshes (a new libx264 encoder, intra, on a change of rate) and keeps what the
-    receiver will decode of each, by frame, with its pose."""
+    """Codes refreshes (a new `uma.mbc.RefreshCoder`, so a new intra stream, on a change of
+    rate or frame rate and on an intra order) and keeps what the receiver will decode of each,
+    by frame, with its decoded set."""
 
     def __init__(self, config, *, source_size: tuple[int, int]) -> None:
         self.config = config
-        self.source_size = source_size
-        self.size = refresh_size(source_size, config.scale)
-        self.encoder = None
+        self.source_size = tuple(source_size)
+        self.coder = None
+        self.box: tuple[int, int] | None = None
         self.rate_kbps = 0.0
         self.fps = 0.0
-        self.decoder = None
-        self.kept: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+        self.kept: dict[int, tuple[object, np.ndarray]] = {}
 
-    def encode(self, picture: np.ndarray, order: RefreshOrder, params: np.ndarray):
-        """`picture` (source size) coded as `order` says: (bytes, intra). The receiver's
-        picture of it is kept with `params` (the model's decoded pose on that frame)."""
-        from uma.video import H264Decoder, H264Encoder, resize_yuv420
+    def _settings(self) -> dict:
+        return {"preset": self.config.preset, "keyint_frames": 10_000, "vbv_frames": 1.0}
 
-        width, height = self.size
-        if self.encoder is None or (order.rate_kbps, order.fps) != (self.rate_kbps, self.fps):
-            # A new stream (a new size, or the last refresh was not sent) starts intra.
-            self.encoder = H264Encoder(
-                width, height, order.fps, order.rate_kbps, preset=self.config.preset,
-                keyint_frames=10_000, vbv_frames=1.0,
-            )  # fmt: skip
+    def encode(self, picture: np.ndarray, order: RefreshOrder, model, values: np.ndarray, units):
+        """`picture` (source size) coded as `order` says around the face of `model` at the
+        decoded set `values` (`units` split it): (bytes, intra). The receiver's picture of it
+        (corner, box picture) is kept with `values`."""
+        from uma.mbc import RefreshCoder
+        from uma.mbc.refresh_coder import box_corner, even_px, face_box_size
+
+        params = units.split(values)[0]
+        fresh = (order.rate_kbps, order.fps) != (self.rate_kbps, self.fps)
+        if self.coder is None or fresh or order.intra:
+            # A new stream (a new rate, or the last refresh was not sent) starts intra.
+            self.box = face_box_size(model, params, FACE_MARGIN, self.source_size)
+            coded = tuple(even_px(v * FACE_SCALE) for v in self.box)
+            self.coder = RefreshCoder(
+                self.source_size, coded, order.fps, order.rate_kbps, self._settings(), self.box
+            )
             self.rate_kbps, self.fps = order.rate_kbps, order.fps
-            intra = True
-        else:
-            intra = order.intra
-        out = self.encoder.encode(resize_yuv420(picture, width, height), force_idr=intra)
-        if out.is_keyframe or self.decoder is None:
-            self.decoder = H264Decoder()
-        decoded = self.decoder.decode(out.data)
+        corner = box_corner(model, params, self.box, self.source_size)
+        _, intra, decoded = self.coder.code(picture, corner)
         if decoded is not None:
-            full = resize_yuv420(decoded, *self.source_size)
-            self.kept[order.frame] = (np.ascontiguousarray(full), np.asarray(params).copy())
+            self.kept[order.frame] = (decoded, np.asarray(values).copy())
             for frame in sorted(self.kept)[:-_KEPT]:
                 del self.kept[frame]
-        return out.data, bool(out.is_keyframe)
+        return _CORNER.pack(*corner) + self.coder.data, intra
 
     def discard(self, frame: int) -> None:
         """Refresh `frame` is not sent: forget it, and start the next stream intra."""
         self.kept.pop(frame, None)
-        self.encoder = None
+        self.coder = None
 
-    def taken(self, frame: int) -> tuple[np.ndarray, np.ndarray] | None:
-        """The picture and pose of refresh `frame` the receiver took (None: not kept)."""
+    def taken(self, frame: int) -> tuple[object, np.ndarray] | None:
+        """The decoded picture and set of refresh `frame` the receiver took (None: not kept)."""
         found = self.kept.get(frame)
         for older in [f for f in self.kept if f < frame]:
             del self.kept[older]
@@ -83,25 +87,34 @@ class RefreshEncoder:
 
 
 class RefreshDecoder:
-    """The receiver's refresh stream: a unit's picture at the source size, or None."""
+    """The receiver's refresh stream: a unit's ((x0, y0), box picture), or None. The box is
+    the decoded picture's size over `FACE_SCALE`."""
 
     def __init__(self, *, source_size: tuple[int, int]) -> None:
         from uma.video import H264Decoder
 
-        self.source_size = source_size
+        self.source_size = tuple(source_size)
         self.decoder = H264Decoder(conceal=False)
 
-    def decode(self, data: bytes) -> np.ndarray | None:
+    def decode(self, data: bytes):
         from uma.errors import VideoError
+        from uma.mbc.refresh_coder import even_px
         from uma.video import resize_yuv420
 
+        if len(data) <= _CORNER.size:
+            return None
+        corner = _CORNER.unpack_from(data)
         try:
-            picture = self.decoder.decode(data)
+            picture = self.decoder.decode(data[_CORNER.size :])
         except VideoError:
             return None
         if picture is None:
             return None
-        return np.ascontiguousarray(resize_yuv420(picture, *self.source_size))
+        coded_w, coded_h = picture.shape[1], picture.shape[0] * 2 // 3
+        box = (even_px(coded_w / FACE_SCALE), even_px(coded_h / FACE_SCALE))
+        if corner[0] + box[0] > self.source_size[0] or corner[1] + box[1] > self.source_size[1]:
+            return None  # not a box of this picture
+        return corner, np.ascontiguousarray(resize_yuv420(picture, *box))
 
 
 class RefreshChain:
@@ -126,10 +139,11 @@ class RefreshChain:
         (`uma.engine.refresh`), and `discard` forgets one that is not.
         `receiver_picture`: the picture the receiver's model codec started its stretch from
         (the last it decoded before; None: not known yet)."""
-        params = getattr(mbc_encoder, "decoded_params", lambda: None)()
-        if params is None:
+        values = getattr(getattr(mbc_encoder, "stream", None), "decoded", None)
+        if values is None:
             return None
-        data, intra = self.encoder.encode(picture, order, params)
+        model, units = mbc_encoder.description.model, mbc_encoder.units
+        data, intra = self.encoder.encode(picture, order, model, values, units)
         return data, intra, self.gain_db(mbc_encoder, picture, order.frame, receiver_picture)
 
     def discard(self, frame: int) -> None:
@@ -147,7 +161,10 @@ class RefreshChain:
         if receiver_picture is None or first is None:
             return None
         if self._view is None or self._view[0] is not receiver_picture:
-            renderer = scene_renderer(mbc_encoder.description, self.source_size, mbc_encoder.mbc)
+            renderer = scene_renderer(
+                mbc_encoder.description, self.source_size, mbc_encoder.mbc,
+                layered=getattr(mbc_encoder, "layered", True),
+            )  # fmt: skip
             picture = resize_yuv420(np.ascontiguousarray(receiver_picture), *self.source_size)
             renderer.set_reference(np.ascontiguousarray(picture), first)
             renderer.set_face_source(True)
@@ -158,13 +175,10 @@ class RefreshChain:
         self, mbc_encoder, picture: np.ndarray, frame: int, receiver_picture=None
     ) -> float | None:
         """How much better the refresh of `frame` is than what the receiver renders there, in
-        luma PSNR over the face box (the model's points plus `uma.face.region`'s margin):
-        against the engine's mirror once the receiver took a refresh, before that against
-        `receiver_picture` at the stream's first pose; None when there is nothing to compare
-        (or, with `first_always`, before the receiver took a first refresh)."""
-        from uma.face.geometry import project
-        from uma.face.region import points_box
-
+        luma PSNR over the refresh's box (all it carries): against the engine's mirror once the
+        receiver took a refresh, before that against `receiver_picture` at the stream's first
+        pose; None when there is nothing to compare (or, with `first_always`, before the
+        receiver took a first refresh)."""
         kept = self.encoder.kept.get(frame)
         mirror = getattr(mbc_encoder, "mirror", None)
         if getattr(mbc_encoder, "refresh_frame", -1) < 0:
@@ -173,36 +187,43 @@ class RefreshChain:
             if self.config.first_always:
                 return None
             mirror = self._receiver_view(mbc_encoder, receiver_picture)
-        decoded = getattr(getattr(mbc_encoder, "stream", None), "decoded", None)
-        if kept is None or mirror is None or decoded is None:
+        if kept is None or mirror is None:
             return None
-        params, light = mbc_encoder.units.split(decoded)
-        width, height = self.source_size
-        box = points_box(project(mbc_encoder.description.model, params), width, height)
-        if box is None:
-            return None
-        rendered, _ = mirror.render(params, light)
-        window = (slice(box.y, box.y + box.height), slice(box.x, box.x + box.width))
-        truth = picture[:height][window].astype(np.float64)
-        return _psnr_db(kept[0][:height][window], truth) - _psnr_db(
-            rendered[:height][window], truth
+        (x0, y0), patch = kept[0]
+        values = kept[1]
+        params, light = mbc_encoder.units.split(values)
+        rendered, _ = mirror.render(params, light, mbc_encoder.units.body_of(values))
+        box_h = patch.shape[0] * 2 // 3
+        window = (slice(y0, y0 + box_h), slice(x0, x0 + patch.shape[1]))
+        truth = picture[: self.source_size[1]][window].astype(np.float64)
+        return _psnr_db(patch[:box_h], truth) - _psnr_db(
+            rendered[: self.source_size[1]][window], truth
         )
 
     def engine_adopt(self, mbc_encoder, frame: int) -> bool:
         """The receiver renders from refresh `frame`: so does the encoder's mirror."""
+        from uma.mbc import SceneError
+
         taken = self.encoder.taken(frame)
-        if taken is None or mbc_encoder is None or not hasattr(mbc_encoder, "set_reference"):
+        if taken is None or mbc_encoder is None or not hasattr(mbc_encoder, "take_refresh"):
             return False
-        picture, params = taken
-        mbc_encoder.set_reference(picture, params, refresh_frame=frame)
+        picture, values = taken
+        try:
+            mbc_encoder.take_refresh(values, picture, refresh_frame=frame)
+        except SceneError:
+            return False  # as the receiver: the old reference stays
         return True
 
     def receiver_decode(self, mbc_decoder, frame: int, data: bytes) -> np.ndarray | None:
-        """A refresh unit of `frame` complete at the receiver: its picture (None: undecodable),
-        handed to the model codec's decoder `mbc_decoder` (None: not on the model codec)."""
+        """A refresh unit of `frame` complete at the receiver, handed to the model codec's
+        decoder `mbc_decoder` (None: not on the model codec): the whole picture of `frame` when
+        that decoder took it now, else the decoded ((x0, y0), box picture) (nothing to show by
+        itself), None when undecodable."""
         picture = self.decoder.decode(data)
-        if picture is not None and mbc_decoder is not None and hasattr(mbc_decoder, "refresh"):
-            mbc_decoder.refresh(frame, picture)
+        takes = mbc_decoder is not None and hasattr(mbc_decoder, "refresh")
+        if picture is not None and takes and mbc_decoder.refresh(frame, picture):
+            # Taken now: the frame's best picture is the new reference (box pasted in).
+            return mbc_decoder.renderer.reference.copy()
         return picture
 
 
