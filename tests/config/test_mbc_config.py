@@ -31,12 +31,18 @@ def test_keys_are_read(tmp_path):
         tmp_path,
         "    light: false\n    far_ring_head_radii: 2.0\n"
         "    refresh: {enabled: true, max_frame_bits: 24000, min_interval_ms: 500,"
-        " max_interval_ms: 2000, face: description, scale: 0.5}\n",
+        " max_interval_ms: 2000, face: description}\n",
     )
     assert mbc.light is False and mbc.far_ring_head_radii == 2.0
     refresh = mbc.refresh
     assert refresh.enabled and refresh.max_frame_bits == 24000 and refresh.face == "description"
-    assert (refresh.min_interval_ms, refresh.max_interval_ms, refresh.scale) == (500, 2000, 0.5)
+    assert (refresh.min_interval_ms, refresh.max_interval_ms) == (500, 2000)
+
+
+def test_the_retired_scale_key_is_refused(tmp_path):
+    # the refresh codes the face box at half size since issue 27; `scale` no longer applies
+    with pytest.raises(ConfigError, match=r"engine\.mbc\.refresh\.scale"):
+        _load(tmp_path, "    refresh: {scale: 0.5}\n")
 
 
 @pytest.mark.parametrize(

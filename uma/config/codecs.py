@@ -33,9 +33,10 @@ Interval = Annotated[float, Strict(), AllowInfNan(False), Field(ge=40, le=3_600_
 class RefreshConfig(Section):
     """The model-aided refresh (`engine.mbc.refresh`, docs/refresh.md): while on the model
     codec, the rate the budget leaves above its point's (`safety` x estimate - `rate_kbps`)
-    carries a low-frame-rate H.264 stream of the whole picture beside the parameters, and the
-    receiver renders from each refresh it decodes (the model codec's new reference, at that
-    frame's decoded pose).
+    carries a low-frame-rate H.264 stream of a box around the face (1.6 x the model's extent,
+    coded at half size: `uma.mbc.RefreshCoder`) beside the parameters, and the receiver takes
+    each refresh it decodes into its reference (`uma.mbc.take_refresh`, at that frame's
+    decoded pose).
 
     An intra refresh starts a stream sized to what `share` of the spare rate carries in
     `interval_ms` (within `min_frame_bits` and `max_frame_bits`; libx264 at that many bits a
@@ -48,8 +49,7 @@ class RefreshConfig(Section):
     report's queueing delay is more than `queue_high_ms` above its least over the last
     `queue_window_ms` (they would delay the parameters behind them). The
     first refresh of a stretch on the model codec, the one after a lost refresh and the one
-    after the spare rate has doubled the stream's size are intra. `scale`: the refresh's size
-    as a fraction of the source's (the receiver upscales). `face`: where the rendered face's
+    after the spare rate has doubled the stream's size are intra. `face`: where the rendered face's
     own triangles come from once a refresh is the reference: the refresh picture itself
     (`picture`), the description's texture (`description`), or the refresh picture's for
     `face_recent_ms` after its frame and the description's after that (`recent`: a head that
@@ -76,7 +76,6 @@ class RefreshConfig(Section):
     queue_high_ms: PosNum = 100.0
     queue_window_ms: PosNum = 2000.0
     packet_bytes: Annotated[int, Strict(), Field(ge=100, le=1500)] = 500
-    scale: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, le=1)] = 1.0
     face: Literal["recent", "picture", "description"] = "recent"
     face_recent_ms: NonNeg = 2000.0
     preset: RefreshPreset = "medium"
