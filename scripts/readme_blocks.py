@@ -233,7 +233,23 @@ def mbc_verdicts(results: Results, args: Args) -> str:
     )
 
 
+def sim_table(results: Results, args: Args) -> str:
+    """`uma bench sim` runs, a row each: speed against real time and against the floor."""
+    lines = [
+        "| run | real time x | ratio | sim s | codec s | metrics s |",
+        "|---|---|---|---|---|---|",
+    ]
+    for result in results:
+        run = f"{result['video']} {result['codec']}, `{result['scenario']}`, {result['frames']} frames"
+        lines.append(
+            f"| {run} | {result['realtime_x']:.1f} | {result['ratio']:.2f} | {result['sim_s']:.1f} "
+            f"| {result['codec_s']:.1f} | {result['metrics_s']:.1f} |"
+        )
+    return "\n".join(lines)
+
+
 RENDERERS: dict[str, Callable[[Results, Args], str]] = {
+    "sim-table": sim_table,
     "headline-table": headline_table,
     "headline-low-targets": headline_low_targets,
     "ratecontrol-table": ratecontrol_table,
