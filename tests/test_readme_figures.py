@@ -5,6 +5,7 @@ tampered figure, a missing or incomplete record, and a table typed in by hand.
 """
 
 import json
+import subprocess
 import sys
 from pathlib import Path
 
@@ -38,13 +39,21 @@ def test_the_readme_quotes_every_bench_it_names_through_blocks():
     } <= named
 
 
-def test_every_record_names_its_command_and_a_clean_commit():
+def test_every_record_names_its_command_and_a_clean_commit_in_history():
     records = sorted(RESULTS.glob("*.json"))
     assert records, "docs/results/ holds no records"
     for path in records:
         record = readme_tables.load_record(RESULTS, path.name, "test")
         assert record.command.startswith("uma bench ") and "--json" in record.command
         assert record.raw["dirty"] is False
+        if (ROOT / ".git").exists():  # a clone: the commit named must be in its history
+            found = subprocess.run(
+                ["git", "merge-base", "--is-ancestor", record.commit, "HEAD"],
+                cwd=ROOT,
+                check=False,
+                capture_output=True,
+            )
+            assert found.returncode == 0, f"{path.name}: {record.commit} is not in HEAD's history"
 
 
 def _record(result, **extra):
