@@ -106,11 +106,11 @@ def headline_low_targets(results: Results, args: Args) -> str:
 
 
 def ratecontrol_table(results: Results, args: Args) -> str:
-    """One engine (`engine=`, default uma) across the record's scenarios, a row each."""
+    """One engine (`engine=`, default uma) across the record's scenarios (no refresh), a row each."""
     engine = args.get("engine", "uma")
     lines = [
-        f"| scenario (engine {engine}) | frozen | 3G frozen | lag s | delay p95 ms | GPRS face "
-        "| GSM face | H.264 kbit/s | MBC + refresh kbit/s |",
+        f"| scenario ({engine}) | frozen | 3G frozen | lag s | delay p95 ms | GPRS face "
+        "| GSM face | H.264 kbit/s | MBC kbit/s |",
         "|---|---|---|---|---|---|---|---|---|",
     ]
     for name, rows in results[0]["scenarios"].items():
@@ -121,7 +121,7 @@ def ratecontrol_table(results: Results, args: Args) -> str:
             f"| {_num(g3.get('freeze_ratio'), '.3f')} | {_num(row['switch_lag_s'], '.2f')} "
             f"| {_num(row['delay_p95_ms'], ',.0f')} | {_face(_tech(row, 'GPRS'))} "
             f"| {_face(_tech(row, 'GSM'))} | {_num(row['kbps_h264'], '.0f')} "
-            f"| {_num(row['kbps_mbc'], '.2f')} + {_num(row.get('kbps_refresh') or 0, '.2f')} |"
+            f"| {_num(row['kbps_mbc'], '.2f')} |"
         )
     return "\n".join(lines)
 
