@@ -3,7 +3,7 @@ PYTHON ?= python3
 VENV ?= .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test test-all regress lint bench install clean
+.PHONY: demo test test-all regress lint bench figures install clean
 
 $(BIN)/uma: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -38,6 +38,11 @@ bench: install
 	$(BIN)/uma bench sim
 	$(BIN)/uma bench init
 	$(BIN)/uma bench codec
+
+# README.md's measured figures, regenerated from the bench records in docs/results/ (written by
+# scripts/record_bench.py; docs/measured.md says which benches to record, in order).
+figures: install
+	$(BIN)/python scripts/readme_tables.py write
 
 clean:
 	rm -rf $(VENV) results
