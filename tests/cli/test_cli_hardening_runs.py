@@ -15,21 +15,6 @@ import pytest
 from uma.cli import main
 
 REPO = Path(__file__).resolve().parents[2]
-BASE = """\
-name: base
-seed: 1
-source: {kind: pattern, width: 96, height: 64, fps: 25}
-route:
-  - {technology: 3G, duration_s: 0.4}
-"""
-EXPERIMENT = "name: grid\nbase: base.yaml\ngrid:\n  engine.policy: [throughput]\n"
-
-
-@pytest.fixture
-def folder(tmp_path):
-    (tmp_path / "base.yaml").write_text(BASE)
-    (tmp_path / "exp.yaml").write_text(EXPERIMENT)
-    return tmp_path
 
 
 class _Server:

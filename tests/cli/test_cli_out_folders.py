@@ -7,25 +7,11 @@ import sys
 from pathlib import Path
 
 import pytest
+from cli_folder import BASE, EXPERIMENT
 
 from uma.cli import main
 
 REPO = Path(__file__).resolve().parents[2]
-BASE = """\
-name: base
-seed: 1
-source: {kind: pattern, width: 96, height: 64, fps: 25}
-route:
-  - {technology: 3G, duration_s: 0.4}
-"""
-EXPERIMENT = "name: grid\nbase: base.yaml\ngrid:\n  engine.policy: [throughput]\n"
-
-
-@pytest.fixture
-def folder(tmp_path):
-    (tmp_path / "base.yaml").write_text(BASE)
-    (tmp_path / "exp.yaml").write_text(EXPERIMENT)
-    return tmp_path
 
 
 def test_user_files_named_like_results_are_kept_and_the_run_refused(folder):
