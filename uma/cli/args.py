@@ -6,7 +6,9 @@ import argparse
 import re
 from typing import NoReturn
 
-__all__ = ["frame_size", "seed", "workers", "seconds", "OneLineParser", "one_line"]
+__all__ = [
+    "frame_size", "seed", "workers", "seconds", "one_executor", "OneLineParser", "one_line"
+]  # fmt: skip
 
 MAX_SEED = 2**63 - 1  # the scenario's own bound on `seed` (uma.config.scenario)
 MAX_WORKERS = 64  # local processes; a cluster (--scheduler) brings its own
@@ -101,3 +103,11 @@ def seconds(text: str) -> float:
             f"expected a number of seconds above 0 and at most {MAX_SECONDS:g}, got {text!r}"
         )
     return value
+
+
+def one_executor(args: argparse.Namespace) -> None:
+    """Refuse `--workers` beside `--scheduler` (a cluster has its own workers)."""
+    from uma.errors import ConfigError
+
+    if args.workers is not None and args.scheduler:
+        raise ConfigError("--workers and --scheduler: give one (a cluster has its own workers)")

@@ -64,6 +64,7 @@ def handle(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from uma.bench.headline import HeadlineConfig, format_table, run_headline
+    from uma.cli.args import one_executor
     from uma.cli.cmd_bench import emit
     from uma.config import load_scenario
     from uma.errors import ConfigError
@@ -71,14 +72,7 @@ def handle(args: argparse.Namespace) -> int:
 
     if args.duration_s is not None and not args.duration_s > 0:
         raise ConfigError(f"--duration-s: expected a positive number, got {args.duration_s}")
-    if args.workers is not None and args.workers < 1:
-        raise ConfigError(f"--workers: expected a positive integer, got {args.workers}")
-    if args.workers is not None and args.scheduler:
-        raise ConfigError("--workers and --scheduler: give one (a cluster has its own workers)")
-    if not args.timeout > 0:
-        raise ConfigError(f"--timeout: expected a positive number of seconds, got {args.timeout}")
-    if args.seed < 0:
-        raise ConfigError(f"--seed: expected a non-negative integer, got {args.seed}")
+    one_executor(args)  # --workers, --timeout and --seed are bounded by their parsers
     names = SCENARIOS[:1] if args.skip_real else SCENARIOS
     paths = args.scenario or [scenarios_dir() / name for name in names]
     scenarios = []

@@ -10,6 +10,7 @@ DEFAULT_PUBLISHED = "published/salsify-nsdi18.csv"  # under ../shared/data
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    from uma.cli.args import seconds, workers
     from uma.cli.cmd_bench import add_common_arguments
 
     parser = sub.add_parser(
@@ -45,28 +46,22 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="FILE",
         help=f"CSV of published figures (default: ../shared/data/{DEFAULT_PUBLISHED})",
     )
-    parser.add_argument("--workers", type=int, help="local worker processes (default: none)")
+    parser.add_argument("--workers", type=workers, help="local worker processes (default: none)")
     parser.add_argument("--scheduler", metavar="ADDRESS", help="a Dask scheduler, tcp://host:port")
     parser.add_argument(
-        "--timeout", type=float, default=10.0, metavar="S", help="seconds to reach the scheduler"
+        "--timeout", type=seconds, default=10.0, metavar="S", help="seconds to reach the scheduler"
     )
     add_common_arguments(parser)
     parser.set_defaults(func=handle)
 
 
 def _check_numbers(args: argparse.Namespace) -> None:
+    from uma.cli.args import one_executor
     from uma.errors import ConfigError
 
     if not args.duration_s > 0:
         raise ConfigError(f"--duration: expected a positive number of s, got {args.duration_s}")
-    if args.workers is not None and args.workers < 1:
-        raise ConfigError(f"--workers: expected a positive integer, got {args.workers}")
-    if args.workers is not None and args.scheduler:
-        raise ConfigError("--workers and --scheduler: give one (a cluster has its own workers)")
-    if not args.timeout > 0:
-        raise ConfigError(f"--timeout: expected a positive number of s, got {args.timeout}")
-    if args.seed < 0:
-        raise ConfigError(f"--seed: expected a non-negative integer, got {args.seed}")
+    one_executor(args)
 
 
 def _traces(args: argparse.Namespace) -> dict[str, float]:

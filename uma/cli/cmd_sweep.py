@@ -59,14 +59,11 @@ def register(sub: argparse._SubParsersAction) -> None:
 def handle(args: argparse.Namespace) -> int:
     from pathlib import Path
 
-    from uma.errors import ConfigError
+    from uma.cli.args import one_executor
     from uma.experiments import load_experiment, make_executor, run_sweep
     from uma.experiments.sweep import check_sweep_out
 
-    if args.workers is not None and args.workers < 1:
-        raise ConfigError(f"--workers: expected a positive integer, got {args.workers}")
-    if args.workers is not None and args.scheduler:
-        raise ConfigError("--workers and --scheduler: give one (a cluster has its own workers)")
+    one_executor(args)  # --workers is bounded by its parser
     experiment = load_experiment(args.experiment)
     out_dir = check_sweep_out(
         args.out if args.out is not None else Path("results") / experiment.name
