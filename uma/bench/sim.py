@@ -106,8 +106,8 @@ def _replay(scenario: Scenario, result, source: _ListSource, memo) -> tuple[floa
         description=result.description,
         uplink=memo,
     )
-    mbc = role_indices(result.points, Role.MODEL)
-    inits = set(result.mbc_init_frames)
+    model = role_indices(result.points, Role.MODEL)
+    inits = set(result.model_init_frames)
     # The bare metric work, one plane pair after another on one core.
     serial = scenario.metrics.model_copy(update={"workers": 0})
     meter = QualityMeter(serial, width=source.width, height=source.height)
@@ -119,8 +119,8 @@ def _replay(scenario: Scenario, result, source: _ListSource, memo) -> tuple[floa
         # Selection: the sender's tracking and the engine's decoding of its parameters.
         chain.engine_receive_side(chain.sender_side_data(frame, index), index)
         picture = chain.engine_decode(encoded)
-        if index in inits and picture is not None and mbc:
-            chain.initialise_model(picture, mbc[0], frame=index)
+        if index in inits and picture is not None and model:
+            chain.initialise_model(picture, model[0], frame=index)
         if log["sent"][index] and picture is not None:
             rung = int(log["rung"][index])
             coded = []
@@ -239,7 +239,7 @@ def format_table(result: dict[str, Any]) -> str:
         f"  ({'reused by both, untimed' if result['uplink_reused'] else 'not reused'})",
         f"  {'same metrics alone':<34}{result['metrics_s']:>9.3f} s",
         "",
-        f"  ratio sim / (codec + metrics)     {result['ratio']:>9.3f}   (target <= 1.5)",
-        f"  faster than real time             {result['realtime_x']:>9.2f}x  (target >= 20 at CIF)",
+        f"  ratio sim / (codec + metrics)     {result['ratio']:>9.3f}   (target <= 1.3)",
+        f"  faster than real time             {result['realtime_x']:>9.2f}x  (target >= 12 at CIF, idle)",
     ]
     return "\n".join(rows)

@@ -130,8 +130,11 @@ class PyavEncoder:
     `name` is the codec's label in messages (`VP8 encoder`), `library` the FFmpeg encoder name
     (`libvpx`). `options` are FFmpeg's AVOptions, the same names and values the ffmpeg command
     line takes (`-deadline realtime` is `{"deadline": "realtime"}`), kept in `self.options` so
-    a benchmark can repeat the encode with the command line.
+    a benchmark can repeat the encode with the command line. `raw_muxer` is the FFmpeg muxer
+    that writes its packets as they are, one after another (`uma bench codec --ffmpeg`).
     """
+
+    raw_muxer = "ivf"
 
     def __init__(
         self,
