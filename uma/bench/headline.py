@@ -32,6 +32,7 @@ import numpy as np
 
 from uma.codecs import full_frame_names, model_names
 from uma.config.scenario import Scenario
+from uma.experiments.uplink_store import StoreSettings
 
 __all__ = [
     "HeadlineConfig",
@@ -89,6 +90,9 @@ class HeadlineConfig:
     scenarios: tuple[Scenario, ...]
     playout: str = "adaptive"  # every engine's receiver playout ("fixed" keeps the scenario's)
     out_dir: Path | None = None  # each run's results folder under it, when given
+    # the store of sender streams the pairs share (`uma.experiments.uplink_store`; None: each
+    # pair computes its stream; the rows are the same)
+    uplink: StoreSettings | None = None
 
 
 def engine_scenario(scenario: Scenario, engine: str, *, playout: str = "adaptive") -> Scenario:
@@ -257,17 +261,20 @@ def pair_task(
         "engine": engine,
         "scenario": data,
         "out_dir": None if out_dir is None else str(out_dir),
+        "uplink": None if config.uplink is None else config.uplink.task(),
     }
 
 
 def run_pair(task: dict[str, Any]) -> dict[str, Any]:
     """Simulate one scenario-engine pair (in whatever process runs it); its table row."""
     from uma.config.scenario import Scenario
+    from uma.experiments.uplink_store import open_store
     from uma.sim import run_scenario
     from uma.sim.summary import run_metrics, save_run
 
     start = time.perf_counter()
-    result = run_scenario(Scenario.model_validate(task["scenario"]))
+    store = open_store(task.get("uplink"))
+    result = run_scenario(Scenario.model_validate(task["scenario"]), uplink=store)
     if task["out_dir"] is not None:
         metrics = save_run(result, Path(task["out_dir"]))
     else:

@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 
 from uma.config.scenario import Scenario
+from uma.experiments.uplink_store import StoreSettings
 
 __all__ = ["SimBenchConfig", "run_sim_bench", "format_table"]
 
@@ -38,6 +39,8 @@ class SimBenchConfig:
     video: str | None = None
     codec: str | None = None  # the full-frame codec (`engine.codec`); None: the scenario's
     reuse_uplink: bool = True  # the sender's stream computed once, untimed (`uplink_s`)
+    # where that stream is kept between processes (`uma.experiments.uplink_store`; None: not)
+    store: StoreSettings | None = None
 
 
 def _prepare(config: SimBenchConfig) -> Scenario:
@@ -171,12 +174,14 @@ def _warm_up(scenario: Scenario, source: _ListSource) -> None:
     FaceTracker(description, rng=0).track(frame[: frame.shape[0] * 2 // 3])
 
 
-def _uplink(scenario: Scenario, source: _ListSource):
-    """The sender's stream and the engine's decode of it, computed once: (memo, seconds)."""
+def _uplink(scenario: Scenario, source: _ListSource, store: StoreSettings | None):
+    """The sender's stream and the engine's decode of it, computed once (or read from the
+    on-disk store, and kept in memory for the run and its replay): (memo, seconds)."""
+    from uma.experiments.uplink_store import UplinkStore
     from uma.sim.coders import compute_uplink
     from uma.sim.uplink import UplinkMemo
 
-    memo = UplinkMemo()
+    memo = UplinkMemo() if store is None else UplinkStore(store, in_memory=True)
     start = time.perf_counter()
     compute_uplink(memo, scenario, source._frames, width=source.width, height=source.height,
                    fps=float(source.fps))  # fmt: skip
@@ -190,7 +195,10 @@ def run_sim_bench(config: SimBenchConfig) -> dict[str, Any]:
     scenario = _prepare(config)
     source = _prepared_source(scenario, config.frames)
     _warm_up(scenario, source)
-    memo, uplink_s = _uplink(scenario, source) if config.reuse_uplink else (None, 0.0)
+    memo, uplink_s, stored = None, 0.0, None
+    if config.reuse_uplink:
+        memo, uplink_s = _uplink(scenario, source, config.store)
+        stored = memo.hits if config.store is not None else None
     start = time.perf_counter()
     result = run_scenario(scenario, account=True, source=source, uplink=memo)
     sim_s = time.perf_counter() - start
@@ -216,6 +224,8 @@ def run_sim_bench(config: SimBenchConfig) -> dict[str, Any]:
         # The sender's stream and its decode, computed once before timing (0: not reused).
         "uplink_reused": memo is not None,
         "uplink_s": round(uplink_s, 3),
+        # frames of it read from the on-disk store (None: no store, UMA_CACHE=off)
+        "uplink_stored_frames": stored,
         # The codecs the run used and the replay timed (`codec_s` split by codec).
         "codecs": sorted(set(result.codec_seconds or {}) | set(per_codec)),
         "codec_s_by_codec": {name: round(sec, 3) for name, sec in sorted(per_codec.items())},

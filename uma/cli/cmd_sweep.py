@@ -62,12 +62,14 @@ def handle(args: argparse.Namespace) -> int:
     from uma.cli.args import one_executor
     from uma.experiments import load_experiment, make_executor, run_sweep
     from uma.experiments.sweep import check_sweep_out
+    from uma.experiments.uplink_store import store_settings
 
     one_executor(args)  # --workers is bounded by its parser
     experiment = load_experiment(args.experiment)
     out_dir = check_sweep_out(
         args.out if args.out is not None else Path("results") / experiment.name
     )
+    uplink = store_settings()  # a bad UMA_CACHE_MB is refused before any worker starts
     executor = make_executor(workers=args.workers, scheduler=args.scheduler, timeout_s=args.timeout)
 
     bar = None
@@ -87,7 +89,7 @@ def handle(args: argparse.Namespace) -> int:
     main_thread = threading.current_thread() is threading.main_thread()
     previous = signal.signal(signal.SIGTERM, _terminated) if main_thread else None
     try:
-        result = run_sweep(experiment, out_dir, executor, progress=progress)
+        result = run_sweep(experiment, out_dir, executor, progress=progress, uplink=uplink)
     except KeyboardInterrupt as err:
         if main_thread:
             signal.signal(signal.SIGTERM, signal.SIG_IGN)  # Ctrl-C then SIGTERM: one is enough

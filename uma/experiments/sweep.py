@@ -18,10 +18,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from uma.errors import OutputError
 from uma.experiments.executor import Executor
 from uma.experiments.point import completed_metrics, point_task, run_point
 from uma.experiments.spec import Experiment
 from uma.experiments.table import STATUSES, cell, flatten, write_table
+from uma.experiments.uplink_store import StoreSettings
 
 __all__ = ["SweepResult", "run_sweep", "check_sweep_out", "STATUSES", "SWEEP_FILES"]
 
@@ -74,14 +76,24 @@ def run_sweep(
     executor: Executor,
     *,
     progress: Callable[[int, int], None] | None = None,
+    uplink: StoreSettings | None = None,
 ) -> SweepResult:
     """Run the points not yet complete in `out_dir`, keeping the table of all of them current.
+
+    `uplink`: the store of sender streams every point takes its stream from and adds to
+    (`uma.experiments.uplink_store`; results are the same without it). It may not lie inside
+    `out_dir` (`OutputError`): a sweep's folder holds its runs and tables only.
 
     An exception while points run (a failure of the executor, or `KeyboardInterrupt` from
     Ctrl-C or a SIGTERM handler) writes the table of what is done, the rest `missing`, and
     propagates.
     """
     out = check_sweep_out(out_dir)
+    if uplink is not None and uplink.root.resolve().is_relative_to(out.resolve()):
+        raise OutputError(
+            f"UMA_CACHE: the store of sender streams {str(uplink.root)!r} lies inside the "
+            f"sweep's folder {str(out)!r}; expected it elsewhere (or UMA_CACHE=off)"
+        )
     points_dir = out / "points"
     csv_path, parquet_path = out / "sweep.csv", out / "sweep.parquet"
     replies: dict[int, dict[str, Any]] = {}
@@ -93,7 +105,11 @@ def run_sweep(
         else:
             tasks.append(
                 point_task(
-                    point.scenario, points_dir / point.hash, index=point.index, hash=point.hash
+                    point.scenario,
+                    points_dir / point.hash,
+                    index=point.index,
+                    hash=point.hash,
+                    uplink=None if uplink is None else uplink.task(),
                 )
             )
     skipped = len(replies)
