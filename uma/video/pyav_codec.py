@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from uma.errors import ConfigError, VideoError
+from uma.video.planes import from_video_frame, to_video_frame
 
 __all__ = [
     "EncodedFrame",
@@ -199,7 +200,7 @@ class PyavEncoder:
             )
         if self._context is None:
             raise VideoError(f"{self.name}: the encoder is closed")
-        picture = av.VideoFrame.from_ndarray(np.ascontiguousarray(frame), format="yuv420p")
+        picture = to_video_frame(frame)
         picture.pts = self._pts
         if force_idr:
             picture.pict_type = self._picture_i
@@ -281,4 +282,4 @@ class PyavDecoder:
                     f"{self.name}: corrupt bitstream (picture {self.concealed_frames} "
                     "needed error concealment)"
                 )
-        return frame.to_ndarray(format="yuv420p")
+        return from_video_frame(frame)
