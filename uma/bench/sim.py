@@ -94,23 +94,15 @@ def _prepared_source(scenario: Scenario, frames: int) -> _ListSource:
     return _ListSource([next(iterator) for _ in range(frames)], source)
 
 
-def _replay(scenario: Scenario, result, source: _ListSource, memo) -> tuple[float, float, dict]:
-    """Redo the run's codec work and metrics alone, through the same codec registry and chain
-    as the run (every codec it used: the full-frame codec, and MBC's initialisations, tracking, coding and
-    rendering); returns (codec_s, metrics_s, codec seconds per codec)."""
-    from uma.codecs import Role
-    from uma.engine.points import role_indices
+def _chain(scenario: Scenario, result, source: _ListSource, memo):
+    """A codec chain as the run's (its registry, ladder and points), timing its codecs."""
     from uma.sim.codecs import CodecChain
-    from uma.sim.packets import EncodedUnit
     from uma.sim.points import ladder_path
-    from uma.sim.quality import QualityMeter
     from uma.video import load_ladder
 
-    ladder = load_ladder(ladder_path(scenario))
-    log = result.log
-    chain = CodecChain(
+    return CodecChain(
         scenario,
-        ladder,
+        load_ladder(ladder_path(scenario)),
         result.points,
         width=source.width,
         height=source.height,
@@ -119,6 +111,52 @@ def _replay(scenario: Scenario, result, source: _ListSource, memo) -> tuple[floa
         description=result.description,
         uplink=memo,
     )
+
+
+def _recode(chain, log, index: int, picture: np.ndarray) -> dict[int, np.ndarray]:
+    """The engine's coding of frame `index` as the run sent it (same rung, same IDR) and the
+    receiver's decoding of what the run decoded; {frame: picture} decoded."""
+    from uma.sim.packets import EncodedUnit
+
+    rung = int(log["rung"][index])
+    coded = []
+    if chain.engine_point not in (-1, rung):
+        coded.append(chain.engine_flush())  # MBC's open packet, leaving MBC
+    coded.append(
+        chain.engine_encode(picture, rung, force_idr=bool(log["keyframe"][index]), frame=index)
+    )
+    decoded: dict[int, np.ndarray] = {}
+    for out in coded:
+        if out is None or not out.data:
+            continue  # buffered for MBC's next packet, or nothing left
+        carried = out.frames or (index,)
+        if not log["decoded"][carried[-1]]:
+            continue
+        unit = EncodedUnit(
+            unit_seq=index,
+            frame=carried[-1],
+            codec=str(log["codec"][carried[-1]]),
+            rung=rung,
+            width=0,
+            height=0,
+            keyframe=out.keyframe,
+            data=out.data,
+            frames=out.frames,
+        )
+        decoded.update(chain.receiver_decode(unit))
+    return decoded
+
+
+def _replay(scenario: Scenario, result, source: _ListSource, memo) -> tuple[float, float, dict]:
+    """Redo the run's codec work and metrics alone, through the same codec registry and chain
+    as the run (every codec it used: the full-frame codec, and MBC's initialisations, tracking,
+    coding and rendering); returns (codec_s, metrics_s, codec seconds per codec)."""
+    from uma.codecs import Role
+    from uma.engine.points import role_indices
+    from uma.sim.quality import QualityMeter
+
+    log = result.log
+    chain = _chain(scenario, result, source, memo)
     model = role_indices(result.points, Role.MODEL)
     inits = set(result.model_init_frames)
     # The bare metric work, one plane pair after another on one core.
@@ -135,33 +173,7 @@ def _replay(scenario: Scenario, result, source: _ListSource, memo) -> tuple[floa
         if index in inits and picture is not None and model:
             chain.initialise_model(picture, model[0], frame=index)
         if log["sent"][index] and picture is not None:
-            rung = int(log["rung"][index])
-            coded = []
-            if chain.engine_point not in (-1, rung):
-                coded.append(chain.engine_flush())  # MBC's open packet, leaving MBC
-            coded.append(
-                chain.engine_encode(
-                    picture, rung, force_idr=bool(log["keyframe"][index]), frame=index
-                )
-            )
-            for out in coded:
-                if out is None or not out.data:
-                    continue  # buffered for MBC's next packet, or nothing left
-                carried = out.frames or (index,)
-                if not log["decoded"][carried[-1]]:
-                    continue
-                unit = EncodedUnit(
-                    unit_seq=index,
-                    frame=carried[-1],
-                    codec=str(log["codec"][carried[-1]]),
-                    rung=rung,
-                    width=0,
-                    height=0,
-                    keyframe=out.keyframe,
-                    data=out.data,
-                    frames=out.frames,
-                )
-                decoded.update(chain.receiver_decode(unit))
+            decoded.update(_recode(chain, log, index, picture))
         shown = int(log["shown_frame"][index])
         box = result.face_boxes[index] if index < len(result.face_boxes) else None
         meter.submit(index, frame, shown, decoded.get(shown), box=box)

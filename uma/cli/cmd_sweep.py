@@ -56,6 +56,32 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.set_defaults(func=handle)
 
 
+def _progress_bar(args: argparse.Namespace, experiment):
+    """(a progress bar on a terminal's stderr, its callback), or (None, None)."""
+    if args.quiet or not sys.stderr.isatty():
+        return None, None
+    from tqdm import tqdm
+
+    bar = tqdm(total=len(experiment.points), unit="point", desc=experiment.name, file=sys.stderr)
+
+    def progress(done: int, total: int) -> None:
+        bar.update(done - bar.n)
+
+    return bar, progress
+
+
+def _print_summary(experiment, result) -> None:
+    print(
+        f"sweep {experiment.name}: {len(result.rows)} points, {result.ran} run, "
+        f"{result.skipped} already complete, {result.failed} failed"
+        + (f", {result.missing} not run" if result.missing else "")
+        + f"\n  table    {result.csv_path} and {result.parquet_path.name}"
+    )
+    for row in result.rows:
+        if row["status"] == "failed":
+            print(f"  failed   point {row['point']} ({row['hash']}): {row['error']}")
+
+
 def handle(args: argparse.Namespace) -> int:
     from pathlib import Path
 
@@ -72,18 +98,7 @@ def handle(args: argparse.Namespace) -> int:
     uplink = store_settings()  # a bad UMA_CACHE_MB is refused before any worker starts
     executor = make_executor(workers=args.workers, scheduler=args.scheduler, timeout_s=args.timeout)
 
-    bar = None
-    progress = None
-    if not args.quiet and sys.stderr.isatty():
-        from tqdm import tqdm
-
-        bar = tqdm(
-            total=len(experiment.points), unit="point", desc=experiment.name, file=sys.stderr
-        )
-
-        def progress(done: int, total: int) -> None:
-            bar.update(done - bar.n)
-
+    bar, progress = _progress_bar(args, experiment)
     import threading
 
     main_thread = threading.current_thread() is threading.main_thread()
@@ -110,13 +125,5 @@ def handle(args: argparse.Namespace) -> int:
         if bar is not None:
             bar.close()
     if not args.quiet:
-        print(
-            f"sweep {experiment.name}: {len(result.rows)} points, {result.ran} run, "
-            f"{result.skipped} already complete, {result.failed} failed"
-            + (f", {result.missing} not run" if result.missing else "")
-            + f"\n  table    {result.csv_path} and {result.parquet_path.name}"
-        )
-        for row in result.rows:
-            if row["status"] == "failed":
-                print(f"  failed   point {row['point']} ({row['hash']}): {row['error']}")
+        _print_summary(experiment, result)
     return 1 if result.failed or result.missing else 0

@@ -70,6 +70,30 @@ def check_sweep_out(out_dir: str | Path, *, what: str = "--out") -> Path:
     return out
 
 
+def _pending(
+    experiment: Experiment, points_dir: Path, uplink: StoreSettings | None
+) -> tuple[dict[int, dict[str, Any]], list[dict[str, Any]]]:
+    """(the replies of the points already complete, the tasks of the others)."""
+    replies: dict[int, dict[str, Any]] = {}
+    tasks = []
+    store = None if uplink is None else uplink.task()
+    for point in experiment.points:
+        done = completed_metrics(points_dir / point.hash)
+        if done is not None:
+            replies[point.index] = {"status": "ok", "error": "", "metrics": done}
+            continue
+        tasks.append(
+            point_task(
+                point.scenario,
+                points_dir / point.hash,
+                index=point.index,
+                hash=point.hash,
+                uplink=store,
+            )
+        )
+    return replies, tasks
+
+
 def run_sweep(
     experiment: Experiment,
     out_dir: str | Path,
@@ -96,22 +120,7 @@ def run_sweep(
         )
     points_dir = out / "points"
     csv_path, parquet_path = out / "sweep.csv", out / "sweep.parquet"
-    replies: dict[int, dict[str, Any]] = {}
-    tasks = []
-    for point in experiment.points:
-        done = completed_metrics(points_dir / point.hash)
-        if done is not None:
-            replies[point.index] = {"status": "ok", "error": "", "metrics": done}
-        else:
-            tasks.append(
-                point_task(
-                    point.scenario,
-                    points_dir / point.hash,
-                    index=point.index,
-                    hash=point.hash,
-                    uplink=None if uplink is None else uplink.task(),
-                )
-            )
+    replies, tasks = _pending(experiment, points_dir, uplink)
     skipped = len(replies)
     total = len(experiment.points)
 
