@@ -3,10 +3,8 @@
 Units: wall-clock seconds (`_s`), measured with `time.perf_counter` in this process only.
 
 The source's frames are prepared first (a camera gives them for free; synthesising the talking
-head is not simulation work), and so is the talking head's ground truth (its pose and projected
-model points, from which it renders each frame, and from which the run's face boxes are drawn);
-then the simulation of the scenario is timed (with `codec`, on that full-frame codec's ladder).
-Then, in the same process, exactly the codec work
+head is not simulation work), then the simulation of the scenario is timed (with `codec`, on
+that full-frame codec's ladder). Then, in the same process, exactly the codec work
 it did is redone without SimPy: the sender's encode of every frame, the engine's decode and its
 re-encode of the frames it sent (same rungs, same IDRs), the receiver's decode of the frames it
 decoded; and, apart, the same quality metrics on the same (source, displayed) pairs.
@@ -63,7 +61,7 @@ def _prepare(config: SimBenchConfig) -> Scenario:
 
 
 class _ListSource:
-    """The source's first frames, read before timing, and its ground truth for those frames."""
+    """The source's first frames, read before timing."""
 
     def __init__(self, frames: list, source) -> None:
         self._frames = frames
@@ -74,16 +72,11 @@ class _ListSource:
 
         # The run's face boxes, as the source itself would give them.
         self.face_mode = face_mode(source)
-        truth = getattr(source, "ground_truth", None)
-        self._truths = None if truth is None else [truth(index) for index in range(len(frames))]
-        self.ground_truth = None if truth is None else self._truth
+        self.ground_truth = getattr(source, "ground_truth", None)
         self.clip_frames = getattr(source, "clip_frames", None)
 
     def frames(self):
         return iter(self._frames)
-
-    def _truth(self, index: int) -> dict:
-        return self._truths[index]
 
 
 def _prepared_source(scenario: Scenario, frames: int) -> _ListSource:
