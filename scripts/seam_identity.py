@@ -13,6 +13,11 @@ handover awareness, delay-trend estimator) cut to 70 s, and short scenarios that
 and path of the engine: face-region rungs with MBC below them (and a failed face search),
 the selection scheme, WebRTC's estimator with padding and predictive switching, and oracle
 switching, and a switch MBC must refuse (no description). `--only NAME` runs a subset (repeatable).
+
+`--uplink-store` runs each scenario as `uma run` does but through the on-disk store of sender
+streams (`uma.experiments.uplink_store`, where `UMA_CACHE` says), as sweeps and benches run:
+the first check on an empty store computes and writes every stream (cold), the next takes them
+(warm); both must give the recorded bytes. It prints the frames taken and written.
 """
 
 from __future__ import annotations
@@ -164,18 +169,38 @@ def _scenario_file(name: str, work: Path) -> Path:
     return out
 
 
-def run(name: str, out: Path, work: Path) -> None:
+def _run_through_store(path: Path, out: Path, seed: int) -> str:
+    """`uma run PATH --seed SEED --out OUT` through the store of sender streams."""
+    from uma.config import load_scenario
+    from uma.experiments.uplink_store import UplinkStore, store_settings
+    from uma.sim import run_scenario
+    from uma.sim.summary import save_run
+
+    settings = store_settings()
+    if settings is None:
+        raise SystemExit("--uplink-store: UMA_CACHE=off turns the store off; expected it on")
+    store = UplinkStore(settings)
+    save_run(run_scenario(load_scenario(path).with_seed(seed), uplink=store), out)
+    return f" (store: {store.hits} frames taken, {store.written} written)"
+
+
+def run(name: str, out: Path, work: Path, *, store: bool = False) -> str:
     from uma.cli import main
 
     path = _scenario_file(name, work)
+    note = ""
     try:
-        seed = str(SCENARIOS[name][2])
-        status = main(["run", str(path), "--out", str(out), "--seed", seed, "--quiet"])
+        seed = SCENARIOS[name][2]
+        if store:
+            note, status = _run_through_store(path, out, seed), 0
+        else:
+            status = main(["run", str(path), "--out", str(out), "--seed", str(seed), "--quiet"])
     finally:
         if path.name.startswith("."):
             path.unlink()
     if status != 0:
         raise SystemExit(f"{name}: uma run exited {status}")
+    return note
 
 
 def _first_difference(a: bytes, b: bytes) -> str:
@@ -190,6 +215,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("mode", choices=("record", "check"))
     parser.add_argument("dir", type=Path)
     parser.add_argument("--only", action="append", choices=sorted(SCENARIOS))
+    parser.add_argument("--uplink-store", action="store_true", help="run through the store")
     args = parser.parse_args(argv)
     names = args.only or list(SCENARIOS)
     bad = 0
@@ -197,10 +223,12 @@ def main(argv: list[str] | None = None) -> int:
         work = Path(tmp)
         for name in names:
             target = args.dir / name if args.mode == "record" else work / name
-            run(name, target, work)
+            note = run(name, target, work, store=args.uplink_store)
             if args.mode == "record":
-                print(f"{name}: recorded")
+                print(f"{name}: recorded{note}")
                 continue
+            if note:
+                print(f"{name}:{note}")
             for file in FILES:
                 before = (args.dir / name / file).read_bytes()
                 after = (target / file).read_bytes()

@@ -24,6 +24,19 @@ settings.load_profile(
 )
 
 
+@pytest.fixture(scope="session", autouse=True)
+def _uplink_store(tmp_path_factory):
+    """Sweeps and benches keep sender streams in a store of the session's own (`UMA_CACHE`),
+    never in the user's cache; a test that wants another sets its own."""
+    previous = os.environ.get("UMA_CACHE")
+    os.environ["UMA_CACHE"] = str(tmp_path_factory.mktemp("uma-cache"))
+    yield
+    if previous is None:
+        os.environ.pop("UMA_CACHE", None)
+    else:
+        os.environ["UMA_CACHE"] = previous
+
+
 @pytest.fixture(scope="session")
 def shared_data() -> Path:
     """`../shared/data`; tests that take it skip on a clone without the shared folder."""

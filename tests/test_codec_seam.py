@@ -21,12 +21,12 @@ ROOT = Path(uma.__file__).parent
 # The simulation's codec modules are one codec's own code (the model codec's coders, the
 # region codec's, the refresh's) and the context the codecs share: they may name it.
 CODEC_MODULES = {"mbc_codecs.py", "face_region.py", "refresh.py", "context.py"}
-# Benchmarks that still name codecs (issue 25): they key their JSON by codec (the bench
-# conventions fix `h264`, `av1`, `av1+mbc` as keys) or bench one codec itself. Each is to
-# read the registry instead; the list may only shrink (each entry must still name a codec).
+# Benchmarks that still name codecs: the model codec's benches (`mbc*.py`, `face_rung*.py`),
+# which bench that one codec itself against H.264 (the MBC engineer's rooms, issue 25). Each is
+# to read the registry instead; the list may only shrink (each entry must still name a codec).
 BENCH_KNOWN = {
-    "codec_ffmpeg.py", "face_rung.py", "face_rung_run.py", "headline.py",
-    "mbc.py", "mbc_refresh.py", "mbc_scores.py", "mbc_table.py", "sim.py",
+    "face_rung.py", "face_rung_run.py", "mbc.py", "mbc_refresh.py", "mbc_scores.py",
+    "mbc_table.py",
 }  # fmt: skip
 SCOPE = (
     sorted((ROOT / "engine").rglob("*.py"))
@@ -43,8 +43,8 @@ BANNED_IDENTIFIERS = {"_family"}
 # Scenario keys users write (`engine.switching.to_mbc_below_kbps`): renaming them would break
 # every scenario file, so they may be read, as attributes only.
 CONFIG_KEYS = {"to_mbc_below_kbps", "to_h264_above_kbps"}
-# Kept for callers outside these rooms (uma/bench/sim.py, headline.py) until they move to
-# `model_init_frames` and `model_inits`.
+# Aliases no caller uses any more (uma/bench reads `model_init_frames`, `model_inits`): to be
+# deleted from uma/sim/result.py with these lines.
 KEPT: set[tuple[str, str]] = {  # (module, identifier) pairs allowed to name a codec
     ("sim/result.py", "mbc_init_frames"),
     ("sim/result.py", "mbc_inits"),

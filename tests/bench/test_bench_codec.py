@@ -94,3 +94,18 @@ def test_ffmpeg_command_line_repeats_the_vp8_settings():
     row = compare_rung("vp8", Rung(128, 176, 144, 25), settings, frames)
     # measured byte-identical with Debian 12's ffmpeg 5.1 (libvpx 1.12) and PyAV's libvpx 1.16
     assert abs(row["diff_pct"]) < 2, row
+
+
+def test_ffmpeg_arguments_repeat_each_encoders_own_options():
+    """The command line gets the encoder's library, rate and AVOptions, into its raw muxer."""
+    from uma.bench.codec import codec_classes
+    from uma.bench.codec_ffmpeg import encoder_arguments
+
+    for codec in ("h264", "vp8"):
+        settings = load_ladder(default_ladder_path(codec)).encoder
+        encoder = codec_classes(codec)[0](176, 144, 25, 128, **settings.kwargs())
+        args, muxer = encoder_arguments(encoder)
+        assert args[:4] == ["-c:v", encoder.library, "-b:v", str(encoder.bit_rate)]
+        for key, value in encoder.options.items():
+            assert args[args.index(f"-{key}") + 1] == value
+        assert muxer == {"h264": "h264", "vp8": "ivf"}[codec]

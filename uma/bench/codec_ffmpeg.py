@@ -36,17 +36,14 @@ def ffmpeg_version() -> str:
     return out.stdout.splitlines()[0]
 
 
-def encoder_arguments(codec: str, encoder) -> tuple[list[str], str]:
-    """(ffmpeg output arguments, muxer) that repeat `encoder`'s settings."""
-    if codec == "h264":
-        args = ["-c:v", "libx264", "-b:v", str(int(round(encoder.rate_kbps * 1000)))]
-        args += ["-preset", encoder.preset, "-tune", encoder.tune]
-        args += ["-x264-params", encoder.x264_params, "-forced-idr", "1", "-threads", "1"]
-        return args, "h264"
+def encoder_arguments(encoder) -> tuple[list[str], str]:
+    """(ffmpeg output arguments, muxer) that repeat `encoder`'s settings: its FFmpeg library,
+    rate and AVOptions (`PyavEncoder.options`, the command line's names), written by the
+    muxer its class names (`raw_muxer`: IVF frames, or an Annex B stream)."""
     args = ["-c:v", encoder.library, "-b:v", str(encoder.bit_rate)]
     for key, value in encoder.options.items():
         args += [f"-{key}", value]
-    return args, "ivf"
+    return args, encoder.raw_muxer
 
 
 def _ivf_sizes(data: bytes) -> list[int]:
@@ -59,10 +56,10 @@ def _ivf_sizes(data: bytes) -> list[int]:
     return sizes
 
 
-def _annexb_sizes(path: Path) -> list[int]:
+def _demuxed_sizes(path: Path, muxer: str) -> list[int]:
     import av
 
-    with av.open(str(path), format="h264") as container:
+    with av.open(str(path), format=muxer) as container:
         return [packet.size for packet in container.demux(video=0) if packet.size]
 
 
@@ -81,7 +78,7 @@ def compare_rung(codec: str, rung, settings, frames: Iterable[np.ndarray]) -> di
     step = max(1, int(round(CLIP_FPS / rung.fps)))
     encoder = encoder_class(rung.width, rung.height, rung.fps, rung.rate_kbps, **settings.kwargs())
     rate = Fraction(rung.fps).limit_denominator(1001)
-    args, muxer = encoder_arguments(codec, encoder)
+    args, muxer = encoder_arguments(encoder)
     pyav = []
     with tempfile.TemporaryDirectory() as folder:
         out = Path(folder) / f"out.{muxer}"
@@ -114,7 +111,7 @@ def compare_rung(codec: str, rung, settings, frames: Iterable[np.ndarray]) -> di
         if returncode != 0:
             message = errors.read_bytes().decode(errors="replace").strip().splitlines()
             raise RunError(f"ffmpeg failed on {codec} {rung.label}: {message[-1:]}")
-        cli = _annexb_sizes(out) if muxer == "h264" else _ivf_sizes(out.read_bytes())
+        cli = _ivf_sizes(out.read_bytes()) if muxer == "ivf" else _demuxed_sizes(out, muxer)
     if len(cli) != len(pyav):
         raise RunError(f"ffmpeg gave {len(cli)} packets for {len(pyav)} frames ({codec})")
     pyav_kbps, cli_kbps = _steady_kbps(pyav, rung.fps), _steady_kbps(cli, rung.fps)

@@ -30,7 +30,9 @@ from typing import Any
 
 import numpy as np
 
+from uma.codecs import full_frame_names, model_names
 from uma.config.scenario import Scenario
+from uma.experiments.uplink_store import StoreSettings
 
 __all__ = [
     "HeadlineConfig",
@@ -42,9 +44,33 @@ __all__ = [
     "format_table",
 ]
 
-ENGINES = ("h264", "uma", "predictive", "oracle", "av1", "av1+mbc")
-# engine -> the full-frame codec it runs (the scenario's own for the others)
-_LADDER_CODEC = {"av1": "av1", "av1+mbc": "av1"}
+# The engines, named after the registry's codecs (the JSON keys docs/benchmarks.md fixes:
+# `h264`, `av1`, `av1+mbc`): the first full-frame codec alone, the newest (the registry's last
+# full-frame codec) alone and with the model codec.
+BASE, NEWEST = full_frame_names()[0], full_frame_names()[-1]
+WITH_MODEL = f"{NEWEST}+{model_names()[0]}"
+ENGINES = (BASE, "uma", "predictive", "oracle", NEWEST, WITH_MODEL)
+
+
+@dataclass(frozen=True)
+class _Engine:
+    """What an engine changes in a scenario: `codec`, the full-frame codec it runs on its own
+    ladder (None: the scenario's); `switching`, its switching policy (`scenario`: the
+    scenario's own, the threshold policy when that is `none` or `oracle`); `oracle` also makes
+    the rate policy the oracle."""
+
+    codec: str | None
+    switching: str
+
+
+_ENGINE_SETTINGS = {
+    BASE: _Engine(BASE, "none"),
+    "uma": _Engine(None, "scenario"),
+    "predictive": _Engine(None, "predictive"),
+    "oracle": _Engine(None, "oracle"),
+    NEWEST: _Engine(NEWEST, "none"),
+    WITH_MODEL: _Engine(NEWEST, "scenario"),
+}
 ROW_KEYS = (
     "freeze_ratio",
     "displayed_fps",
@@ -64,34 +90,29 @@ class HeadlineConfig:
     scenarios: tuple[Scenario, ...]
     playout: str = "adaptive"  # every engine's receiver playout ("fixed" keeps the scenario's)
     out_dir: Path | None = None  # each run's results folder under it, when given
+    # the store of sender streams the pairs share (`uma.experiments.uplink_store`; None: each
+    # pair computes its stream; the rows are the same)
+    uplink: StoreSettings | None = None
 
 
 def engine_scenario(scenario: Scenario, engine: str, *, playout: str = "adaptive") -> Scenario:
-    """`scenario` as engine `engine` (`h264`, `uma`, `oracle`) runs it."""
+    """`scenario` as engine `engine` (one of `ENGINES`) runs it."""
     if engine not in ENGINES:
         raise ValueError(f"engine: expected one of {', '.join(ENGINES)}, got {engine!r}")
+    settings = _ENGINE_SETTINGS[engine]
     config = scenario.engine
     switching = config.switching
-    if engine in _LADDER_CODEC:
-        # the codec's own ladder (codecs/<codec>.yaml), whatever the scenario named for H.264
-        config = config.model_copy(update={"codec": _LADDER_CODEC[engine], "ladder": None})
-    if engine in ("h264", "av1"):
-        config = config.model_copy(
-            update={"switching": switching.model_copy(update={"policy": "none"})}
-        )
-    elif engine in ("uma", "predictive", "av1+mbc"):
+    if settings.codec is not None and (settings.codec != config.codec or engine != BASE):
+        # the codec's own ladder (codecs/<codec>.yaml), whatever the scenario named for another
+        config = config.model_copy(update={"codec": settings.codec, "ladder": None})
+    policy = settings.switching
+    if policy == "scenario":
         policy = switching.policy if switching.policy not in ("none", "oracle") else "threshold"
-        policy = "predictive" if engine == "predictive" else policy
-        config = config.model_copy(
-            update={"switching": switching.model_copy(update={"policy": policy})}
-        )
-    else:
-        config = config.model_copy(
-            update={
-                "policy": "oracle",
-                "switching": switching.model_copy(update={"policy": "oracle"}),
-            }
-        )
+    config = config.model_copy(
+        update={"switching": switching.model_copy(update={"policy": policy})}
+    )
+    if policy == "oracle":
+        config = config.model_copy(update={"policy": "oracle"})
     receiver = scenario.receiver
     if playout == "adaptive":
         receiver = receiver.model_copy(update={"playout": "adaptive"})
@@ -111,7 +132,7 @@ def init_mde_px(result) -> float | None:
     """Median MDE of the run's MBC initialisations against the source's ground truth."""
     from uma.fit.mde import mde_px
 
-    if not result.mbc_inits or result.description is None:
+    if not result.model_inits or result.description is None:
         return None
     source = _truth_source(result.scenario.source.model_dump_json(), result.scenario.seed)
     truth = getattr(source, "ground_truth", None)
@@ -120,7 +141,7 @@ def init_mde_px(result) -> float | None:
     model = result.description.model
     errors = [
         mde_px(model, params, truth(frame)["params"])
-        for frame, params in result.mbc_inits
+        for frame, params in result.model_inits
         if params is not None
     ]
     return round(float(np.median(errors)), 3) if errors else None
@@ -187,7 +208,7 @@ def _row(result, metrics: dict[str, Any]) -> dict[str, Any]:
 
 
 def _targets(rows: dict[str, dict[str, Any]], *, real: bool) -> dict[str, Any]:
-    h264, uma = rows["h264"], rows["uma"]
+    base, uma = rows[BASE], rows["uma"]
 
     def low(row: dict[str, Any]) -> float | None:
         # Face SSIM over the GPRS and GSM display instants, weighted as the frames are.
@@ -204,21 +225,21 @@ def _targets(rows: dict[str, dict[str, Any]], *, real: bool) -> dict[str, Any]:
     if real:
         return {
             "freeze_ratio_lower": compare(
-                uma["freeze_ratio"], h264["freeze_ratio"], lambda a, b: a < b
+                uma["freeze_ratio"], base["freeze_ratio"], lambda a, b: a < b
             ),
             "psnr_face_db_at_least_h264": compare(
-                uma["psnr_face_db"], h264["psnr_face_db"], lambda a, b: a >= b
+                uma["psnr_face_db"], base["psnr_face_db"], lambda a, b: a >= b
             ),
         }
-    share = compare(uma["freeze_ratio"], h264["freeze_ratio"], lambda a, b: b > 0)
-    share = uma["freeze_ratio"] / h264["freeze_ratio"] if share else None
-    low_uma, low_h264 = low(uma), low(h264)
+    share = compare(uma["freeze_ratio"], base["freeze_ratio"], lambda a, b: b > 0)
+    share = uma["freeze_ratio"] / base["freeze_ratio"] if share else None
+    low_uma, low_base = low(uma), low(base)
     return {
         "freeze_ratio_share_of_h264": None if share is None else round(share, 3),
         "freeze_ratio_at_most_20_percent": None if share is None else share <= 0.2,
         "low_ssim_face_uma": None if low_uma is None else round(low_uma, 4),
-        "low_ssim_face_h264": None if low_h264 is None else round(low_h264, 4),
-        "low_ssim_face_above_h264": compare(low_uma, low_h264, lambda a, b: a > b),
+        "low_ssim_face_h264": None if low_base is None else round(low_base, 4),
+        "low_ssim_face_above_h264": compare(low_uma, low_base, lambda a, b: a > b),
     }
 
 
@@ -240,17 +261,20 @@ def pair_task(
         "engine": engine,
         "scenario": data,
         "out_dir": None if out_dir is None else str(out_dir),
+        "uplink": None if config.uplink is None else config.uplink.task(),
     }
 
 
 def run_pair(task: dict[str, Any]) -> dict[str, Any]:
     """Simulate one scenario-engine pair (in whatever process runs it); its table row."""
     from uma.config.scenario import Scenario
+    from uma.experiments.uplink_store import open_store
     from uma.sim import run_scenario
     from uma.sim.summary import run_metrics, save_run
 
     start = time.perf_counter()
-    result = run_scenario(Scenario.model_validate(task["scenario"]))
+    store = open_store(task.get("uplink"))
+    result = run_scenario(Scenario.model_validate(task["scenario"]), uplink=store)
     if task["out_dir"] is not None:
         metrics = save_run(result, Path(task["out_dir"]))
     else:
@@ -294,6 +318,19 @@ def _fmt(value: Any, spec: str) -> str:
     return f"{'n/a':>{len(format(0, spec))}}" if value is None else format(value, spec)
 
 
+def _ladders(result: dict[str, Any]) -> str:
+    """Which full-frame codec each engine ran, by the rows' own `codec` (registry labels)."""
+    from uma.codecs import spec
+
+    engines: dict[str, list[str]] = {}
+    for rows in result["scenarios"].values():
+        for engine, row in rows.items():
+            names = engines.setdefault(spec(row["codec"]).label, [])
+            if engine not in names:
+                names.append(engine)
+    return "; ".join(f"{label} in {', '.join(names)}" for label, names in engines.items())
+
+
 def format_table(result: dict[str, Any]) -> str:
     """The readable table: one block per scenario, one line per engine."""
     lines = [f"uma bench headline (every engine plays out {result['playout']})"]
@@ -332,8 +369,9 @@ def format_table(result: dict[str, Any]) -> str:
         lines.append("  targets: " + ", ".join(f"{k} {v}" for k, v in targets.items()))
     lines.append(
         "\nfrozen: share of display instants frozen; fps: displayed frames/s; face: the "
-        "source's face box; video: kbit/s of the full-frame ladder (H.264, or AV1 in the av1 rows); "
-        "lag s: from a handover into GPRS/GSM to the first model-codec frame; sw: codec switches; init: MBC initialisations; MDE: their median "
-        "error against ground truth (px); descr s: when the content description arrived."
+        f"source's face box; video: kbit/s of the full-frame ladder ({_ladders(result)}); "
+        "lag s: from a handover into GPRS/GSM to the first model-codec frame; sw: codec "
+        "switches; init: model-codec initialisations; MDE: their median error against ground "
+        "truth (px); descr s: when the content description arrived."
     )
     return "\n".join(lines)

@@ -166,10 +166,56 @@ def _summary(rows: list[dict[str, Any]], name: str) -> dict[str, Any]:
     }
 
 
+def _case_row(model, case, index: int, seed: int, budget: int) -> tuple[dict[str, Any], float]:
+    """(one case's row: its pose and every method's fit, the detector's milliseconds)."""
+    from uma.fit.mde import mde_px
+
+    begin = time.perf_counter()
+    (start, box), found = _start(case)
+    detector_ms = (time.perf_counter() - begin) * 1000.0
+    row: dict[str, Any] = {
+        "case": case.name,
+        "yaw_deg": round(case.yaw_deg, 2),
+        "pitch_deg": round(case.pitch_deg, 2),
+        "roll_deg": round(case.roll_deg, 2),
+        "shift_frac": round(case.shift_frac, 4),
+        "lighting": case.lighting,
+        "light_deg": light_angle_deg(case.lighting),
+        "large_pose": is_large_pose(case),
+        "detected": bool(found),
+        "start_mde_px": round(mde_px(model, start, case.truth), 4),
+    }
+    for name in (*METHOD_NAMES, PAPER_SPLIT):
+        method_rng = np.random.default_rng([seed, index])
+        begin = time.perf_counter()
+        result = _run_method(name, case, start, box, method_rng, budget)
+        elapsed_ms = (time.perf_counter() - begin) * 1000.0
+        params = result.params if result else start
+        row[name] = {
+            "mde_px": round(mde_px(model, params, case.truth), 4),
+            "ms": round(elapsed_ms, 3),
+            "evaluations": int(result.evaluations) if result else 0,
+            "failed": not result,
+            "reason": None if result else result.reason,
+        }
+    return row, detector_ms
+
+
+def _methods(rows: list[dict[str, Any]]) -> dict[str, Any]:
+    """Each method's summary over every case, and over each subset of them."""
+    methods = {}
+    for name in METHOD_NAMES:
+        summary = _summary(rows, name)
+        for key, pick in SUBSETS.items():
+            summary[key] = _summary([row for row in rows if pick(row)], name)
+        methods[name] = summary
+    return methods
+
+
 def run_init_bench(config: InitBenchConfig, *, progress=None) -> dict[str, Any]:
     """Build the cases, fit each with every method, and summarise with the keys of docs/benchmarks.md."""
+    from uma.bench.init_cif import run_cif_bench
     from uma.face.load import load_model
-    from uma.fit.mde import mde_px
     from uma.fit.saabs import SaabsConfig
 
     model = load_model()
@@ -184,46 +230,11 @@ def run_init_bench(config: InitBenchConfig, *, progress=None) -> dict[str, Any]:
 
     rows, detector_ms = [], []
     for index, case in enumerate(cases):
-        begin = time.perf_counter()
-        (start, box), found = _start(case)
-        detector_ms.append((time.perf_counter() - begin) * 1000.0)
-        row: dict[str, Any] = {
-            "case": case.name,
-            "yaw_deg": round(case.yaw_deg, 2),
-            "pitch_deg": round(case.pitch_deg, 2),
-            "roll_deg": round(case.roll_deg, 2),
-            "shift_frac": round(case.shift_frac, 4),
-            "lighting": case.lighting,
-            "light_deg": light_angle_deg(case.lighting),
-            "large_pose": is_large_pose(case),
-            "detected": bool(found),
-            "start_mde_px": round(mde_px(model, start, case.truth), 4),
-        }
-        for name in (*METHOD_NAMES, PAPER_SPLIT):
-            method_rng = np.random.default_rng([config.seed, index])
-            begin = time.perf_counter()
-            result = _run_method(name, case, start, box, method_rng, budget)
-            elapsed_ms = (time.perf_counter() - begin) * 1000.0
-            params = result.params if result else start
-            row[name] = {
-                "mde_px": round(mde_px(model, params, case.truth), 4),
-                "ms": round(elapsed_ms, 3),
-                "evaluations": int(result.evaluations) if result else 0,
-                "failed": not result,
-                "reason": None if result else result.reason,
-            }
+        row, ms = _case_row(model, case, index, config.seed, budget)
         rows.append(row)
+        detector_ms.append(ms)
         if progress is not None:
             progress(index + 1, len(cases))
-
-    methods = {}
-    for name in METHOD_NAMES:
-        summary = _summary(rows, name)
-        for key, pick in SUBSETS.items():
-            summary[key] = _summary([row for row in rows if pick(row)], name)
-        methods[name] = summary
-    from uma.bench.init_cif import run_cif_bench
-
     cif = run_cif_bench(config.cif_frames, seed=config.seed) if config.cif_frames > 0 else None
     return {
         "cases": len(cases),
@@ -237,7 +248,7 @@ def run_init_bench(config: InitBenchConfig, *, progress=None) -> dict[str, Any]:
         "detector_median_ms": round(float(np.median(detector_ms)), 3),
         "evaluation_budget": budget,
         "success_px": SUCCESS_PX,
-        "methods": methods,
+        "methods": _methods(rows),
         PAPER_SPLIT: _summary(rows, PAPER_SPLIT),
         "cif": cif,
         "rows": rows,

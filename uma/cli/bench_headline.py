@@ -68,6 +68,7 @@ def handle(args: argparse.Namespace) -> int:
     from uma.cli.cmd_bench import emit
     from uma.config import load_scenario
     from uma.errors import ConfigError
+    from uma.experiments.uplink_store import store_settings
     from uma.paths import scenarios_dir
 
     if args.duration_s is not None and not args.duration_s > 0:
@@ -93,7 +94,9 @@ def handle(args: argparse.Namespace) -> int:
         if not args.quiet and not args.json:
             print(line, file=sys.stderr, flush=True)
 
-    config = HeadlineConfig(scenarios=tuple(scenarios), playout=args.playout, out_dir=out_dir)
+    config = HeadlineConfig(
+        scenarios=tuple(scenarios), playout=args.playout, out_dir=out_dir, uplink=store_settings()
+    )
     executor = None
     if args.workers is not None or args.scheduler:
         from uma.experiments import make_executor

@@ -40,6 +40,7 @@ def handle(args: argparse.Namespace) -> int:
     from uma.codecs import full_frame_names
     from uma.config import load_scenario
     from uma.errors import ConfigError
+    from uma.experiments.uplink_store import store_settings
 
     if args.frames <= 0:
         raise ConfigError(f"--frames: expected a positive integer, got {args.frames}")
@@ -56,6 +57,7 @@ def handle(args: argparse.Namespace) -> int:
         height=height,
         video=args.video,
         codec=args.codec,
+        store=store_settings(),
     )
     result = run_sim_bench(config)
     emit(result, format_table(result), as_json=args.json)

@@ -37,25 +37,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.set_defaults(func=handle)
 
 
-def handle(args: argparse.Namespace) -> int:
-    import sys
-    from pathlib import Path
-
-    from uma.atomic import atomic_write_text, prepare_out_dir
+def _load(args: argparse.Namespace):
+    """(the suite, its scenarios, their names, the baseline or None), each checked."""
     from uma.config import load_scenario
     from uma.errors import ConfigError
-    from uma.experiments.point import point_task, run_point
-    from uma.experiments.regress import (
-        baseline_yaml,
-        check_metric_paths,
-        check_only,
-        compare,
-        format_checks,
-        load_baseline,
-        load_suite,
-    )
-    from uma.experiments.spec import scenario_hash
-    from uma.metrics.results import RUN_FILES
+    from uma.experiments.regress import check_only, load_baseline, load_suite
 
     if args.workers < 1:
         raise ConfigError(f"--workers: expected a positive integer, got {args.workers}")
@@ -70,60 +56,101 @@ def handle(args: argparse.Namespace) -> int:
     baseline = None
     if not args.update or suite.baseline_path.exists():
         baseline = load_baseline(suite.baseline_path)
+    return suite, scenarios, names, baseline
 
+
+def _read_results(folder: str, names: list[str]) -> tuple[dict, list[str]]:
+    """(metrics by scenario name, from `folder/<name>/metrics.json`; the failures)."""
+    from pathlib import Path
+
+    from uma.errors import ConfigError
+
+    results = Path(folder)
+    if not results.is_dir():
+        raise ConfigError(f"--results: expected a folder of results, got {str(results)!r}")
     now: dict[str, dict | None] = {}
-    failures: list[str] = []
-    if args.results:
-        results = Path(args.results)
-        if not results.is_dir():
-            raise ConfigError(f"--results: expected a folder of results, got {str(results)!r}")
-        for name in names:
-            now[name] = _read_metrics(results / name / "metrics.json")
-            if now[name] is None:
-                failures.append(f"{name}: no {results / name / 'metrics.json'}")
-    else:
-        from uma.experiments.executor import LocalExecutor
+    failures = []
+    for name in names:
+        now[name] = _read_metrics(results / name / "metrics.json")
+        if now[name] is None:
+            failures.append(f"{name}: no {results / name / 'metrics.json'}")
+    return now, failures
 
-        out = prepare_out_dir(args.out if args.out is not None else Path("results") / "regress")
-        for name in names:  # each run's folder is replaced whole: refuse before running
-            prepare_out_dir(out / name, what="--out", replaceable=RUN_FILES)
-        tasks = [
-            point_task(s, out / s.name, index=i, hash=scenario_hash(s))
-            for i, s in enumerate(scenarios)
-        ]
-        executor = LocalExecutor(min(args.workers, len(tasks)))
+
+def _run(args: argparse.Namespace, scenarios: list) -> tuple[dict, list[str]]:
+    """(metrics by scenario name, from running each into `--out`; the failures)."""
+    from pathlib import Path
+
+    from uma.atomic import prepare_out_dir
+    from uma.experiments.executor import LocalExecutor
+    from uma.experiments.point import point_task, run_point
+    from uma.experiments.spec import scenario_hash
+    from uma.metrics.results import RUN_FILES
+
+    out = prepare_out_dir(args.out if args.out is not None else Path("results") / "regress")
+    for scenario in scenarios:  # each run's folder is replaced whole: refuse before running
+        prepare_out_dir(out / scenario.name, what="--out", replaceable=RUN_FILES)
+    tasks = [
+        point_task(s, out / s.name, index=i, hash=scenario_hash(s)) for i, s in enumerate(scenarios)
+    ]
+    executor = LocalExecutor(min(args.workers, len(tasks)))
+    try:
+        replies = {r["index"]: r for r in executor.map_unordered(run_point, tasks)}
+    except BaseException:
+        executor.terminate()  # Ctrl-C: end the runs now rather than wait for them
+        raise
+    finally:
+        executor.close()
+    now: dict[str, dict | None] = {}
+    failures = []
+    for i, scenario in enumerate(scenarios):
+        reply = replies[i]
+        now[scenario.name] = reply["metrics"] if reply["status"] == "ok" else None
+        if reply["status"] != "ok":
+            failures.append(f"{scenario.name}: the run failed: {reply['error']}")
+    return now, failures
+
+
+def _update(suite, baseline, now: dict, failures: list[str]) -> int:
+    """Rewrite the baseline from `now`, showing what changed; 1 (and no write) on a failure."""
+    import sys
+
+    from uma.atomic import atomic_write_text
+    from uma.errors import ConfigError
+    from uma.experiments.regress import baseline_yaml, compare, format_checks
+
+    if failures:
+        print("uma regress: baseline not updated", file=sys.stderr)
+        return 1
+    if baseline is not None:
         try:
-            replies = {r["index"]: r for r in executor.map_unordered(run_point, tasks)}
-        except BaseException:
-            executor.terminate()  # Ctrl-C: end the runs now rather than wait for them
-            raise
-        finally:
-            executor.close()
-        for i, name in enumerate(names):
-            reply = replies[i]
-            now[name] = reply["metrics"] if reply["status"] == "ok" else None
-            if reply["status"] != "ok":
-                failures.append(f"{name}: the run failed: {reply['error']}")
+            checks = compare(suite, baseline, {k: v for k, v in now.items() if k in baseline})
+            print(format_checks(checks))
+        except ConfigError as err:
+            print(f"(previous baseline incomplete: {err})")
+    atomic_write_text(suite.baseline_path, baseline_yaml(suite, now))
+    print(
+        f"baseline {suite.baseline_path} written ({len(now)} scenarios, "
+        f"{sum(len(suite.metrics_of(name)) for name in now)} metrics)"
+    )
+    return 0
 
+
+def handle(args: argparse.Namespace) -> int:
+    import sys
+
+    from uma.experiments.regress import check_metric_paths, compare, format_checks
+
+    suite, scenarios, names, baseline = _load(args)
+    if args.results:
+        now, failures = _read_results(args.results, names)
+    else:
+        now, failures = _run(args, scenarios)
     check_metric_paths(suite, now, baseline=baseline, update=args.update)
     for line in failures:
         print(f"uma regress: {line}", file=sys.stderr)
     if args.update:
-        if failures:
-            print("uma regress: baseline not updated", file=sys.stderr)
-            return 1
-        if baseline is not None:
-            try:
-                checks = compare(suite, baseline, {k: v for k, v in now.items() if k in baseline})
-                print(format_checks(checks))
-            except ConfigError as err:
-                print(f"(previous baseline incomplete: {err})")
-        atomic_write_text(suite.baseline_path, baseline_yaml(suite, now))
-        print(
-            f"baseline {suite.baseline_path} written ({len(now)} scenarios, "
-            f"{sum(len(suite.metrics_of(name)) for name in now)} metrics)"
-        )
-        return 0
+        return _update(suite, baseline, now, failures)
     checks = compare(suite, baseline, now)
     print(format_checks(checks))
     bad = sum(check.failed for check in checks)

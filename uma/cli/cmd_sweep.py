@@ -56,38 +56,55 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.set_defaults(func=handle)
 
 
+def _progress_bar(args: argparse.Namespace, experiment):
+    """(a progress bar on a terminal's stderr, its callback), or (None, None)."""
+    if args.quiet or not sys.stderr.isatty():
+        return None, None
+    from tqdm import tqdm
+
+    bar = tqdm(total=len(experiment.points), unit="point", desc=experiment.name, file=sys.stderr)
+
+    def progress(done: int, total: int) -> None:
+        bar.update(done - bar.n)
+
+    return bar, progress
+
+
+def _print_summary(experiment, result) -> None:
+    print(
+        f"sweep {experiment.name}: {len(result.rows)} points, {result.ran} run, "
+        f"{result.skipped} already complete, {result.failed} failed"
+        + (f", {result.missing} not run" if result.missing else "")
+        + f"\n  table    {result.csv_path} and {result.parquet_path.name}"
+    )
+    for row in result.rows:
+        if row["status"] == "failed":
+            print(f"  failed   point {row['point']} ({row['hash']}): {row['error']}")
+
+
 def handle(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from uma.cli.args import one_executor
     from uma.experiments import load_experiment, make_executor, run_sweep
     from uma.experiments.sweep import check_sweep_out
+    from uma.experiments.uplink_store import store_settings
 
     one_executor(args)  # --workers is bounded by its parser
     experiment = load_experiment(args.experiment)
     out_dir = check_sweep_out(
         args.out if args.out is not None else Path("results") / experiment.name
     )
+    uplink = store_settings()  # a bad UMA_CACHE_MB is refused before any worker starts
     executor = make_executor(workers=args.workers, scheduler=args.scheduler, timeout_s=args.timeout)
 
-    bar = None
-    progress = None
-    if not args.quiet and sys.stderr.isatty():
-        from tqdm import tqdm
-
-        bar = tqdm(
-            total=len(experiment.points), unit="point", desc=experiment.name, file=sys.stderr
-        )
-
-        def progress(done: int, total: int) -> None:
-            bar.update(done - bar.n)
-
+    bar, progress = _progress_bar(args, experiment)
     import threading
 
     main_thread = threading.current_thread() is threading.main_thread()
     previous = signal.signal(signal.SIGTERM, _terminated) if main_thread else None
     try:
-        result = run_sweep(experiment, out_dir, executor, progress=progress)
+        result = run_sweep(experiment, out_dir, executor, progress=progress, uplink=uplink)
     except KeyboardInterrupt as err:
         if main_thread:
             signal.signal(signal.SIGTERM, signal.SIG_IGN)  # Ctrl-C then SIGTERM: one is enough
@@ -108,13 +125,5 @@ def handle(args: argparse.Namespace) -> int:
         if bar is not None:
             bar.close()
     if not args.quiet:
-        print(
-            f"sweep {experiment.name}: {len(result.rows)} points, {result.ran} run, "
-            f"{result.skipped} already complete, {result.failed} failed"
-            + (f", {result.missing} not run" if result.missing else "")
-            + f"\n  table    {result.csv_path} and {result.parquet_path.name}"
-        )
-        for row in result.rows:
-            if row["status"] == "failed":
-                print(f"  failed   point {row['point']} ({row['hash']}): {row['error']}")
+        _print_summary(experiment, result)
     return 1 if result.failed or result.missing else 0

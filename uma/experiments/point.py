@@ -15,13 +15,20 @@ from typing import Any
 __all__ = ["run_point", "point_task", "completed_metrics"]
 
 
-def point_task(scenario, out_dir: str | Path, *, index: int, hash: str) -> dict[str, Any]:
-    """The task for `run_point`: plain data that pickles small and travels to any worker."""
+def point_task(
+    scenario, out_dir: str | Path, *, index: int, hash: str, uplink: dict | None = None
+) -> dict[str, Any]:
+    """The task for `run_point`: plain data that pickles small and travels to any worker.
+
+    `uplink`: the store of sender streams the run takes its stream from and adds to
+    (`uma.experiments.uplink_store`, `StoreSettings.task()`; None: computed afresh).
+    """
     return {
         "index": index,
         "hash": hash,
         "scenario": scenario.model_dump(mode="json"),
         "out_dir": str(out_dir),
+        "uplink": uplink,
     }
 
 
@@ -53,13 +60,15 @@ def run_point(task: dict[str, Any]) -> dict[str, Any]:
     reply: dict[str, Any] = {"index": task["index"], "hash": task["hash"], "error": ""}
     try:
         from uma.config.scenario import Scenario
+        from uma.experiments.uplink_store import open_store
         from uma.sim import run_scenario
         from uma.sim.summary import save_run
 
         data = dict(task["scenario"])
         data["metrics"] = dict(data.get("metrics", {}), workers=0)
         scenario = Scenario.model_validate(data)
-        metrics = save_run(run_scenario(scenario), out)
+        store = open_store(task.get("uplink"))
+        metrics = save_run(run_scenario(scenario, uplink=store), out)
     except Exception as err:  # recorded with the point, never lost: the sweep goes on
         message = " ".join(str(err).split()) or type(err).__name__
         reply |= {"status": "failed", "error": f"{type(err).__name__}: {message}", "metrics": {}}

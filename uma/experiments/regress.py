@@ -119,6 +119,32 @@ def _number(value: Any) -> bool:
     return isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
 
 
+def _tolerance(spec: Any, where: str) -> Tolerance:
+    """One metric's tolerance (`{worse, relative | absolute, only}`), checked; errors cite
+    `where`."""
+    if not isinstance(spec, dict) or set(spec) - {"worse", "relative", "absolute", "only"}:
+        raise ConfigError(
+            f"{where}: expected {{worse: up|down, relative: X or absolute: X"
+            f"[, only: [scenario, ...]]}}, got {spec!r}"
+        )
+    only = spec.get("only")
+    if only is not None and (
+        not isinstance(only, list) or not only or not all(isinstance(n, str) for n in only)
+    ):
+        raise ConfigError(f"{where} only: expected a list of scenario names, got {only!r}")
+    if spec.get("worse") not in ("up", "down"):
+        raise ConfigError(f"{where} worse: expected up or down, got {spec.get('worse')!r}")
+    given = [k for k in ("relative", "absolute") if k in spec]
+    if len(given) != 1 or not _number(spec[given[0]]) or spec[given[0]] < 0:
+        raise ConfigError(f"{where}: expected exactly one of relative or absolute, a number >= 0")
+    return Tolerance(
+        spec["worse"],
+        spec.get("relative"),
+        spec.get("absolute"),
+        None if only is None else tuple(only),
+    )
+
+
 def load_suite(path: str | Path) -> Suite:
     """Parse a suite file; errors name its line and key."""
     from uma.config.yamlfile import load_yaml
@@ -150,32 +176,10 @@ def load_suite(path: str | Path) -> Suite:
     metrics = data.get("metrics")
     if not isinstance(metrics, dict) or not metrics:
         raise ConfigError(f"{lines.where(('metrics',))}: expected a mapping of metric -> tolerance")
-    tolerances = {}
-    for name, spec in metrics.items():
-        where = lines.where(("metrics", name))
-        if not isinstance(spec, dict) or set(spec) - {"worse", "relative", "absolute", "only"}:
-            raise ConfigError(
-                f"{where}: expected {{worse: up|down, relative: X or absolute: X"
-                f"[, only: [scenario, ...]]}}, got {spec!r}"
-            )
-        only = spec.get("only")
-        if only is not None and (
-            not isinstance(only, list) or not only or not all(isinstance(n, str) for n in only)
-        ):
-            raise ConfigError(f"{where} only: expected a list of scenario names, got {only!r}")
-        if spec.get("worse") not in ("up", "down"):
-            raise ConfigError(f"{where} worse: expected up or down, got {spec.get('worse')!r}")
-        given = [k for k in ("relative", "absolute") if k in spec]
-        if len(given) != 1 or not _number(spec[given[0]]) or spec[given[0]] < 0:
-            raise ConfigError(
-                f"{where}: expected exactly one of relative or absolute, a number >= 0"
-            )
-        tolerances[str(name)] = Tolerance(
-            spec["worse"],
-            spec.get("relative"),
-            spec.get("absolute"),
-            None if only is None else tuple(only),
-        )
+    tolerances = {
+        str(name): _tolerance(spec, lines.where(("metrics", name)))
+        for name, spec in metrics.items()
+    }
     return Suite(
         path=path,
         baseline_path=(folder / baseline).resolve(),

@@ -18,10 +18,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from uma.errors import OutputError
 from uma.experiments.executor import Executor
 from uma.experiments.point import completed_metrics, point_task, run_point
 from uma.experiments.spec import Experiment
 from uma.experiments.table import STATUSES, cell, flatten, write_table
+from uma.experiments.uplink_store import StoreSettings
 
 __all__ = ["SweepResult", "run_sweep", "check_sweep_out", "STATUSES", "SWEEP_FILES"]
 
@@ -68,34 +70,57 @@ def check_sweep_out(out_dir: str | Path, *, what: str = "--out") -> Path:
     return out
 
 
+def _pending(
+    experiment: Experiment, points_dir: Path, uplink: StoreSettings | None
+) -> tuple[dict[int, dict[str, Any]], list[dict[str, Any]]]:
+    """(the replies of the points already complete, the tasks of the others)."""
+    replies: dict[int, dict[str, Any]] = {}
+    tasks = []
+    store = None if uplink is None else uplink.task()
+    for point in experiment.points:
+        done = completed_metrics(points_dir / point.hash)
+        if done is not None:
+            replies[point.index] = {"status": "ok", "error": "", "metrics": done}
+            continue
+        tasks.append(
+            point_task(
+                point.scenario,
+                points_dir / point.hash,
+                index=point.index,
+                hash=point.hash,
+                uplink=store,
+            )
+        )
+    return replies, tasks
+
+
 def run_sweep(
     experiment: Experiment,
     out_dir: str | Path,
     executor: Executor,
     *,
     progress: Callable[[int, int], None] | None = None,
+    uplink: StoreSettings | None = None,
 ) -> SweepResult:
     """Run the points not yet complete in `out_dir`, keeping the table of all of them current.
+
+    `uplink`: the store of sender streams every point takes its stream from and adds to
+    (`uma.experiments.uplink_store`; results are the same without it). It may not lie inside
+    `out_dir` (`OutputError`): a sweep's folder holds its runs and tables only.
 
     An exception while points run (a failure of the executor, or `KeyboardInterrupt` from
     Ctrl-C or a SIGTERM handler) writes the table of what is done, the rest `missing`, and
     propagates.
     """
     out = check_sweep_out(out_dir)
+    if uplink is not None and uplink.root.resolve().is_relative_to(out.resolve()):
+        raise OutputError(
+            f"UMA_CACHE: the store of sender streams {str(uplink.root)!r} lies inside the "
+            f"sweep's folder {str(out)!r}; expected it elsewhere (or UMA_CACHE=off)"
+        )
     points_dir = out / "points"
     csv_path, parquet_path = out / "sweep.csv", out / "sweep.parquet"
-    replies: dict[int, dict[str, Any]] = {}
-    tasks = []
-    for point in experiment.points:
-        done = completed_metrics(points_dir / point.hash)
-        if done is not None:
-            replies[point.index] = {"status": "ok", "error": "", "metrics": done}
-        else:
-            tasks.append(
-                point_task(
-                    point.scenario, points_dir / point.hash, index=point.index, hash=point.hash
-                )
-            )
+    replies, tasks = _pending(experiment, points_dir, uplink)
     skipped = len(replies)
     total = len(experiment.points)
 

@@ -70,12 +70,76 @@ def _sent(metrics: dict) -> str:
     return ", ".join(parts) or "0 kbit/s sent"
 
 
+def _rates(ax, t_s: np.ndarray, f: dict) -> None:
+    """Capacity, the estimate and each codec's sent rate, log scale."""
+    capacity = np.maximum(np.nan_to_num(f.get("capacity_kbps", np.zeros_like(t_s))), 0.1)
+    ax.step(t_s, capacity, where="post", color="#333333", lw=1.2, label="capacity")
+    if "estimate_kbps" in f:
+        ax.plot(t_s, f["estimate_kbps"], color="#e67e22", lw=1, label="estimate")
+    codec = f.get("codec", np.array([""] * t_s.size))
+    size = np.nan_to_num(f.get("size_bits", np.zeros_like(t_s)))
+    for name_, colour in CODEC_COLOURS.items():
+        mask = codec == name_
+        if mask.any():
+            rate = _rate_kbps(t_s, np.where(mask, size, 0.0))
+            ax.plot(t_s, np.maximum(rate, 0.1), color=colour, lw=1, label=f"sent {name_}")
+    ax.set_yscale("log")
+    ax.set_ylabel("kbit/s")
+    ax.legend(loc="lower left", fontsize=8, ncols=4)
+
+
+def _quality(ax, shown_s: np.ndarray, f: dict) -> None:
+    """Displayed and face-region PSNR at display time, the frozen instants marked below."""
+    frozen = f["frozen"] > 0
+    if "psnr_db" in f:
+        ax.plot(shown_s, f["psnr_db"], color="#2c3e50", lw=0.8, label="displayed PSNR")
+    if "psnr_face_db" in f and np.isfinite(f["psnr_face_db"]).any():
+        ax.plot(shown_s, f["psnr_face_db"], color="#8e44ad", lw=0.8, label="face-region PSNR")
+    ax.set_ylabel("PSNR dB")
+    low = np.nanmin(f["psnr_db"]) if "psnr_db" in f and np.isfinite(f["psnr_db"]).any() else 0
+    ax.scatter(
+        shown_s[frozen], np.full(int(frozen.sum()), low - 1), marker="|", s=30,
+        color="#c0392b", label=f"frozen ({frozen.mean():.0%})" if frozen.size else "frozen",
+    )  # fmt: skip
+    ax.legend(loc="lower left", fontsize=8, ncols=2)
+
+
+def _rungs(rates, rungs, t_s: np.ndarray, f: dict, events) -> None:
+    """The rung in use, and the run's events as lines and marks."""
+    from matplotlib.ticker import MaxNLocator
+
+    if "rung" in f:
+        rungs.step(t_s, f["rung"], where="post", color="#1f5fbf", lw=1)
+    styles = {
+        "rung_switch": ("#1f5fbf", ":"),
+        "handover": ("#555555", "--"),
+        "codec_switch": ("#27ae60", "-"),
+    }
+    for time_ms, kind, _detail in events:
+        if kind in styles:
+            colour, style = styles[kind]
+            width = 1.2 if kind == "codec_switch" else 0.6
+            for ax in (rates, rungs) if kind == "codec_switch" else (rungs,):
+                ax.axvline(time_ms / 1000.0, color=colour, ls=style, lw=width)
+        elif kind == "keyframe_request":
+            rungs.plot(time_ms / 1000.0, -0.5, marker="v", color="#c0392b", ms=3)
+        elif kind in _INIT_KINDS:
+            rungs.plot(time_ms / 1000.0, -0.5, marker="*", color="#27ae60", ms=7)
+    rungs.yaxis.set_major_locator(MaxNLocator(integer=True))
+    rungs.set_ylabel("rung")
+    rungs.set_xlabel("time s (capture; PSNR at display)")
+    rungs.set_title(
+        "rung; dotted: rung switches, green: codec switches, stars: model-codec initialisations, "
+        "dashed: handovers, triangles: keyframe requests",
+        fontsize=8, loc="left",
+    )  # fmt: skip
+
+
 def _figure(run: RunFiles):
     from matplotlib.figure import Figure
 
     f = run.frames
     t_s = f["capture_ms"] / 1000.0
-    shown_s = f["display_ms"] / 1000.0
     fig = Figure(figsize=(11, 9), dpi=100, layout="constrained")
     rates, quality, queues, rungs = fig.subplots(4, 1, sharex=True, height_ratios=[3, 2, 1.2, 1.2])
     name = run.metrics.get("scenario", run.folder.name)
@@ -87,64 +151,10 @@ def _figure(run: RunFiles):
     technology = f.get("technology", np.array([""] * t_s.size))
     for ax in (rates, quality, queues, rungs):
         _bands(ax, t_s, technology)
-
-    capacity = np.maximum(np.nan_to_num(f.get("capacity_kbps", np.zeros_like(t_s))), 0.1)
-    rates.step(t_s, capacity, where="post", color="#333333", lw=1.2, label="capacity")
-    if "estimate_kbps" in f:
-        rates.plot(t_s, f["estimate_kbps"], color="#e67e22", lw=1, label="estimate")
-    codec = f.get("codec", np.array([""] * t_s.size))
-    size = np.nan_to_num(f.get("size_bits", np.zeros_like(t_s)))
-    for name_, colour in CODEC_COLOURS.items():
-        mask = codec == name_
-        if mask.any():
-            rate = _rate_kbps(t_s, np.where(mask, size, 0.0))
-            rates.plot(t_s, np.maximum(rate, 0.1), color=colour, lw=1, label=f"sent {name_}")
-    rates.set_yscale("log")
-    rates.set_ylabel("kbit/s")
-    rates.legend(loc="lower left", fontsize=8, ncols=4)
-
-    frozen = f["frozen"] > 0
-    if "psnr_db" in f:
-        quality.plot(shown_s, f["psnr_db"], color="#2c3e50", lw=0.8, label="displayed PSNR")
-    if "psnr_face_db" in f and np.isfinite(f["psnr_face_db"]).any():
-        quality.plot(shown_s, f["psnr_face_db"], color="#8e44ad", lw=0.8, label="face-region PSNR")
-    quality.set_ylabel("PSNR dB")
-    low = np.nanmin(f["psnr_db"]) if "psnr_db" in f and np.isfinite(f["psnr_db"]).any() else 0
-    quality.scatter(
-        shown_s[frozen], np.full(int(frozen.sum()), low - 1), marker="|", s=30,
-        color="#c0392b", label=f"frozen ({frozen.mean():.0%})" if frozen.size else "frozen",
-    )  # fmt: skip
-    quality.legend(loc="lower left", fontsize=8, ncols=2)
-
+    _rates(rates, t_s, f)
+    _quality(quality, f["display_ms"] / 1000.0, f)
     _queues(queues, t_s, f)
-
-    if "rung" in f:
-        rungs.step(t_s, f["rung"], where="post", color="#1f5fbf", lw=1)
-    styles = {
-        "rung_switch": ("#1f5fbf", ":"),
-        "handover": ("#555555", "--"),
-        "codec_switch": ("#27ae60", "-"),
-    }
-    for time_ms, kind, _detail in run.events:
-        if kind in styles:
-            colour, style = styles[kind]
-            width = 1.2 if kind == "codec_switch" else 0.6
-            for ax in (rates, rungs) if kind == "codec_switch" else (rungs,):
-                ax.axvline(time_ms / 1000.0, color=colour, ls=style, lw=width)
-        elif kind == "keyframe_request":
-            rungs.plot(time_ms / 1000.0, -0.5, marker="v", color="#c0392b", ms=3)
-        elif kind in _INIT_KINDS:
-            rungs.plot(time_ms / 1000.0, -0.5, marker="*", color="#27ae60", ms=7)
-    from matplotlib.ticker import MaxNLocator
-
-    rungs.yaxis.set_major_locator(MaxNLocator(integer=True))
-    rungs.set_ylabel("rung")
-    rungs.set_xlabel("time s (capture; PSNR at display)")
-    rungs.set_title(
-        "rung; dotted: rung switches, green: codec switches, stars: model-codec initialisations, "
-        "dashed: handovers, triangles: keyframe requests",
-        fontsize=8, loc="left",
-    )  # fmt: skip
+    _rungs(rates, rungs, t_s, f, run.events)
     rates.set_xlim(0, max(float(t_s[-1]) if t_s.size else 1.0, 1e-3))
     return fig
 

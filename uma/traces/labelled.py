@@ -51,14 +51,8 @@ def _stamp_s(text: TraceText, number: int, field: str) -> float:
     )
 
 
-def read_labelled_csv(source: str | os.PathLike | TraceText, *, duplicates: str = "mean") -> Trace:
-    """A labelled CSV log as a trace with one technology per step (see the module docstring)."""
-    if duplicates not in DUPLICATE_MODES:
-        raise TraceError(
-            f"labelled-csv duplicates: expected one of {', '.join(DUPLICATE_MODES)}, "
-            f"got {duplicates!r}"
-        )
-    text = source if isinstance(source, TraceText) else TraceText(source)
+def _columns(text: TraceText) -> tuple[int, int, int | None, int]:
+    """(NetworkMode's, DL_bitrate's, Timestamp's or None, how many columns) from the header."""
     header_number, header = text.lines[0]
     columns = [name.strip() for name in header.split(",")]
     missing = [name for name in ("NetworkMode", "DL_bitrate") if name not in columns]
@@ -67,19 +61,23 @@ def read_labelled_csv(source: str | os.PathLike | TraceText, *, duplicates: str 
             header_number,
             f"expected a header naming NetworkMode and DL_bitrate, got {shown(header)}",
         )
-    i_mode, i_rate = columns.index("NetworkMode"), columns.index("DL_bitrate")
     i_time = columns.index("Timestamp") if "Timestamp" in columns else None
+    return columns.index("NetworkMode"), columns.index("DL_bitrate"), i_time, len(columns)
+
+
+def _groups(text: TraceText) -> list[tuple[float, list[tuple[float, str]], int]]:
+    """The rows grouped by time stamp: [(stamp_s, [(rate_kbps, label), ...], line number of
+    the group's first row)], stamps rising."""
+    i_mode, i_rate, i_time, width = _columns(text)
     if len(text.lines) < 2:
         raise TraceError(f"{text.name}: no samples (a header and no rows)")
-
-    # groups: [stamp_s, [(rate_kbps, label), ...], line number of the group's first row]
     groups: list[tuple[float, list[tuple[float, str]], int]] = []
     for row, (n, line) in enumerate(text.lines[1:]):
         fields = line.split(",")
-        if len(fields) != len(columns):
+        if len(fields) != width:
             raise text.error(
                 n,
-                f"expected {len(columns)} comma-separated fields as in the header, "
+                f"expected {width} comma-separated fields as in the header, "
                 f"got {len(fields)}: {shown(line)}",
             )
         stamp = _stamp_s(text, n, fields[i_time].strip()) if i_time is not None else float(row)
@@ -101,7 +99,18 @@ def read_labelled_csv(source: str | os.PathLike | TraceText, *, duplicates: str 
                 f"(times must not go back), got {fields[i_time].strip()}",
             )
         groups.append((stamp, [(rate, label)], n))
+    return groups
 
+
+def read_labelled_csv(source: str | os.PathLike | TraceText, *, duplicates: str = "mean") -> Trace:
+    """A labelled CSV log as a trace with one technology per step (see the module docstring)."""
+    if duplicates not in DUPLICATE_MODES:
+        raise TraceError(
+            f"labelled-csv duplicates: expected one of {', '.join(DUPLICATE_MODES)}, "
+            f"got {duplicates!r}"
+        )
+    text = source if isinstance(source, TraceText) else TraceText(source)
+    groups = _groups(text)
     origin = groups[0][0]
     starts: list[float] = []
     rates: list[float] = []

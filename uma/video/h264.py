@@ -86,6 +86,8 @@ class H264Encoder(PyavEncoder):
     (`force_idr`).
     """
 
+    raw_muxer = "h264"  # an Annex B stream (`annexb=1`), for the ffmpeg command line
+
     def __init__(
         self,
         width: int,

@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from uma.errors import ConfigError, VideoError
+from uma.video.planes import from_video_frame, to_video_frame
 
 __all__ = [
     "EncodedFrame",
@@ -130,8 +131,11 @@ class PyavEncoder:
     `name` is the codec's label in messages (`VP8 encoder`), `library` the FFmpeg encoder name
     (`libvpx`). `options` are FFmpeg's AVOptions, the same names and values the ffmpeg command
     line takes (`-deadline realtime` is `{"deadline": "realtime"}`), kept in `self.options` so
-    a benchmark can repeat the encode with the command line.
+    a benchmark can repeat the encode with the command line. `raw_muxer` is the FFmpeg muxer
+    that writes its packets as they are, one after another (`uma bench codec --ffmpeg`).
     """
+
+    raw_muxer = "ivf"
 
     def __init__(
         self,
@@ -196,7 +200,7 @@ class PyavEncoder:
             )
         if self._context is None:
             raise VideoError(f"{self.name}: the encoder is closed")
-        picture = av.VideoFrame.from_ndarray(np.ascontiguousarray(frame), format="yuv420p")
+        picture = to_video_frame(frame)
         picture.pts = self._pts
         if force_idr:
             picture.pict_type = self._picture_i
@@ -278,4 +282,4 @@ class PyavDecoder:
                     f"{self.name}: corrupt bitstream (picture {self.concealed_frames} "
                     "needed error concealment)"
                 )
-        return frame.to_ndarray(format="yuv420p")
+        return from_video_frame(frame)
