@@ -47,8 +47,9 @@ def test_the_kernel_matches_numpy(patch: bool) -> None:
     np.testing.assert_allclose(residual, want[0], rtol=1e-9, atol=1e-9)
     np.testing.assert_allclose(gain, want[1], rtol=1e-9)
     assert error == pytest.approx(want[2], rel=1e-9)
-    if patch:
-        assert error < 10.0  # the per-patch light explains the samples up to the noise
+    if patch:  # the per-patch light explains far more than one gain and offset
+        _, _, _, global_error = photometric_residual(samples, values, tri, visible, n_tri, False)
+        assert error < 0.5 * global_error
 
 
 def test_a_flat_picture_or_too_few_pixels_is_not_ok() -> None:
