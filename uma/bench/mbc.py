@@ -215,20 +215,26 @@ def run_clip(
     out.update(rates(lumas, coded.packets, stream_config, scored))
     out.update(tracking(results, clock, scored["mde"]))
     out.update(stages(clock, refreshed))
-    out.update({
+    out.update(_scored(out["rate_kbps"], scored["sums"], displays, refreshed))
+    return out
+
+
+def _scored(rate_kbps: float, sums, displays, refreshed) -> dict:
+    """Every display's means per region (with its rate), the codecs' rungs, the refreshes'
+    figures, and the quantisation's loss on the face."""
+    display_kbps = {"unquantised": None, "quantised": rate_kbps, "frozen": 0.0,
+                    "other_reference": rate_kbps, "description_face": rate_kbps,
+                    **{name: displays[name][1] for name in displays},
+                    **{name: refreshed[name][1] for name in refreshed}}  # fmt: skip
+    means = {name: region_sums.means(display_kbps[name]) for name, region_sums in sums.items()}
+    out = {
         **{f"{c}_{r}": {"rung": displays[f"{c}_{r}"][2]}
            for c in FULL_FRAME_CODECS for r in ("lowest", "second")},
         "refresh": {name: refreshed[name][2] for name in refreshed},
-    })  # fmt: skip
-    display_kbps = {"unquantised": None, "quantised": out["rate_kbps"], "frozen": 0.0,
-             "other_reference": out["rate_kbps"], "description_face": out["rate_kbps"],
-             **{name: displays[name][1] for name in displays},
-             **{name: refreshed[name][1] for name in refreshed}}  # fmt: skip
-    means = {name: sums.means(display_kbps[name]) for name, sums in scored["sums"].items()}
-    out.update({region: {d: means[d][region] for d in means} for region in REGIONS})
-    out["psnr_loss_db"] = round(
-        out["face"]["unquantised"]["psnr_db"] - out["face"]["quantised"]["psnr_db"], 3
-    )
+        **{region: {d: means[d][region] for d in means} for region in REGIONS},
+    }  # fmt: skip
+    face = out["face"]
+    out["psnr_loss_db"] = round(face["unquantised"]["psnr_db"] - face["quantised"]["psnr_db"], 3)
     return out
 
 
