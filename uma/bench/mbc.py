@@ -143,6 +143,24 @@ def _full_frame_displays(clip: ClipSpec) -> dict:
     }
 
 
+def _as_decoded(first, units, stream_config):
+    """Frame 0's track result at the pose the stream decodes for it (its intra set): the
+    receiver knows the reference picture's pose only so, and both ends place the model on the
+    reference there (as the simulation's `MbcUnitDecoder` does), so a decoded set equal to
+    frame 0's draws the reference itself."""
+    from dataclasses import replace
+
+    from uma.mbc.layers import NO_BODY_MOTION
+    from uma.mbc.light import NEUTRAL_LIGHT
+    from uma.mbc.stream import ParameterEncoder
+
+    if not first:
+        return first
+    encoder = ParameterEncoder(units, stream_config)
+    encoder.push(0, np.concatenate([first.params, NO_BODY_MOTION, NEUTRAL_LIGHT]))
+    return replace(first, params=units.split(encoder.decoded)[0])
+
+
 def _renderers(clip: ClipSpec, results, reference: str, ring: float):
     """The encoder's mirror, the same stream's rendering from the other reference, the
     simulation's choice (the scene from the picture, the face from the description), and the
@@ -194,6 +212,7 @@ def run_clip(
     _check_tracked(clip, results)
     # The encoder's mirror of the receiver: its light is measured against what it will show.
     units = FaceUnits.of(clip.description.model, clip.description.params, light=True, body=True)
+    results[0] = _as_decoded(results[0], units, stream_config)
     ring = _choose_ring(clip, results)
     *renderers, receiver = _renderers(clip, results, reference, ring)
     coded = encode(lumas, results, units, stream_config, renderers, clock)
