@@ -41,11 +41,11 @@ def refresh_gain_db(
 ) -> float:  # fmt: skip
     """How much better (dB) the decoded refresh box `patch` (YUV 4:2:0, its corner (x0, y0) in
     the picture) is than `mirror`'s rendering at the decoded set `values` (`units`'
-    `uma.mbc.units.FaceUnits` layout), both against `truth` (the source picture, YUV 4:2:0 or
-    its luma), over the box's luma."""
-    height = mirror.size[1]
+    `uma.mbc.units.FaceUnits` layout), both against `truth` (the source picture, YUV 4:2:0),
+    over the box's luma."""
     params, light = units.split(values)
     rendered, _ = mirror.render(params, light, units.body_of(values))
+    height = rendered.shape[0] * 2 // 3
     x0, y0 = corner
     box_h = patch.shape[0] * 2 // 3
     window = (slice(y0, y0 + box_h), slice(x0, x0 + patch.shape[1]))
