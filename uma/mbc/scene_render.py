@@ -109,6 +109,10 @@ class SceneRenderer:
         self._face_chroma = None
         self._last_face = None
         self.set_reference(*description_reference(description, self.size))
+        # The description's picture is mid-grey around its texture: not background anyone saw.
+        # The first real reference replaces that plate instead of being laid over it (the grey
+        # would show wherever that reference's person hid the background).
+        self._synthetic_plate = True
 
     def set_reference(
         self, picture: np.ndarray, params: np.ndarray, fresh: np.ndarray | None = None
@@ -137,6 +141,9 @@ class SceneRenderer:
         self.reference_serial = getattr(self, "reference_serial", 0) + 1  # one per reference
         self._reference_points = self.scene.points(params)
         if self.layered:
+            if getattr(self, "_synthetic_plate", False):
+                self.plate.forget()
+            self._synthetic_plate = False
             self._cut_layers(params, fresh)
         chroma = self.reference[height:].reshape(2, height // 2, width // 2)
         self._u, self._v = np.ascontiguousarray(chroma[0]), np.ascontiguousarray(chroma[1])
