@@ -235,7 +235,10 @@ class Plate:
                 f"plate: expected a {width}x{height} picture and person mask, got "
                 f"{picture.shape} and {person.shape}"
             )
-        outside = ~person if fresh is None else ~person & fresh
+        # Not decoded (drawn by the receiver itself): taught only where nothing better is known
+        # (the torso it drew there beats a fill, which showed as dark bands where the person
+        # had stood on an earlier reference).
+        outside = ~person if fresh is None else ~person & (fresh | ~self.known)
         reason = ""
         both = outside & self.known
         if both.mean() > _PLATE_MIN_OVERLAP:
