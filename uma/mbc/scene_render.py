@@ -269,9 +269,7 @@ class SceneRenderer:
         if self._face_source is not None:
             self._paste_face(luma, params)  # before the light: the pasted face is relit too
         if light is not None:
-            gain, offset = _checked_light(light)
-            lit = luma[face].astype(np.float32) * gain + offset
-            luma[face] = np.clip(np.rint(lit), 0, 255).astype(np.uint8)
+            _relight(luma, face, _checked_light(light))
         chroma = out[height:].reshape(2, height // 2, width // 2)
         if self._face_source is not None and self._face_chroma is not None:
             (x0, y0), mask, planes = self._face_chroma
@@ -349,6 +347,20 @@ class SceneRenderer:
             for plane in planes
         ]  # fmt: skip
         self._face_chroma = ((x0 // 2, y0 // 2), mask[0:h2:2, 0:w2:2], chroma)
+
+
+def _relight(luma: np.ndarray, face: np.ndarray, light: tuple[float, float]) -> None:
+    """The face's pixels of `luma` (in place) times the gain plus the offset, over the face's
+    box only."""
+    import cv2
+
+    x, y, w, h = cv2.boundingRect(face.view(np.uint8))
+    if w == 0 or h == 0:
+        return
+    gain, offset = light
+    box, inside = luma[y : y + h, x : x + w], face[y : y + h, x : x + w]
+    lit = box[inside].astype(np.float32) * gain + offset
+    box[inside] = np.clip(np.rint(lit), 0, 255).astype(np.uint8)
 
 
 def _checked_light(light) -> tuple[float, float]:
