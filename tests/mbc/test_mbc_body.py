@@ -74,3 +74,28 @@ def test_body_tracker_measures_a_shifted_torso(head) -> None:
     plain = SceneRenderer(head.description, (352, 288), layered=False)
     failure = tracker.measure(plain, frame[:288])
     assert not failure and "no layers" in failure.reason
+
+
+def test_a_still_torso_keeps_its_motion_without_aligning_again(head, monkeypatch) -> None:
+    """The same picture again (plus noise under `STILL_LEVELS`): the last motion stands and
+    ECC is not run; a picture shifted 6 px is aligned again."""
+    import cv2
+
+    import uma.mbc.body as body_module
+
+    frame = cv2.cvtColor(head.render_bgr(0), cv2.COLOR_BGR2YUV_I420)
+    renderer = SceneRenderer(head.description, (352, 288))
+    renderer.set_reference(frame, head.params_at(0))
+    shifted = cv2.warpAffine(
+        frame[:288], np.float32([[1, 0, 6], [0, 1, 4]]), (352, 288), borderMode=cv2.BORDER_REFLECT
+    )
+    tracker = BodyTracker()
+    first = tracker.measure(renderer, shifted).copy()
+    calls = []
+    real = cv2.findTransformECC
+    monkeypatch.setattr(cv2, "findTransformECC", lambda *a: calls.append(1) or real(*a))
+    noisy = np.clip(shifted.astype(int) + np.random.default_rng(0).integers(0, 2, shifted.shape),
+                    0, 255).astype(np.uint8)  # fmt: skip
+    assert np.array_equal(tracker.measure(renderer, noisy), first) and not calls
+    assert body_module.STILL_LEVELS > 0.5  # that noise is below it
+    assert np.allclose(tracker.measure(renderer, frame[:288])[:2], 0.0, atol=0.5) and calls

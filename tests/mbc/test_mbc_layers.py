@@ -145,3 +145,20 @@ def test_plate_refuses_a_picture_of_another_size() -> None:
     plate = Plate((32, 16))
     with pytest.raises(SceneError, match="plate"):
         plate.update(np.zeros((30, 32), np.uint8), np.zeros((16, 32), bool))
+
+
+def test_the_fill_continues_an_edge_into_the_band_next_to_known_background() -> None:
+    """A wall (90) over a floor (170), a diagonal person hiding the right: the unknown pixels
+    next to the floor stay floor, not an average of wall and floor (the dotted line along a
+    moved torso's outline)."""
+    plane = np.full((60, 80), 90, np.uint8)
+    plane[30:] = 170
+    ys, xs = np.mgrid[0:60, 0:80]
+    known = xs < 20 + ys  # the person: right of a diagonal
+    plane[~known] = 0
+    filled = fill_unknown(plane, known)
+    assert np.array_equal(filled[known], plane[known])
+    band = ~known & (xs < 22 + ys)  # within 2 px of the known floor and wall
+    # Measured: within 3 and 18 levels (the smooth fill alone: 3 and 33).
+    assert np.all(np.abs(filled[band & (ys > 34)].astype(int) - 170) <= 6)
+    assert np.all(np.abs(filled[band & (ys < 26)].astype(int) - 90) <= 22)

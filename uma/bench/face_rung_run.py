@@ -63,7 +63,6 @@ def run_three_ways(
     """The whole simulation with the clip as source, WLAN then GSM, three engines."""
     import tempfile
 
-    from uma.config.scenario import Scenario
     from uma.face.clip import describe_clip, load_points
     from uma.paths import codecs_dir
     from uma.sim import run_scenario
@@ -90,30 +89,42 @@ def run_three_ways(
         if not mbc:
             del engines["mbc"]
         for label, engine in engines.items():
-            scenario = Scenario.model_validate(
-                {
-                    "name": f"face-rung-{name}-{label}",
-                    "seed": 1,
-                    "source": {"kind": "file", "path": path},
-                    "route": [
-                        {"technology": "WLAN", "duration_s": wlan_s},
-                        {"technology": "GSM", "duration_s": gsm_s},
-                    ],
-                    "engine": {"policy": policy}
-                    | ({} if max_backlog_ms is None else {"max_backlog_ms": max_backlog_ms})
-                    | engine,
-                    "receiver": {"playout_delay_ms": 800.0},
-                    "metrics": {"workers": 0},
-                }
-            )
-            metrics = run_metrics(run_scenario(scenario))
-            gsm = metrics["by_technology"].get("GSM", {})
-            out[label] = {
-                "gsm_freeze_ratio": gsm.get("freeze_ratio"),
-                "gsm_psnr_face_db": gsm.get("psnr_face_db"),
-                "gsm_ssim_face": gsm.get("ssim_face"),
-                "kbps_h264": metrics["kbps_h264"],
-                "kbps_h264_face": metrics["kbps_h264_face"],
-                "kbps_mbc": metrics["kbps_mbc"],
-            }
+            scenario = _scenario(name, label, path, (wlan_s, gsm_s), policy, max_backlog_ms, engine)
+            out[label] = _gsm_figures(run_metrics(run_scenario(scenario)))
     return out
+
+
+def _scenario(name, label, path, durations_s, policy, max_backlog_ms, engine):
+    """The scenario of one engine: the clip as source, WLAN then GSM."""
+    from uma.config.scenario import Scenario
+
+    wlan_s, gsm_s = durations_s
+    return Scenario.model_validate(
+        {
+            "name": f"face-rung-{name}-{label}",
+            "seed": 1,
+            "source": {"kind": "file", "path": path},
+            "route": [
+                {"technology": "WLAN", "duration_s": wlan_s},
+                {"technology": "GSM", "duration_s": gsm_s},
+            ],
+            "engine": {"policy": policy}
+            | ({} if max_backlog_ms is None else {"max_backlog_ms": max_backlog_ms})
+            | engine,
+            "receiver": {"playout_delay_ms": 800.0},
+            "metrics": {"workers": 0},
+        }
+    )
+
+
+def _gsm_figures(metrics: dict) -> dict:
+    """What the bench reports of one run: the GSM stretch's and the rates."""
+    gsm = metrics["by_technology"].get("GSM", {})
+    return {
+        "gsm_freeze_ratio": gsm.get("freeze_ratio"),
+        "gsm_psnr_face_db": gsm.get("psnr_face_db"),
+        "gsm_ssim_face": gsm.get("ssim_face"),
+        "kbps_h264": metrics["kbps_h264"],
+        "kbps_h264_face": metrics["kbps_h264_face"],
+        "kbps_mbc": metrics["kbps_mbc"],
+    }

@@ -30,6 +30,7 @@ import numpy as np
 
 from uma.bench.mbc_clips import ClipSpec, default_clips, file_clip, talking_head_clip
 from uma.bench.mbc_refresh import DEFAULT_REFRESH
+from uma.bench.mbc_stages import Clock, decode, encode, rates, stages, tracking
 from uma.bench.mbc_table import format_table, summarise
 
 __all__ = [
@@ -74,27 +75,23 @@ def _luma(frame: np.ndarray) -> np.ndarray:
     return frame[: frame.shape[0] * 2 // 3]
 
 
-def _median(values: list[float]) -> float | None:
-    return round(float(np.median(values)), 3) if values else None
-
-
-def _track(clip: ClipSpec, lumas: list[np.ndarray], seed: int, tracker_config):
-    """Every frame's `TrackResult` or `TrackFailure`, and the wall and CPU ms per kind."""
+def _track(clip: ClipSpec, lumas: list[np.ndarray], seed: int, tracker_config, clock: Clock):
+    """Every frame's `TrackResult` or `TrackFailure`; `clock` gets "track" and "init"."""
     from uma.mbc.encoder import FaceTracker, TrackerConfig
 
     # One untimed initialisation first: numba loads its compiled kernels on first use.
     FaceTracker(clip.description, rng=seed).track(lumas[0])
     tracker = FaceTracker(clip.description, config=tracker_config or TrackerConfig(), rng=seed)
-    times: dict[str, list[float]] = {"track": [], "init": [], "track_cpu": [], "init_cpu": []}
     results = []
     for index, picture in enumerate(lumas):
         begin, cpu = time.perf_counter(), time.process_time()
         result = tracker.track(picture, frame=index)
         kind = "init" if result.reinitialised else "track"
-        times[kind].append((time.perf_counter() - begin) * 1000.0)
-        times[kind + "_cpu"].append((time.process_time() - cpu) * 1000.0)
+        clock.add(
+            kind, (time.perf_counter() - begin) * 1000.0, (time.process_time() - cpu) * 1000.0
+        )
         results.append(result)
-    return results, times
+    return results
 
 
 def _largest_motion(results) -> int:
@@ -131,6 +128,63 @@ def _renderer(clip: ClipSpec, reference: str, first, size, head_ring: float | No
     return renderer
 
 
+def _full_frame_displays(clip: ClipSpec) -> dict:
+    """Every full-frame codec at the ladder's two lowest rungs, shown at once and on arrival:
+    name -> (pictures, kbit/s, rung)."""
+    from uma.bench.mbc_scores import codec_display
+
+    return {
+        f"{codec}_{rung_name}{'_delayed' if late else ''}": codec_display(
+            clip.frames, clip.fps, rung, codec, delayed=late
+        )
+        for codec in FULL_FRAME_CODECS
+        for rung_name, rung in (("lowest", 0), ("second", 1))
+        for late in (False, True)
+    }
+
+
+def _as_decoded(first, units, stream_config):
+    """Frame 0's track result at the pose the stream decodes for it (its intra set): the
+    receiver knows the reference picture's pose only so, and both ends place the model on the
+    reference there (as the simulation's `MbcUnitDecoder` does), so a decoded set equal to
+    frame 0's draws the reference itself."""
+    from dataclasses import replace
+
+    from uma.mbc.layers import NO_BODY_MOTION
+    from uma.mbc.light import NEUTRAL_LIGHT
+    from uma.mbc.stream import ParameterEncoder
+
+    if not first:
+        return first
+    encoder = ParameterEncoder(units, stream_config)
+    encoder.push(0, np.concatenate([first.params, NO_BODY_MOTION, NEUTRAL_LIGHT]))
+    return replace(first, params=units.split(encoder.decoded)[0])
+
+
+def _renderers(clip: ClipSpec, results, reference: str, ring: float):
+    """The encoder's mirror, the same stream's rendering from the other reference, the
+    simulation's choice (the scene from the picture, the face from the description), and the
+    receiver."""
+    size = (clip.frames[0].shape[1], clip.frames[0].shape[0] * 2 // 3)
+    mirror = _renderer(clip, reference, results[0], size, ring)
+    other_kind = "description" if reference == "picture" else "picture"
+    other = _renderer(clip, other_kind, results[0], size, ring)
+    mixed = _renderer(clip, "picture", results[0], size, ring)
+    mixed.set_face_source(True)
+    return mirror, other, mixed, _renderer(clip, reference, results[0], size, ring)
+
+
+def _check_tracked(clip: ClipSpec, results) -> None:
+    from uma.errors import VideoError
+
+    if not any(results):
+        reasons = {r.reason.split(": ", 1)[-1] for r in results}
+        raise VideoError(
+            f"{clip.where or clip.name}: no face tracked in any of {len(results)} frames "
+            f"({'; '.join(sorted(reasons)[:2])})"
+        )
+
+
 def run_clip(
     clip: ClipSpec,
     *,
@@ -146,190 +200,120 @@ def run_clip(
     `mbc_refresh_*` displays (`uma.bench.mbc_refresh.RefreshSpec` by name; default
     `DEFAULT_REFRESH`)."""
     from uma.bench.mbc_refresh import refresh_display
-    from uma.bench.mbc_scores import RegionSums, codec_display, face_box
-    from uma.errors import VideoError
-    from uma.face.geometry import project
-    from uma.fit.mde import mde_px
-    from uma.mbc.body import BodyTracker
-    from uma.mbc.decoder import ParameterDecoder
-    from uma.mbc.light import measure_light
-    from uma.mbc.packets import IP_UDP_RTP_BYTES
-    from uma.mbc.stream import ParameterEncoder, StreamConfig
+    from uma.mbc.stream import StreamConfig
     from uma.mbc.units import FaceUnits
 
     stream_config = stream_config or StreamConfig()
-    description = clip.description
     lumas = [_luma(f) for f in clip.frames]
-    height, width = lumas[0].shape
-    results, times = _track(clip, lumas, seed, tracker_config)
+    clock = Clock()
+    results = _track(clip, lumas, seed, tracker_config, clock)
     if keep_frame == LARGEST_MOTION:
         keep_frame = _largest_motion(results)
-    if not any(results):
-        reasons = {r.reason.split(": ", 1)[-1] for r in results}
-        raise VideoError(
-            f"{clip.where or clip.name}: no face tracked in any of {len(results)} frames "
-            f"({'; '.join(sorted(reasons)[:2])})"
-        )
+    _check_tracked(clip, results)
     # The encoder's mirror of the receiver: its light is measured against what it will show.
-    units = FaceUnits.of(description.model, description.params, light=True, body=True)
-    encoder = ParameterEncoder(units, stream_config)
+    units = FaceUnits.of(clip.description.model, clip.description.params, light=True, body=True)
+    results[0] = _as_decoded(results[0], units, stream_config)
     ring = _choose_ring(clip, results)
-    mirror = _renderer(clip, reference, results[0], (width, height), ring)
-    other = _renderer(clip, "description" if reference == "picture" else "picture",
-                      results[0], (width, height), ring)  # fmt: skip
-    # The simulation's choice: the scene from the picture, the face from the description.
-    mixed = _renderer(clip, "picture", results[0], (width, height), ring)
-    mixed.set_face_source(True)
-    lights, other_lights, mixed_lights, light_ms, packets = {}, {}, {}, [], []
-    bodies, body_ms, body_tracker = {}, [], BodyTracker()
-    for index, result in enumerate(results):
-        if result:
-            begin = time.perf_counter()
-            lights[index] = measure_light(mirror, lumas[index], result.params)
-            light_ms.append((time.perf_counter() - begin) * 1000.0)
-            begin = time.perf_counter()
-            body_tracker.measure(mirror, lumas[index])  # a failure sends the last good one
-            bodies[index] = body_tracker.last
-            body_ms.append((time.perf_counter() - begin) * 1000.0)
-            other_lights[index] = measure_light(other, lumas[index], result.params)
-            mixed_lights[index] = measure_light(mixed, lumas[index], result.params)
-        values = None
-        if result:
-            values = np.concatenate([result.params, bodies[index], lights[index]])
-        packets += encoder.push(index, values)
-    packets += encoder.flush()
-    # The receiver: decode every packet in order, render each frame at the newest parameters.
-    decoder = ParameterDecoder(units, stream_config)
-    receiver = _renderer(clip, reference, results[0], (width, height), ring)
-    decoded: dict[int, np.ndarray] = {}
-    decode_ms: dict[int, float] = {}
-    for packet in packets:
-        data = packet.to_bytes()
-        begin = time.perf_counter()
-        out = decoder.decode(data)
-        share = (time.perf_counter() - begin) * 1000.0 / max(len(out.frames), 1)
-        for frame, values in out.frames:
-            decoded[frame], decode_ms[frame] = values, share
-    # Every full-frame codec at the ladder's two lowest rungs, shown at once and on arrival.
-    h264 = {
-        f"{codec}_{rung_name}{'_delayed' if late else ''}": codec_display(
-            clip.frames, clip.fps, rung, codec, delayed=late
-        )
-        for codec in FULL_FRAME_CODECS
-        for rung_name, rung in (("lowest", 0), ("second", 1))
-        for late in (False, True)
-    }
+    *renderers, receiver = _renderers(clip, results, reference, ring)
+    coded = encode(lumas, results, units, stream_config, renderers, clock)
+    decoded, shares = decode(units, stream_config, coded.packets, clock)
+    displays = _full_frame_displays(clip)
     # The refresh spends the rung's rate minus the plain stream's, both at the clip's own rate.
     refresh = DEFAULT_REFRESH if refresh is None else refresh
-    mbc_clip_kbps = sum(p.size_bytes for p in packets) * 8 / (len(lumas) / clip.fps) / 1000.0
+    mbc_clip_kbps = sum(p.size_bytes for p in coded.packets) * 8 / (len(lumas) / clip.fps) / 1000
     refreshed = {
         name: refresh_display(
             clip, results, units, stream_config, mbc_clip_kbps, spec, head_ring=ring
         )
         for name, spec in refresh.items()
     }
-    displays = BASE_DISPLAYS + tuple(refresh)
-    sums = {d: RegionSums() for d in displays}
-    rendered = ("unquantised", "quantised", "other_reference", "description_face")
-    shown = {d: clip.frames[0] for d in rendered}
-    model_mask = np.zeros((height, width), bool)
-    render_ms, mde, box = [], [], None
-    for index in range(len(lumas)):
-        result = results[index]
+    scored = _score(clip, results, units, coded, decoded, shares, (receiver, *renderers[1:]),
+                    displays, refreshed, clock, keep_frame, kept)  # fmt: skip
+    out = {"frames": len(lumas), "kept_frame": keep_frame, "reference": reference,
+           "head_ring_outlines": ring, "fps": round(clip.fps, 3)}  # fmt: skip
+    out.update(rates(lumas, coded.packets, stream_config, scored))
+    out.update(tracking(results, clock, scored["mde"]))
+    out.update(stages(clock, refreshed))
+    out.update(_scored(out["rate_kbps"], scored["sums"], displays, refreshed))
+    return out
+
+
+def _scored(rate_kbps: float, sums, displays, refreshed) -> dict:
+    """Every display's means per region (with its rate), the codecs' rungs, the refreshes'
+    figures, and the quantisation's loss on the face."""
+    display_kbps = {"unquantised": None, "quantised": rate_kbps, "frozen": 0.0,
+                    "other_reference": rate_kbps, "description_face": rate_kbps,
+                    **{name: displays[name][1] for name in displays},
+                    **{name: refreshed[name][1] for name in refreshed}}  # fmt: skip
+    means = {name: region_sums.means(display_kbps[name]) for name, region_sums in sums.items()}
+    out = {
+        **{f"{c}_{r}": {"rung": displays[f"{c}_{r}"][2]}
+           for c in FULL_FRAME_CODECS for r in ("lowest", "second")},
+        "refresh": {name: refreshed[name][2] for name in refreshed},
+        **{region: {d: means[d][region] for d in means} for region in REGIONS},
+    }  # fmt: skip
+    face = out["face"]
+    out["psnr_loss_db"] = round(face["unquantised"]["psnr_db"] - face["quantised"]["psnr_db"], 3)
+    return out
+
+
+def _score(clip, results, units, coded, decoded, shares, renderers, displays, refreshed,
+           clock, keep_frame, kept) -> dict:  # fmt: skip
+    """Every display of every frame but the first scored; the receiver's rendering timed
+    ("decode_render": its share of decoding and its drawing); `kept` gets frame `keep_frame`'s
+    pictures. {"sums": display -> `RegionSums`, "mde": [px per frame with ground truth]}."""
+    from uma.bench.mbc_scores import RegionSums, face_box
+    from uma.face.geometry import project
+    from uma.fit.mde import mde_px
+
+    receiver, other, mixed = renderers
+    names = BASE_DISPLAYS + tuple(refreshed)
+    sums = {d: RegionSums() for d in names}
+    shown = {d: clip.frames[0] for d in ("unquantised", "quantised", "other_reference",
+                                         "description_face")}  # fmt: skip
+    height = clip.frames[0].shape[0] * 2 // 3
+    model_mask = np.zeros((height, clip.frames[0].shape[1]), bool)
+    mde, box = [], None
+    for index, result in enumerate(results):
         if result:  # no face: the last good picture stays (no mask in the wrong place)
             shown["unquantised"], model_mask = receiver.render(
-                result.params, lights[index], bodies[index]
+                result.params, coded.lights[index], coded.bodies[index]
             )
         if index in decoded:
-            begin = time.perf_counter()
-            params, light = units.split(decoded[index])
-            body = units.body_of(decoded[index])
-            shown["quantised"], _ = receiver.render(params, light, body)
-            render_ms.append(decode_ms[index] + (time.perf_counter() - begin) * 1000.0)
-            shown["other_reference"], _ = other.render(params, other_lights[index])
-            shown["description_face"], _ = mixed.render(params, mixed_lights[index], body)
+            _render_decoded(index, decoded[index], shares[index], units, coded, shown,
+                            (receiver, other, mixed), clock)  # fmt: skip
         truth_points = None
         if clip.truth is not None:
             truth = clip.truth(index)
-            truth_points = project(description.model, truth)
+            truth_points = project(clip.description.model, truth)
             if result:
-                mde.append(mde_px(description.model, result.params, truth))
+                mde.append(mde_px(clip.description.model, result.params, truth))
             _, model_mask = receiver.render(truth)
-        box = face_box(lumas[index], truth_points, box)
+        box = face_box(clip.frames[index][:height], truth_points, box)
         if index == 0:
             continue
         pictures = dict(shown, frozen=clip.frames[0],
-                        **{name: h264[name][0][index] for name in h264},
+                        **{name: displays[name][0][index] for name in displays},
                         **{name: refreshed[name][0][index] for name in refreshed})  # fmt: skip
-        for name in displays:
+        for name in names:
             sums[name].add(clip.frames[index], pictures[name], box, model_mask)
         if kept is not None and index == keep_frame:
             kept.update(pictures, source=clip.frames[index])
-    payload_bytes = sum(p.size_bytes for p in packets)
-    wire_bytes = payload_bytes + IP_UDP_RTP_BYTES * len(packets)
-    seconds = len(lumas) / SCALED_FPS  # the same frames at 25 frames/s
-    rate_kbps = payload_bytes * 8 / seconds / 1000.0
-    rates = {"unquantised": None, "quantised": rate_kbps, "frozen": 0.0,
-             "other_reference": rate_kbps, "description_face": rate_kbps}  # fmt: skip
-    rates.update({name: h264[name][1] for name in h264})
-    rates.update({name: refreshed[name][1] for name in refreshed})
-    scored = {name: sums[name].means(rates[name]) for name in displays}
-    reinits = [r for r in results[1:] if r.reinitialised]
-    stages = {
-        "track": _median(times["track"]),
-        "light": _median(light_ms),
-        "body": _median(body_ms),
-        "decode_render": _median(render_ms),
-        "refresh": refreshed["mbc_refresh_lowest"][2]["ms_per_frame"]
-        if "mbc_refresh_lowest" in refreshed
-        else None,
-    }
-    face_psnr = {d: scored[d]["face"]["psnr_db"] for d in ("unquantised", "quantised")}
-    return {
-        "frames": len(lumas),
-        "kept_frame": keep_frame,
-        "size": f"{width}x{height}",
-        "fps": round(clip.fps, 3),
-        "reference": reference,
-        "head_ring_outlines": ring,
-        "rate_kbps": round(rate_kbps, 3),
-        "wire_kbps": round(wire_bytes * 8 / seconds / 1000.0, 3),
-        "packets": len(packets),
-        "frames_per_packet": stream_config.frames_per_packet,
-        "payload_bytes_per_frame": round(payload_bytes / len(lumas), 2),
-        "psnr_loss_db": round(face_psnr["unquantised"] - face_psnr["quantised"], 3),
-        "reinits": len(reinits),
-        "lost_tracks": sum(r.reason.startswith("track lost") for r in reinits),
-        "failures": sum(not r for r in results),
-        "reinit_reasons": sorted({r.reason.split(" (")[0] for r in reinits}),
-        "evaluations_median": _median(
-            [r.evaluations for r in results[1:] if r and not r.reinitialised]
-        ),
-        "track_ms_median": _median(times["track"]),
-        "init_ms_median": _median(times["init"]),
-        "light_ms_median": _median(light_ms),
-        "body_ms_median": _median(body_ms),
-        # The model path per frame, stage by stage (medians; the refresh's per frame of the
-        # clip at the lowest rung): the engine's tracking, light (its measure against the
-        # mirror, the mirror's only rendering) and body motion, the receiver's decoding and
-        # rendering, the refresh's coding and composition.
-        "stages_ms": stages,
-        "model_path_ms": round(sum(v for v in stages.values() if v is not None), 3),
-        "render_ms_median": _median(render_ms),
-        # CPU time of this process (time.process_time): on a shared machine, wall clock also
-        # counts the time other processes held the cores.
-        "track_cpu_ms_median": _median(times["track_cpu"]),
-        "init_cpu_ms_median": _median(times["init_cpu"]),
-        "mde_median_px": round(float(np.median(mde)), 4) if mde else None,
-        "mde_p95_px": round(float(np.percentile(mde, 95)), 4) if mde else None,
-        **{
-            f"{c}_{r}": {"rung": h264[f"{c}_{r}"][2]}
-            for c in FULL_FRAME_CODECS
-            for r in ("lowest", "second")
-        },  # fmt: skip
-        "refresh": {name: refreshed[name][2] for name in refreshed},
-        **{region: {d: scored[d][region] for d in displays} for region in REGIONS},
-    }
+    return {"sums": sums, "mde": mde}
+
+
+def _render_decoded(index, values, share, units, coded, shown, renderers, clock) -> None:
+    """The decoded set of frame `index` drawn by the receiver (timed with its decoding share)
+    and by the other two renderers, into `shown`."""
+    receiver, other, mixed = renderers
+    begin, cpu = time.perf_counter(), time.process_time()
+    params, light = units.split(values)
+    body = units.body_of(values)
+    shown["quantised"], _ = receiver.render(params, light, body)
+    wall_ms = share[0] + (time.perf_counter() - begin) * 1000.0
+    clock.add("decode_render", wall_ms, share[1] + (time.process_time() - cpu) * 1000.0)
+    shown["other_reference"], _ = other.render(params, coded.other_lights[index])
+    shown["description_face"], _ = mixed.render(params, coded.mixed_lights[index], body)
 
 
 def run_mbc_bench(

@@ -104,6 +104,87 @@ def _code_refresh(clip, results, spec, budget_kbps, size):
     return units, pictures
 
 
+def _renderer(clip, results, spec, size, head_ring):
+    """The receiver's renderer (and the encoder's mirror of it) before any refresh."""
+    from uma.mbc.scene_render import SceneRenderer
+
+    out = SceneRenderer(clip.description, size, head_ring_outlines=head_ring)
+    if results[0]:
+        out.set_reference(clip.frames[0], results[0].params)
+    out.set_face_source(spec.description_face)
+    return out
+
+
+def _nearer(mirror, face_units, spec, frame: np.ndarray, values: np.ndarray, picture) -> bool:
+    """Whether a refresh's decoded `picture` is nearer `frame` than the mirror's rendering at
+    `values` (the set coded for that frame): over the box for a face refresh, the judge the
+    simulation uses (`uma.mbc.refresh_gain_db`), over the picture's luma otherwise."""
+    from uma.mbc.refresh_judge import refresh_gain_db
+
+    if spec.region == "face":
+        corner, patch = picture
+        return refresh_gain_db(mirror, face_units, values, corner, patch, frame) > 0.0
+    height = mirror.size[1]
+    params, light = face_units.split(values)
+    rendering = mirror.render(params, light, face_units.body_of(values))[0][:height]
+    truth = frame[:height].astype(np.float32)
+    candidate = picture[:height]
+    return float(np.mean((candidate - truth) ** 2)) < float(np.mean((rendering - truth) ** 2))
+
+
+def _values(mirror, face_units, body_tracker, frame: np.ndarray, params: np.ndarray):
+    """The set the encoder codes for `frame`: geometry, body motion and light against the
+    mirror."""
+    from uma.mbc.light import measure_light
+
+    height = mirror.size[1]
+    light = measure_light(mirror, frame[:height], params)
+    body = []
+    if face_units.body:
+        body_tracker.measure(mirror, frame[:height])
+        body = body_tracker.last
+    return np.concatenate([params, body, light])
+
+
+def _engine(clip, results, face_units, stream_config, spec, units, pictures, schedule, mirror):
+    """The encoder's side: every frame's set coded against its mirror, which adopts a refresh
+    once it has arrived and its frame's pose is decoded. (packets, decoded sets by frame,
+    switches: frame -> (unit, its decoded set), adopted units)."""
+    from uma.mbc.body import BodyTracker
+    from uma.mbc.decoder import ParameterDecoder
+    from uma.mbc.stream import ParameterEncoder
+
+    unit_at = {unit.frame: k for k, unit in enumerate(units)}
+    current, switches, packets, adopted = -1, {}, [], set()
+    body_tracker = BodyTracker()
+    encoder = ParameterEncoder(face_units, stream_config)
+    decoder = ParameterDecoder(face_units, stream_config)
+    decoded: dict[int, np.ndarray] = {}
+    for index, result in enumerate(results):
+        k = int(schedule.serving[index])
+        while k > current and (k not in adopted or units[k].frame not in decoded):
+            k -= 1  # not adopted, or not decoded (yet): the newest usable one before it
+        if k > current:
+            switches[index] = (k, decoded[units[k].frame])
+            take_refresh(mirror, face_units, decoded[units[k].frame], pictures[k])
+            current = k
+        values = None
+        if result:
+            frame = clip.frames[index]
+            values = _values(mirror, face_units, body_tracker, frame, result.params)
+            k = unit_at.get(index)  # decided on the unit's own frame, before it can arrive
+            if k in pictures and (
+                not spec.choose or _nearer(mirror, face_units, spec, frame, values, pictures[k])
+            ):
+                adopted.add(k)
+        out = encoder.push(index, values)
+        out += encoder.flush() if index == len(results) - 1 else []
+        for packet in out:
+            decoded.update(decoder.decode(packet.to_bytes()).frames)
+        packets += out
+    return packets, decoded, switches, adopted
+
+
 def refresh_display(
     clip,
     results,
@@ -119,104 +200,64 @@ def refresh_display(
     rate, `head_ring` the receiver's (`SceneRenderer`). With nothing left of the rung's rate
     it is the plain MBC (no refresh unit)."""
     from uma.errors import ConfigError
-    from uma.mbc.body import BodyTracker
-    from uma.mbc.decoder import ParameterDecoder
-    from uma.mbc.light import measure_light
     from uma.mbc.refresh import schedule_refresh
-    from uma.mbc.scene_render import SceneRenderer
-    from uma.mbc.stream import ParameterEncoder
     from uma.video import load_ladder
 
     if spec.region not in ("frame", "face"):
         raise ConfigError(f"refresh region: expected 'frame' or 'face', got {spec.region!r}")
     frames = clip.frames
-    height, width = frames[0].shape[0] * 2 // 3, frames[0].shape[1]
+    size = (frames[0].shape[1], frames[0].shape[0] * 2 // 3)
     budget_kbps = load_ladder().rungs[spec.rung_index].rate_kbps - mbc_kbps
     units, pictures = [], {}
-    begin = time.perf_counter()
+    begin, cpu = time.perf_counter(), time.process_time()
     if budget_kbps > 1.0:  # libx264 takes whole kbit/s
-        units, pictures = _code_refresh(clip, results, spec, budget_kbps, (width, height))
-    coding_s = time.perf_counter() - begin
+        units, pictures = _code_refresh(clip, results, spec, budget_kbps, size)
+    coding_s, coding_cpu_s = time.perf_counter() - begin, time.process_time() - cpu
     schedule = schedule_refresh(
         units, len(frames), clip.fps, max(budget_kbps, 1e-9), latency_s=spec.latency_s
     )
-
-    def renderer():
-        out = SceneRenderer(clip.description, (width, height), head_ring_outlines=head_ring)
-        if results[0]:
-            out.set_reference(frames[0], results[0].params)
-        out.set_face_source(spec.description_face)
-        return out
-
-    def switch(target, k, values):
-        """Make unit k's picture `target`'s reference at its frame's decoded pose."""
-        take_refresh(target, face_units, values, pictures[k])
-
-    def nearer(k, index, params):
-        """Whether unit k's picture is nearer frame `index`'s luma than the mirror's rendering
-        (over the face box for a face refresh)."""
-        luma = frames[index][:height]
-        rendering = mirror.render(params, measure_light(mirror, luma, params))[0][:height]
-        if spec.region == "face":
-            (x0, y0), patch = pictures[k]
-            box_h = patch.shape[0] * 2 // 3
-            box = (slice(y0, y0 + box_h), slice(x0, x0 + patch.shape[1]))
-            candidate, rendering, luma = patch[:box_h], rendering[box], luma[box]
-        else:
-            candidate = pictures[k][:height]
-        truth = luma.astype(np.float32)
-        return float(np.mean((candidate - truth) ** 2)) < float(np.mean((rendering - truth) ** 2))
-
-    # The encoder's mirror: a unit serves once it has arrived and its frame's pose is decoded.
-    unit_at = {unit.frame: k for k, unit in enumerate(units)}
-    mirror, current, switches, packets, adopted = renderer(), -1, {}, [], set()
-    body_tracker = BodyTracker()
-    encoder = ParameterEncoder(face_units, stream_config)
-    decoder = ParameterDecoder(face_units, stream_config)
-    decoded: dict[int, np.ndarray] = {}
-    for index, result in enumerate(results):
-        k = unit_at.get(index)
-        if k in pictures and (not spec.choose or nearer(k, index, result.params)):
-            adopted.add(k)  # decided on the unit's own frame, before it can arrive
-        k = int(schedule.serving[index])
-        while k > current and (k not in adopted or units[k].frame not in decoded):
-            k -= 1  # not adopted, or not decoded (yet): the newest usable one before it
-        if k > current:
-            switches[index] = (k, decoded[units[k].frame])
-            switch(mirror, k, decoded[units[k].frame])
-            current = k
-        values = None
-        if result:
-            light = measure_light(mirror, frames[index][:height], result.params)
-            body = None
-            if face_units.body:
-                body_tracker.measure(mirror, frames[index][:height])
-                body = body_tracker.last
-            values = np.concatenate([result.params, [] if body is None else body, light])
-        out = encoder.push(index, values)
-        out += encoder.flush() if index == len(results) - 1 else []
-        for packet in out:
-            decoded.update(decoder.decode(packet.to_bytes()).frames)
-        packets += out
-    receiver, shown, last = renderer(), [], frames[0]
-    switch_s = 0.0
-    for index in range(len(frames)):
-        if index in switches:
-            k, values = switches[index]
-            begin = time.perf_counter()
-            switch(receiver, k, values)
-            switch_s += time.perf_counter() - begin
-        if index in decoded:
-            params, light = face_units.split(decoded[index])
-            last, _ = receiver.render(params, light, face_units.body_of(decoded[index]))
-        shown.append(last)
+    mirror = _renderer(clip, results, spec, size, head_ring)
+    packets, decoded, switches, adopted = _engine(
+        clip, results, face_units, stream_config, spec, units, pictures, schedule, mirror
+    )
+    receiver = _renderer(clip, results, spec, size, head_ring)
+    shown, switch_s, switch_cpu_s = _receive(
+        receiver, face_units, frames[0], len(frames), decoded, switches, pictures
+    )
     seconds = len(frames) / clip.fps
     params_kbps = sum(p.size_bytes for p in packets) * 8 / seconds / 1000.0
     flag_bits = len(units) if spec.choose else 0
     refresh_kbps = (sum(u.size_bits for u in units) + flag_bits) / seconds / 1000.0
-    served = [k for k, _ in switches.values()]
+    info = _info(spec, budget_kbps, params_kbps, refresh_kbps, units, adopted, switches)
+    # Encoding and decoding the refresh pictures, and the receiver's taking them (the
+    # composition), per frame of the clip: the model path's refresh share.
+    info["ms_per_frame"] = round((coding_s + switch_s) * 1000.0 / len(frames), 3)
+    info["cpu_ms_per_frame"] = round((coding_cpu_s + switch_cpu_s) * 1000.0 / len(frames), 3)
+    return shown, params_kbps + refresh_kbps, info
+
+
+def _receive(receiver, face_units, first, count: int, decoded, switches, pictures):
+    """The receiver's display of every frame (the last picture held where no set was decoded,
+    `first` before any) and the seconds (wall, CPU) it spent taking refreshes."""
+    shown, last, switch_s, switch_cpu_s = [], first, 0.0, 0.0
+    for index in range(count):
+        if index in switches:
+            k, values = switches[index]
+            begin, cpu = time.perf_counter(), time.process_time()
+            take_refresh(receiver, face_units, values, pictures[k])
+            switch_s += time.perf_counter() - begin
+            switch_cpu_s += time.process_time() - cpu
+        if index in decoded:
+            params, light = face_units.split(decoded[index])
+            last, _ = receiver.render(params, light, face_units.body_of(decoded[index]))
+        shown.append(last)
+    return shown, switch_s, switch_cpu_s
+
+
+def _info(spec, budget_kbps, params_kbps, refresh_kbps, units, adopted, switches) -> dict:
+    """What the refresh did, for the bench's JSON."""
     delays = [i - units[k].frame for i, (k, _) in switches.items()]
-    info = {
+    return {
         "refresh_fps": spec.refresh_fps,
         "region": spec.region,
         "refresh_size": _size_label(spec),
@@ -226,11 +267,7 @@ def refresh_display(
         "refresh_kbps": round(refresh_kbps, 3),
         "units": len(units),
         "adopted": len(adopted),
-        "served": len(served),
+        "served": len(switches),
         "delay_frames_median": float(np.median(delays)) if delays else None,
         "delay_frames_max": int(max(delays)) if delays else None,
-        # Encoding and decoding the refresh pictures, and the receiver's taking them (the
-        # composition), per frame of the clip: the model path's refresh share.
-        "ms_per_frame": round((coding_s + switch_s) * 1000.0 / len(frames), 3),
     }
-    return shown, params_kbps + refresh_kbps, info

@@ -79,34 +79,15 @@ def _describe(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     import cv2
-    import numpy as np
 
-    from uma.atomic import atomic_write_bytes
     from uma.errors import FaceError
     from uma.face import describe, load_model
-    from uma.face.clip import picture_of, read_picture
     from uma.face.detect import Box, detect_faces, locate_points
     from uma.face.points import load_points
 
     points_file = load_points(args.points, image=args.image, face=args.face)
     points = points_file.points
-    if args.image is not None:
-        image_path = Path(args.image)
-        # The file's frame: is of its video:, or of the one the command line names (no video:).
-        own = points_file.video is None or _same(image_path, points_file.video)
-        file_frame = points_file.frame if own else None
-        image = read_picture(image_path, frame=args.frame, video_frame=file_frame)
-    else:
-        source = points_file.video or points_file.image
-        if source is None and points_file.frame is not None:
-            raise FaceError(
-                f"{args.points}: frame: {points_file.frame} given but no video: names the clip: "
-                "give VIDEO"
-            )
-        if source is None:
-            raise FaceError(f"{args.points}: names no picture: give IMAGE or VIDEO")
-        image_path = Path(str(source).removeprefix("skimage:"))
-        image = picture_of(points_file, frame=args.frame)
+    image_path, image = _picture(args, points_file)
     model = load_model(args.model) if args.model else None
     gray = cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
     faces = detect_faces(gray)
@@ -123,33 +104,7 @@ def _describe(args: argparse.Namespace) -> int:
     out = Path(args.out)
     description_path = out / f"{image_path.stem}.face"
     size_bytes = result.save(description_path)
-
-    # Small pictures (QCIF) are enlarged for the drawing, so the wireframe stays legible.
-    zoom = max(1, int(np.ceil(ZOOM_TO_PX / max(image.shape[:2]))))
-    overlay = cv2.resize(image, None, fx=zoom, fy=zoom, interpolation=cv2.INTER_CUBIC)
-
-    def at(xy):  # pixel centres of the picture onto the enlarged drawing
-        return (np.asarray(xy, dtype=np.float64) + 0.5) * zoom - 0.5
-
-    drawn = at(result.projected() + np.array(result.origin_px)) * 16
-    for triangle in result.model.triangles:
-        cv2.polylines(
-            overlay,
-            [np.round(drawn[triangle]).astype(np.int32)],
-            True,
-            (0, 255, 0),
-            1,
-            cv2.LINE_AA,
-            4,
-        )
-    for x, y in at(list(points.values())):
-        cv2.circle(overlay, (int(round(x)), int(round(y))), 2, (0, 0, 255), -1)
-    corner = (box.x * zoom, box.y * zoom)
-    far = ((box.x + box.width) * zoom, (box.y + box.height) * zoom)
-    cv2.rectangle(overlay, corner, far, (255, 128, 0), 1)
-    ok, png = cv2.imencode(".png", overlay)
-    png_path = out / f"{image_path.stem}.fit.png"
-    atomic_write_bytes(png_path, png.tobytes())
+    png_path, zoom = _draw_fit(image, result, points, box, out / f"{image_path.stem}.fit.png")
     print(
         f"{description_path}: {size_bytes} bytes ({result.model.n_vertices} vertices, "
         f"{len(result.model.triangles)} triangles, texture {result.texture.shape[1]}x"
@@ -162,6 +117,60 @@ def _describe(args: argparse.Namespace) -> int:
     if warning is not None:
         print(f"uma: warning: {args.points}: {warning}", file=sys.stderr)
     return 0
+
+
+def _picture(args: argparse.Namespace, points_file):
+    """(path, BGR picture) the points belong to: IMAGE/VIDEO on the command line, else the
+    points file's own."""
+    from pathlib import Path
+
+    from uma.errors import FaceError
+    from uma.face.clip import picture_of, read_picture
+
+    if args.image is not None:
+        image_path = Path(args.image)
+        # The file's frame: is of its video:, or of the one the command line names (no video:).
+        own = points_file.video is None or _same(image_path, points_file.video)
+        file_frame = points_file.frame if own else None
+        return image_path, read_picture(image_path, frame=args.frame, video_frame=file_frame)
+    source = points_file.video or points_file.image
+    if source is None and points_file.frame is not None:
+        raise FaceError(
+            f"{args.points}: frame: {points_file.frame} given but no video: names the clip: "
+            "give VIDEO"
+        )
+    if source is None:
+        raise FaceError(f"{args.points}: names no picture: give IMAGE or VIDEO")
+    return Path(str(source).removeprefix("skimage:")), picture_of(points_file, frame=args.frame)
+
+
+def _draw_fit(image, result, points, box, png_path):
+    """The fitted wireframe (green), the clicked points (red) and the detected face (blue)
+    drawn on `image` into `png_path` (small pictures enlarged): (path, zoom)."""
+    import cv2
+    import numpy as np
+
+    from uma.atomic import atomic_write_bytes
+
+    # Small pictures (QCIF) are enlarged for the drawing, so the wireframe stays legible.
+    zoom = max(1, int(np.ceil(ZOOM_TO_PX / max(image.shape[:2]))))
+    overlay = cv2.resize(image, None, fx=zoom, fy=zoom, interpolation=cv2.INTER_CUBIC)
+
+    def at(xy):  # pixel centres of the picture onto the enlarged drawing
+        return (np.asarray(xy, dtype=np.float64) + 0.5) * zoom - 0.5
+
+    drawn = at(result.projected() + np.array(result.origin_px)) * 16
+    for triangle in result.model.triangles:
+        polygon = [np.round(drawn[triangle]).astype(np.int32)]
+        cv2.polylines(overlay, polygon, True, (0, 255, 0), 1, cv2.LINE_AA, 4)
+    for x, y in at(list(points.values())):
+        cv2.circle(overlay, (int(round(x)), int(round(y))), 2, (0, 0, 255), -1)
+    corner = (box.x * zoom, box.y * zoom)
+    far = ((box.x + box.width) * zoom, (box.y + box.height) * zoom)
+    cv2.rectangle(overlay, corner, far, (255, 128, 0), 1)
+    ok, png = cv2.imencode(".png", overlay)
+    atomic_write_bytes(png_path, png.tobytes())
+    return png_path, zoom
 
 
 ZOOM_TO_PX = 400  # a picture smaller than this on its long side is drawn enlarged

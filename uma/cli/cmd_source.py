@@ -75,73 +75,19 @@ def handle_synth(args: argparse.Namespace) -> int:
 
 def _synth(args: argparse.Namespace) -> int:
     import json
-    import sys
-    from fractions import Fraction
     from pathlib import Path
 
-    import av
-
-    from uma.atomic import atomic_open, atomic_write_text
-    from uma.errors import ConfigError
+    from uma.atomic import atomic_write_text
     from uma.face import TalkingHeadSource, read_fap
-    from uma.face.fap import MAX_FPS, MIN_FPS
 
     sequence = read_fap(args.fap) if args.fap else None
-    if sequence is not None:
-        if args.fps is not None and args.fps != sequence.fps:
-            raise ConfigError(
-                f"--fps {args.fps:g}: {args.fap} plays at {sequence.fps:g} frames/s; "
-                "leave --fps out with --fap"
-            )
-        if len(sequence) == 0:
-            raise ConfigError(f"{args.fap}: the file holds no frame")
-        if args.frames is not None and args.frames > len(sequence):
-            raise ConfigError(
-                f"--frames {args.frames}: {args.fap} holds only {len(sequence)} frames"
-            )
-        args.fps = sequence.fps
-        args.frames = args.frames if args.frames is not None else len(sequence)
-    args.frames = 250 if args.frames is None else args.frames
-    args.fps = 25.0 if args.fps is None else args.fps
-    if args.frames <= 0 or args.seed < 0:
-        raise ConfigError("--frames and --seed: expected positive numbers (seed >= 0)")
-    if not MIN_FPS <= args.fps <= MAX_FPS:  # also refuses NaN
-        raise ConfigError(f"--fps: expected {MIN_FPS:g}-{MAX_FPS:g} frames/s, got {args.fps:g}")
+    _settle_frames_and_fps(args, sequence)
     out = Path(args.out)
     width, height = args.size
     source = TalkingHeadSource(
         width, height, args.fps, seed=args.seed, frame_count=args.frames, fap=sequence
     )
-    truth = []
-    rate = Fraction(args.fps).limit_denominator(1001)
-    with atomic_open(out, "wb") as handle:
-        container = av.open(handle, "w", format="mp4")
-        stream = container.add_stream("libx264", rate=rate)
-        stream.width, stream.height, stream.pix_fmt = width, height, "yuv420p"
-        stream.options = {"crf": "16", "preset": "medium"}
-        frames = source.frames()
-        if not args.quiet and sys.stderr.isatty():
-            from tqdm import tqdm
-
-            frames = tqdm(frames, total=args.frames, unit="frame", file=sys.stderr, leave=False)
-        for index, frame in enumerate(frames):
-            picture = av.VideoFrame.from_ndarray(frame, format="yuv420p")
-            picture.pts = index
-            container.mux(stream.encode(picture))
-            gt = source.ground_truth(index)
-            truth.append(
-                {
-                    "frame": index,
-                    "params": [round(float(v), 6) for v in gt["params"]],
-                    "points_px": [
-                        [round(float(x), 3), round(float(y), 3)] for x, y in gt["points"]
-                    ],
-                    "light_gain": round(gt["light_gain"], 6),
-                    "light_direction": [round(float(v), 6) for v in gt["light_direction"]],
-                }
-            )
-        container.mux(stream.encode(None))
-        container.close()
+    truth = _write_clip(args, source, out)
     document = {
         "clip": out.name,
         "size": [width, height],
@@ -166,3 +112,74 @@ def _synth(args: argparse.Namespace) -> int:
         f"{out}: {args.frames} frames {width}x{height}@{args.fps:g}; ground truth in {truth_path}"
     )
     return 0
+
+
+def _settle_frames_and_fps(args: argparse.Namespace, sequence) -> None:
+    """`args.frames` and `args.fps` from the command line, the `.fap` `sequence` (None: none)
+    and the defaults; a `ConfigError` for what does not fit."""
+    from uma.errors import ConfigError
+    from uma.face.fap import MAX_FPS, MIN_FPS
+
+    if sequence is not None:
+        if args.fps is not None and args.fps != sequence.fps:
+            raise ConfigError(
+                f"--fps {args.fps:g}: {args.fap} plays at {sequence.fps:g} frames/s; "
+                "leave --fps out with --fap"
+            )
+        if len(sequence) == 0:
+            raise ConfigError(f"{args.fap}: the file holds no frame")
+        if args.frames is not None and args.frames > len(sequence):
+            raise ConfigError(
+                f"--frames {args.frames}: {args.fap} holds only {len(sequence)} frames"
+            )
+        args.fps = sequence.fps
+        args.frames = args.frames if args.frames is not None else len(sequence)
+    args.frames = 250 if args.frames is None else args.frames
+    args.fps = 25.0 if args.fps is None else args.fps
+    if args.frames <= 0 or args.seed < 0:
+        raise ConfigError("--frames and --seed: expected positive numbers (seed >= 0)")
+    if not MIN_FPS <= args.fps <= MAX_FPS:  # also refuses NaN
+        raise ConfigError(f"--fps: expected {MIN_FPS:g}-{MAX_FPS:g} frames/s, got {args.fps:g}")
+
+
+def _write_clip(args: argparse.Namespace, source, out) -> list[dict]:
+    """The talking head's frames encoded into `out` (H.264 in MP4, written atomically); each
+    frame's ground truth."""
+    import sys
+    from fractions import Fraction
+
+    import av
+
+    from uma.atomic import atomic_open
+
+    truth = []
+    rate = Fraction(args.fps).limit_denominator(1001)
+    with atomic_open(out, "wb") as handle:
+        container = av.open(handle, "w", format="mp4")
+        stream = container.add_stream("libx264", rate=rate)
+        stream.width, stream.height, stream.pix_fmt = source.width, source.height, "yuv420p"
+        stream.options = {"crf": "16", "preset": "medium"}
+        frames = source.frames()
+        if not args.quiet and sys.stderr.isatty():
+            from tqdm import tqdm
+
+            frames = tqdm(frames, total=args.frames, unit="frame", file=sys.stderr, leave=False)
+        for index, frame in enumerate(frames):
+            picture = av.VideoFrame.from_ndarray(frame, format="yuv420p")
+            picture.pts = index
+            container.mux(stream.encode(picture))
+            truth.append(_truth_row(index, source.ground_truth(index)))
+        container.mux(stream.encode(None))
+        container.close()
+    return truth
+
+
+def _truth_row(index: int, gt: dict) -> dict:
+    """One frame's ground truth as the truth file holds it (rounded)."""
+    return {
+        "frame": index,
+        "params": [round(float(v), 6) for v in gt["params"]],
+        "points_px": [[round(float(x), 3), round(float(y), 3)] for x, y in gt["points"]],
+        "light_gain": round(gt["light_gain"], 6),
+        "light_direction": [round(float(v), 6) for v in gt["light_direction"]],
+    }

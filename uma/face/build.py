@@ -117,64 +117,53 @@ def _group(prefixes: list[str], delta: tuple[float, float, float], names: list[s
     return moves
 
 
-def build_wireframe() -> FaceModel:
-    """uma's generic face: ~70 vertices, ~120 triangles, 9 shape and 7 action units."""
-    names, xy = _points()
-    vertices = np.column_stack(
-        [
-            xy,
-            _depth(
-                xy[:, 0],
-                xy[:, 1],
-                [n.rsplit("_", 1)[0] if n.endswith(("_l", "_r")) else n for n in names],
-            ),
-        ]
-    )
-    triangles = _triangulate(xy)
+# Vertex groups the units move together.
+_EYE = [
+    "eye_inner",
+    "eyelid_upper",
+    "eye_outer",
+    "eyelid_lower",
+    "pupil",
+    "eyelid_upper_inner",
+    "eyelid_upper_outer",
+]
+_BROW = ["brow_inner", "brow_mid", "brow_outer"]
+_MOUTH = [
+    "lip_corner",
+    "upper_lip_side",
+    "upper_lip_inner_side",
+    "lower_lip_inner_side",
+    "lower_lip_side",
+    "upper_lip_top",
+    "upper_lip_inner",
+    "lower_lip_inner",
+    "lower_lip_bottom",
+]
+_NOSE = ["nose_tip", "subnasale", "nose_side", "nostril_wing", "nostril", "nose_bridge"]
+_LOWER = [
+    "chin_bottom",
+    "chin",
+    "mentolabial",
+    "chin_side",
+    "chin_inner",
+    "jaw_chin",
+    "jaw_mid",
+    "jaw_low",
+]
+_CONTOUR = [
+    "temple",
+    "contour_brow",
+    "contour_eye",
+    "contour_cheek",
+    "jaw_corner",
+    "jaw_low",
+    "cheek_outer",
+    "cheekbone",
+]
 
-    eye = [
-        "eye_inner",
-        "eyelid_upper",
-        "eye_outer",
-        "eyelid_lower",
-        "pupil",
-        "eyelid_upper_inner",
-        "eyelid_upper_outer",
-    ]
-    brow = ["brow_inner", "brow_mid", "brow_outer"]
-    mouth = [
-        "lip_corner",
-        "upper_lip_side",
-        "upper_lip_inner_side",
-        "lower_lip_inner_side",
-        "lower_lip_side",
-        "upper_lip_top",
-        "upper_lip_inner",
-        "lower_lip_inner",
-        "lower_lip_bottom",
-    ]
-    nose = ["nose_tip", "subnasale", "nose_side", "nostril_wing", "nostril", "nose_bridge"]
-    lower = [
-        "chin_bottom",
-        "chin",
-        "mentolabial",
-        "chin_side",
-        "chin_inner",
-        "jaw_chin",
-        "jaw_mid",
-        "jaw_low",
-    ]
-    contour = [
-        "temple",
-        "contour_brow",
-        "contour_eye",
-        "contour_cheek",
-        "jaw_corner",
-        "jaw_low",
-        "cheek_outer",
-        "cheekbone",
-    ]
 
+def _shape_units(names: list[str]) -> dict[str, np.ndarray]:
+    """The shape units (personal proportions), before `_soften`."""
     shape_units = {
         "head_height": _unit(
             names,
@@ -183,12 +172,12 @@ def build_wireframe() -> FaceModel:
                 (0, 0.1, 0),
                 names,
             )
-            | _group(lower, (0, -0.1, 0), names),
+            | _group(_LOWER, (0, -0.1, 0), names),
         ),
-        "face_width": _unit(names, _group(contour, (0.1, 0, 0), names)),
-        "eyebrows_vertical": _unit(names, _group(brow, (0, 0.1, 0), names)),
-        "eyes_vertical": _unit(names, _group(eye, (0, 0.1, 0), names)),
-        "eye_separation": _unit(names, _group(eye, (0.1, 0, 0), names)),
+        "face_width": _unit(names, _group(_CONTOUR, (0.1, 0, 0), names)),
+        "eyebrows_vertical": _unit(names, _group(_BROW, (0, 0.1, 0), names)),
+        "eyes_vertical": _unit(names, _group(_EYE, (0, 0.1, 0), names)),
+        "eye_separation": _unit(names, _group(_EYE, (0.1, 0, 0), names)),
         "eyes_width": _unit(
             names,
             {
@@ -198,8 +187,8 @@ def build_wireframe() -> FaceModel:
                 "eyelid_upper_outer": (0.025, 0, 0),
             },
         ),
-        "nose_vertical": _unit(names, _group(nose, (0, 0.1, 0), names)),
-        "mouth_vertical": _unit(names, _group(mouth, (0, 0.1, 0), names)),
+        "nose_vertical": _unit(names, _group(_NOSE, (0, 0.1, 0), names)),
+        "mouth_vertical": _unit(names, _group(_MOUTH, (0, 0.1, 0), names)),
         "mouth_width": _unit(
             names,
             {
@@ -221,6 +210,11 @@ def build_wireframe() -> FaceModel:
             },
         ),
     }
+    return shape_units
+
+
+def _jaw(names: list[str]) -> dict:
+    """What the jaw drop moves, and how far."""
     jaw = _group(
         [
             "lower_lip_inner",
@@ -243,6 +237,12 @@ def build_wireframe() -> FaceModel:
         "jaw_low": (0, -0.11, -0.03),
         "cheek_low": (0, -0.04, 0),
     }
+    return jaw
+
+
+def _action_units(names: list[str]) -> dict[str, np.ndarray]:
+    """The action units (expressions)."""
+    jaw = _jaw(names)
     action_units = {
         "jaw_drop": _unit(names, jaw),
         "lip_stretch": _unit(
@@ -276,7 +276,7 @@ def build_wireframe() -> FaceModel:
             },
         ),
         "brow_raise": _unit(
-            names, _group(brow, (0, 0.1, 0), names) | {"eyelid_upper": (0, 0.02, 0)}
+            names, _group(_BROW, (0, 0.1, 0), names) | {"eyelid_upper": (0, 0.02, 0)}
         ),
         # Closed (1.0), the upper lid lies just above the lower one, pupil between: the lid comes
         # down without crossing the edges that span the eye, so no triangle folds over.
@@ -290,6 +290,25 @@ def build_wireframe() -> FaceModel:
             },
         ),
     }
+    return action_units
+
+
+def build_wireframe() -> FaceModel:
+    """uma's generic face: ~70 vertices, ~120 triangles, 9 shape and 7 action units."""
+    names, xy = _points()
+    vertices = np.column_stack(
+        [
+            xy,
+            _depth(
+                xy[:, 0],
+                xy[:, 1],
+                [n.rsplit("_", 1)[0] if n.endswith(("_l", "_r")) else n for n in names],
+            ),
+        ]
+    )
+    triangles = _triangulate(xy)
+    shape_units = _shape_units(names)
+    action_units = _action_units(names)
     # A shape unit also carries the ring of vertices around the ones it names, half as far, so
     # a strong personal proportion bends the mesh instead of folding triangles over.
     shape_units = {k: _soften(unit, triangles) for k, unit in shape_units.items()}

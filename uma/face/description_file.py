@@ -33,30 +33,8 @@ def load_description(path: str | Path) -> ContentDescription:
     path = Path(path)
     arrays = read_npz(path, what=WHAT, names=MEMBERS)
     meta = _meta(arrays["meta"], f"{path}: meta")
-    vertices = _floats(arrays["vertices"], f"{path}: vertices", ndim=2)
-    if vertices.shape[1:] != (3,) or vertices.shape[0] < 3:
-        raise FaceError(f"{path}: vertices: expected (N >= 3, 3) numbers, got {vertices.shape}")
-    n = vertices.shape[0]
-    triangles = arrays["triangles"]
-    if triangles.dtype.kind not in "iu" or triangles.ndim != 2 or triangles.shape[1:] != (3,):
-        raise FaceError(
-            f"{path}: triangles: expected (T, 3) whole numbers, got {triangles.dtype} "
-            f"{triangles.shape}"
-        )
-    if triangles.size == 0 or triangles.min() < 0 or triangles.max() >= n:
-        raise FaceError(f"{path}: triangles: expected vertex numbers 0-{n - 1}, got others")
-    names = meta["action_unit_names"]
-    actions = _floats(arrays["action_units"], f"{path}: action_units", ndim=3)
-    if actions.shape != (len(names), n, 3):
-        raise FaceError(
-            f"{path}: action_units: expected ({len(names)}, {n}, 3) for {len(names)} named units "
-            f"and {n} vertices, got {actions.shape}"
-        )
-    for point, index in meta["feature_points"].items():
-        if not 0 <= index < n:
-            raise FaceError(
-                f"{path}: meta.feature_points.{_key(point)}: expected a vertex 0-{n - 1}, got {index}"
-            )
+    vertices, triangles, actions = _mesh(arrays, meta, path)
+    n, names = vertices.shape[0], meta["action_unit_names"]
     params = _floats(arrays["params"], f"{path}: params", ndim=1)
     if params.shape != (N_POSE + len(names),):
         raise FaceError(
@@ -89,6 +67,36 @@ def load_description(path: str | Path) -> ContentDescription:
         fit_rms_px=meta["fit_rms_px"],
         origin_px=meta["origin_px"],
     )
+
+
+def _mesh(arrays, meta: dict, path: Path):
+    """(vertices, triangles, action units) of a description's arrays, checked against each
+    other and against the feature points `meta` names."""
+    vertices = _floats(arrays["vertices"], f"{path}: vertices", ndim=2)
+    if vertices.shape[1:] != (3,) or vertices.shape[0] < 3:
+        raise FaceError(f"{path}: vertices: expected (N >= 3, 3) numbers, got {vertices.shape}")
+    n = vertices.shape[0]
+    triangles = arrays["triangles"]
+    if triangles.dtype.kind not in "iu" or triangles.ndim != 2 or triangles.shape[1:] != (3,):
+        raise FaceError(
+            f"{path}: triangles: expected (T, 3) whole numbers, got {triangles.dtype} "
+            f"{triangles.shape}"
+        )
+    if triangles.size == 0 or triangles.min() < 0 or triangles.max() >= n:
+        raise FaceError(f"{path}: triangles: expected vertex numbers 0-{n - 1}, got others")
+    names = meta["action_unit_names"]
+    actions = _floats(arrays["action_units"], f"{path}: action_units", ndim=3)
+    if actions.shape != (len(names), n, 3):
+        raise FaceError(
+            f"{path}: action_units: expected ({len(names)}, {n}, 3) for {len(names)} named units "
+            f"and {n} vertices, got {actions.shape}"
+        )
+    for point, index in meta["feature_points"].items():
+        if not 0 <= index < n:
+            raise FaceError(
+                f"{path}: meta.feature_points.{_key(point)}: expected a vertex 0-{n - 1}, got {index}"
+            )
+    return vertices, triangles, actions
 
 
 def _floats(array: np.ndarray, where: str, *, ndim: int) -> np.ndarray:

@@ -215,6 +215,35 @@ def parse_fap(text: str, *, where: str = "<fap>") -> FapSequence:
     if not rows:
         raise FaceError(f"{where}:1: expected the header 'version name fps frames', got nothing")
     number, header = rows[0]
+    version, name, fps, count = _header(header, number, where)
+    body = rows[1:]
+    if len(body) % 2:
+        number, line = body[-1]
+        raise FaceError(f"{where}:{number}: a mask line without its value line")
+    if len(body) // 2 != count:
+        last = body[-1][0] if body else number
+        raise FaceError(
+            f"{where}:{last}: the header says {count} frames, the file holds {len(body) // 2}"
+        )
+    frames, numbers = [], []
+    for mask, value in zip(body[::2], body[1::2], strict=True):
+        frame_number, frame = _frame(mask, value, where)
+        numbers.append(frame_number)
+        frames.append(frame)
+    try:
+        return FapSequence(
+            name=name or "unnamed",
+            fps=fps,
+            frames=tuple(frames),
+            numbers=tuple(numbers),
+            version=version,
+        )
+    except FaceError as err:
+        raise FaceError(f"{where}: {err}") from None
+
+
+def _header(header: str, number: int, where: str) -> tuple[str, str, float, int]:
+    """(version, name, fps, frames) of the header line `header` (line `number`)."""
     fields = header.split()
     try:
         if len(fields) < 4:
@@ -232,53 +261,37 @@ def parse_fap(text: str, *, where: str = "<fap>") -> FapSequence:
             f"{where}:{number}: expected a frame rate of {MIN_FPS:g}-{MAX_FPS:g} frames/s in "
             f"the header, got {fields[-2]}"
         )
-    version, name = fields[0], " ".join(fields[1:-2])
-    body = rows[1:]
-    if len(body) % 2:
-        number, line = body[-1]
-        raise FaceError(f"{where}:{number}: a mask line without its value line")
-    if len(body) // 2 != count:
-        last = body[-1][0] if body else number
+    return fields[0], " ".join(fields[1:-2]), fps, count
+
+
+def _frame(mask, value, where: str) -> tuple[int, dict[int, int]]:
+    """(frame number, {FAP: value}) of one frame's mask line and value line, each
+    (line number, text)."""
+    (mask_no, mask_line), (value_no, value_line) = mask, value
+    flags = mask_line.split()
+    if len(flags) != N_FAPS or any(f not in ("0", "1") for f in flags):
         raise FaceError(
-            f"{where}:{last}: the header says {count} frames, the file holds {len(body) // 2}"
+            f"{where}:{mask_no}: expected a mask of {N_FAPS} flags 0/1, got "
+            f"{len(flags)} fields ({_short(mask_line)})"
         )
-    frames, numbers = [], []
-    for (mask_no, mask_line), (value_no, value_line) in zip(body[::2], body[1::2], strict=True):
-        flags = mask_line.split()
-        if len(flags) != N_FAPS or any(f not in ("0", "1") for f in flags):
-            raise FaceError(
-                f"{where}:{mask_no}: expected a mask of {N_FAPS} flags 0/1, got "
-                f"{len(flags)} fields ({_short(mask_line)})"
-            )
-        on = [k + 1 for k, f in enumerate(flags) if f == "1"]
-        try:
-            values = [int(v) for v in value_line.split()]
-        except ValueError:
-            raise FaceError(
-                f"{where}:{value_no}: expected whole numbers (frame number, then FAP values), "
-                f"got {_short(value_line)}"
-            ) from None
-        if len(values) != len(on) + 1:
-            raise FaceError(
-                f"{where}:{value_no}: expected the frame number and {len(on)} values (the mask "
-                f"on line {mask_no} has {len(on)} flags set), got {len(values)} numbers"
-            )
-        for fap, value in zip(on, values[1:], strict=True):
-            problem = _value_problem(fap, value)
-            if problem is not None:
-                raise FaceError(f"{where}:{value_no}: {problem}")
-        numbers.append(values[0])
-        frames.append(dict(zip(on, values[1:], strict=True)))
+    on = [k + 1 for k, f in enumerate(flags) if f == "1"]
     try:
-        return FapSequence(
-            name=name or "unnamed",
-            fps=fps,
-            frames=tuple(frames),
-            numbers=tuple(numbers),
-            version=version,
+        values = [int(v) for v in value_line.split()]
+    except ValueError:
+        raise FaceError(
+            f"{where}:{value_no}: expected whole numbers (frame number, then FAP values), "
+            f"got {_short(value_line)}"
+        ) from None
+    if len(values) != len(on) + 1:
+        raise FaceError(
+            f"{where}:{value_no}: expected the frame number and {len(on)} values (the mask "
+            f"on line {mask_no} has {len(on)} flags set), got {len(values)} numbers"
         )
-    except FaceError as err:
-        raise FaceError(f"{where}: {err}") from None
+    for fap, v in zip(on, values[1:], strict=True):
+        problem = _value_problem(fap, v)
+        if problem is not None:
+            raise FaceError(f"{where}:{value_no}: {problem}")
+    return values[0], dict(zip(on, values[1:], strict=True))
 
 
 def _short(line: str, limit: int = 40) -> str:

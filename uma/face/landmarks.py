@@ -133,6 +133,22 @@ def parse_pts(text: str, *, where: str = "<pts>", one_based: bool = True) -> np.
             raise FaceError(f"{where}:{len(lines) + 1}: expected {what}, got the end of the file")
         return item
 
+    count = _pts_header(take, where, len(numbered))
+    number, line = take("'{'")
+    if line != "{":
+        raise FaceError(f"{where}:{number}: expected '{{', got {line!r}")
+    points = np.array([_pts_point(take, where, k, count) for k in range(count)], dtype=float)
+    number, line = take("'}'")
+    if line != "}":
+        raise FaceError(f"{where}:{number}: expected '}}' after {count} points, got {line!r}")
+    extra = next(expect, None)
+    if extra is not None:
+        raise FaceError(f"{where}:{extra[0]}: expected the end of the file, got {extra[1]!r}")
+    return points - 1.0 if one_based else points
+
+
+def _pts_header(take, where: str, lines: int) -> int:
+    """The point count of a `.pts` header ('version: 1', 'n_points: N'), read by `take`."""
     number, line = take("'version: 1'")
     key, _, value = line.partition(":")
     if key.strip() != "version" or value.strip() not in ("1", "1.0"):
@@ -147,37 +163,30 @@ def parse_pts(text: str, *, where: str = "<pts>", one_based: bool = True) -> np.
             raise ValueError
     except ValueError:
         raise FaceError(f"{where}:{number}: expected 'n_points: N' (N > 0), got {line!r}") from None
-    if count > len(numbered):
+    if count > lines:
         raise FaceError(
             f"{where}:{number}: n_points: {count} points announced, but the file has only "
-            f"{len(numbered)} lines"
+            f"{lines} lines"
         )
-    number, line = take("'{'")
-    if line != "{":
-        raise FaceError(f"{where}:{number}: expected '{{', got {line!r}")
-    points = np.empty((count, 2))
-    for k in range(count):
-        number, line = take(f"point {k + 1} of {count} as 'x y'")
-        fields = line.split()
-        try:
-            if len(fields) != 2:
-                raise ValueError
-            xy = [float(v) for v in fields]
-            if not all(np.isfinite(xy)):
-                raise ValueError
-        except ValueError:
-            raise FaceError(
-                f"{where}:{number}: expected point {k + 1} of {count} as two numbers 'x y', "
-                f"got {line!r}"
-            ) from None
-        points[k] = xy
-    number, line = take("'}'")
-    if line != "}":
-        raise FaceError(f"{where}:{number}: expected '}}' after {count} points, got {line!r}")
-    extra = next(expect, None)
-    if extra is not None:
-        raise FaceError(f"{where}:{extra[0]}: expected the end of the file, got {extra[1]!r}")
-    return points - 1.0 if one_based else points
+    return count
+
+
+def _pts_point(take, where: str, k: int, count: int) -> list[float]:
+    """Point `k` (0-based) of `count` as [x, y], read by `take`."""
+    number, line = take(f"point {k + 1} of {count} as 'x y'")
+    fields = line.split()
+    try:
+        if len(fields) != 2:
+            raise ValueError
+        xy = [float(v) for v in fields]
+        if not all(np.isfinite(xy)):
+            raise ValueError
+    except ValueError:
+        raise FaceError(
+            f"{where}:{number}: expected point {k + 1} of {count} as two numbers 'x y', "
+            f"got {line!r}"
+        ) from None
+    return xy
 
 
 def read_pts(path: str | Path, *, one_based: bool = True) -> np.ndarray:

@@ -61,28 +61,6 @@ class GaussNewtonConfig:
             raise ValueError("Gauss-Newton: damping > 0, blur and tolerance >= 0 expected")
 
 
-def _patch_photometry(samples, template, tri, visible, gain, offset, n_tri):
-    """Per-triangle least-squares gain and offset; small or flat patches keep the global ones."""
-    idx = tri[visible]
-    s, t = samples[visible], template[visible]
-    n = np.bincount(idx, minlength=n_tri).astype(np.float64)
-    ss = np.bincount(idx, s, n_tri)
-    st = np.bincount(idx, t, n_tri)
-    sss = np.bincount(idx, s * s, n_tri)
-    sst = np.bincount(idx, s * t, n_tri)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        var = sss - ss * ss / n
-        cov = sst - ss * st / n
-        patch_gain = cov / var
-        usable = (
-            (n >= 8) & (var > 1e-3 * np.maximum(n, 1)) & (patch_gain > 0.2) & (patch_gain < 5.0)
-        )
-        patch_offset = (st - patch_gain * ss) / n
-    g = np.where(usable[tri], patch_gain[tri], gain)
-    o = np.where(usable[tri], patch_offset[tri], offset)
-    return g, o
-
-
 @dataclass(frozen=True, eq=False)
 class _State:
     params: np.ndarray
@@ -110,6 +88,7 @@ class _Problem:
         self.config = config
         r = template.raster
         self.tri = np.ascontiguousarray(r.tri, dtype=np.int64)
+        self.n_tri = len(model.triangles)
         self.corners = np.ascontiguousarray(r.corners, dtype=np.int64)
         self.bary = np.ascontiguousarray(r.bary, dtype=np.float32)
         self.values = template.values.astype(np.float64)
@@ -132,24 +111,19 @@ class _Problem:
 
     def state(self, params: np.ndarray) -> _State | None:
         from uma.fit.kernels import sample_at
+        from uma.fit.photometry import photometric_residual
 
         self.evaluations += 1
         points = self.project(params[None])
         samples = sample_at(self.image, self.corners, self.bary, points)[0].astype(np.float64)
         visible = batch_visible(self.model, points)[0][self.tri]
-        s, t = samples[visible], self.values[visible]
-        if s.size < 16 or s.std() < 1e-6 or t.std() < 1e-6:
+        ok, residual, gain, error = photometric_residual(
+            samples, self.values, self.tri, visible, self.n_tri, self.config.patch_photometry
+        )
+        if not ok:
             return None
-        g = float(np.mean((s - s.mean()) * (t - t.mean())) / s.var())
-        gain = np.full(samples.shape, g)
-        offset = np.full(samples.shape, t.mean() - g * s.mean())
-        if self.config.patch_photometry:
-            gain, offset = _patch_photometry(
-                samples, self.values, self.tri, visible, gain, offset, len(self.model.triangles)
-            )
-        residual = gain * samples + offset - self.values
         actions = params[N_POSE:]
-        error = float(np.mean(residual[visible] ** 2) + self.prior * np.sum(actions**2))
+        error = float(error + self.prior * np.sum(actions**2))
         if not np.isfinite(error):
             return None
         return _State(params, points, residual, visible, gain, error)

@@ -144,6 +144,8 @@ def _affine(points, triangles, inverse, b, t, out):
             )
 
 
+# Long on purpose (86 lines): one pass per candidate over every template pixel with running
+# sums in registers; split into helpers, numba would keep the sums in arrays between calls.
 @njit(cache=True, fastmath=True)
 def scores(image, pixels, inverse, runs, template, points, triangles, patch_weight):
     """Correlation of the template with the image warped by each candidate (B,) in [-1, 1].

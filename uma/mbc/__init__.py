@@ -8,7 +8,8 @@ range-codes (coding.py, constriction, imported when coding) and packs (packets.p
 plate, the torso moved by the body motion, the head by the model (layers.py,
 layered_render.py); `BodyTracker` (body.py) measures the body motion at the engine;
 `RefreshCoder` and `take_refresh` (refresh_coder.py) code a refresh and make it the reference
-at both ends; `schedule_refresh` (refresh.py) says which refresh picture serves which frame.
+at both ends; `refresh_gain_db` and `needs_judging` (refresh_judge.py) judge one against
+the receiver's rendering; `schedule_refresh` (refresh.py) says which refresh picture serves which frame.
 """
 
 from uma.mbc.body import BodyFailure, BodyTracker
@@ -21,6 +22,7 @@ from uma.mbc.packets import IP_UDP_RTP_BYTES, Packet, parse_packet
 from uma.mbc.quant import Quantiser, QuantiserConfig
 from uma.mbc.refresh import RefreshSchedule, RefreshUnit, refresh_frames, schedule_refresh
 from uma.mbc.refresh_coder import RefreshCoder, take_refresh
+from uma.mbc.refresh_judge import needs_judging, refresh_gain_db
 from uma.mbc.scene_render import SceneRenderer, description_reference
 from uma.mbc.stream import ParameterEncoder, StreamConfig
 from uma.mbc.units import FaceUnits
@@ -59,4 +61,6 @@ __all__ = [
     "BodyFailure",
     "RefreshCoder",
     "take_refresh",
+    "needs_judging",
+    "refresh_gain_db",
 ]

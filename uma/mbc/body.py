@@ -26,6 +26,9 @@ _ITERATIONS = 20
 _EPSILON = 1e-3
 _MIN_TORSO_PIXELS = 200  # at half resolution
 _BELOW_CHIN_OF_HEIGHT = 0.05
+# A torso whose pixels (half resolution) differ from those of the last aligned picture by
+# less than this mean (luma levels) has not moved: the last motion stands, no alignment.
+STILL_LEVELS = 0.75
 
 
 @dataclass(frozen=True)
@@ -46,10 +49,12 @@ class BodyTracker:
         self.last = NO_BODY_MOTION.copy()
         self._key = None
         self._template = None
+        self._aligned = None  # the half-resolution picture the last motion was measured on
 
     def reset(self) -> None:
         self.last = NO_BODY_MOTION.copy()
         self._key = None
+        self._aligned = None
 
     def _prepare(self, renderer) -> None:
         import cv2
@@ -67,6 +72,7 @@ class BodyTracker:
         self._template = (luma.astype(np.float32), mask.astype(np.uint8))
         self._key = key
         self.last = NO_BODY_MOTION.copy()
+        self._aligned = None
 
     def measure(self, renderer, luma: np.ndarray) -> np.ndarray | BodyFailure:
         """The torso's motion from `renderer`'s reference to `luma` (H, W), or a
@@ -84,6 +90,8 @@ class BodyTracker:
         start[:, 2] *= 0.5  # half resolution: the same map on halved coordinates
         width, height = renderer.size
         picture = cv2.resize(luma, (width // 2, height // 2), interpolation=cv2.INTER_AREA)
+        if self._aligned is not None and self._still(picture, mask):
+            return self.last  # the torso did not change since it was last aligned
         criteria = (cv2.TERM_CRITERIA_COUNT | cv2.TERM_CRITERIA_EPS, _ITERATIONS, _EPSILON)
         try:
             _, warp = cv2.findTransformECC(
@@ -98,4 +106,13 @@ class BodyTracker:
         if problem:
             return BodyFailure(problem)
         self.last = body
+        self._aligned = picture
         return body
+
+    def _still(self, picture: np.ndarray, mask: np.ndarray) -> bool:
+        """Whether `picture`'s torso pixels (`mask`, half resolution) are those of the last
+        aligned picture within `STILL_LEVELS` on average."""
+        import cv2
+
+        change = cv2.mean(cv2.absdiff(picture, self._aligned), mask=mask)[0]
+        return change < STILL_LEVELS

@@ -84,32 +84,37 @@ class ParameterDecoder:
             if ahead:
                 events.append(DecodeEvent("missing", packet.seq, f"{ahead} packet(s) lost"))
                 self._lose_sync()
-        if packet.light != self.units.light:
-            raise PacketError(
-                f"{where} (seq {packet.seq}): light {'present' if packet.light else 'absent'}, "
-                f"the stream was set up {'with' if self.units.light else 'without'} it"
-            )
-        if packet.body != self.units.body:
-            raise PacketError(
-                f"{where} (seq {packet.seq}): body motion {'present' if packet.body else 'absent'},"
-                f" the stream was set up {'with' if self.units.body else 'without'} it"
-            )
+        self._check_layout(packet, where)
         self._expected_seq = (packet.seq + 1) % SEQ_MODULUS
         if not packet.intra:
             if self._reference is not None and packet.first_frame != self._next_frame:
-                events.append(
-                    DecodeEvent(
-                        "missing",
-                        packet.seq,
-                        f"frame {packet.first_frame} follows {self._next_frame}",
-                    )
-                )
+                detail = f"frame {packet.first_frame} follows {self._next_frame}"
+                events.append(DecodeEvent("missing", packet.seq, detail))
                 self._lose_sync()
             if self._reference is None:
                 events.append(DecodeEvent("waiting", packet.seq, "no reference: needs intra"))
                 return Decoded((), tuple(events))
         elif self._reference is None and self.params is not None:
             events.append(DecodeEvent("resync", packet.seq))
+        frames = self._frames(packet, where)
+        self._next_frame = (packet.first_frame + packet.count) % FRAME_MODULUS
+        self.params = frames[-1][1]
+        return Decoded(tuple(frames), tuple(events))
+
+    def _check_layout(self, packet, where: str) -> None:
+        """A packet whose light or body motion flag disagrees with the stream's set-up is a
+        `PacketError`."""
+        for name, present, expected in (("light", packet.light, self.units.light),
+                                        ("body motion", packet.body, self.units.body)):  # fmt: skip
+            if present != expected:
+                raise PacketError(
+                    f"{where} (seq {packet.seq}): {name} {'present' if present else 'absent'}, "
+                    f"the stream was set up {'with' if expected else 'without'} it"
+                )
+
+    def _frames(self, packet, where: str) -> list[tuple[int, np.ndarray]]:
+        """The packet's sets decoded against the reference (the new reference kept); a set no
+        face has is a `PacketError` and loses sync."""
         kinds = [packet.intra] + [False] * (packet.count - 1)
         try:
             indices = decode_sets(packet.words, kinds, self.models)
@@ -125,23 +130,17 @@ class ParameterDecoder:
             else:
                 reference = self.quantiser.dequantise_predictive(set_indices, reference, code)
             params = self.units.from_units(reference)
+            problem = ""
             if not (np.all(np.isfinite(params)) and params[2] > 0):
-                self._lose_sync()
-                raise PacketError(
-                    f"{where} (seq {packet.seq}): frame {offset} decodes to parameters no face "
-                    "has (scale not positive)"
-                )
-            problem = _light_problem(self.units.split(params)[1]) or _body_problem(
-                self.units.body_of(params)
-            )
+                problem = "decodes to parameters no face has (scale not positive)"
+            problem = problem or _light_problem(self.units.split(params)[1])
+            problem = problem or _body_problem(self.units.body_of(params))
             if problem:
                 self._lose_sync()
                 raise PacketError(f"{where} (seq {packet.seq}): frame {offset}: {problem}")
             frames.append(((packet.first_frame + offset) % FRAME_MODULUS, params))
         self._reference = reference
-        self._next_frame = (packet.first_frame + packet.count) % FRAME_MODULUS
-        self.params = frames[-1][1]
-        return Decoded(tuple(frames), tuple(events))
+        return frames
 
 
 def _body_problem(body: np.ndarray | None) -> str:

@@ -275,6 +275,38 @@ class FaceTracker:
         self, image: np.ndarray, frame: int, why: str, *, spent: int = 0
     ) -> TrackResult | TrackFailure:
         self._forget()
+        fit, detections, why = self._fit(image, why)
+        if not fit:
+            return TrackFailure(
+                f"frame {frame}: {why}; initialisation failed: {fit.reason}",
+                frame=frame,
+                evaluations=spent,
+                detections=detections,
+            )
+        score = 1.0 - fit.cost
+        evaluations = spent + fit.evaluations
+        problem = self._refused(image, fit.params, score)
+        if problem:
+            return TrackFailure(
+                f"frame {frame}: {why}; {problem}",
+                frame=frame,
+                evaluations=evaluations,
+                detections=detections,
+                score=score,
+            )
+        self.gate.reset()
+        self.gate.accept(image, fit.params)
+        if self._level is None:
+            self._level = score  # the first initialisation's match sets the level to keep
+        self._previous = fit.params
+        self._held, self._next_init = 0, None
+        self._last_good = fit.params
+        return TrackResult(frame, fit.params, score, True, why, evaluations, detections)
+
+    def _fit(self, image: np.ndarray, why: str):
+        """The automatic initialisation on `image`: (fit or failure, detector runs, `why`
+        with how it was found). Where the detector misses (small or turned QCIF faces), the
+        search starts around the last good pose instead."""
         start = box = None
         if self.calibration is None:
             start = self.home
@@ -290,7 +322,6 @@ class FaceTracker:
         )
         detections = int(self.calibration is not None)
         if not fit and self._last_good is not None and start is None:
-            # The detector misses small or turned faces (QCIF): search around the last pose.
             last = self._last_good
             width = self.template.face_width_px * last[2] / self.template.params[2]
             retry = fit_face(
@@ -306,48 +337,14 @@ class FaceTracker:
                 fit = retry
             else:
                 fit = Failure(f"{fit.reason}; around the last pose: {retry.reason}")
-        if not fit:
-            return TrackFailure(
-                f"frame {frame}: {why}; initialisation failed: {fit.reason}",
-                frame=frame,
-                evaluations=spent,
-                detections=detections,
-            )
-        score = 1.0 - fit.cost
-        evaluations = spent + fit.evaluations
+        return fit, detections, why
+
+    def _refused(self, image: np.ndarray, params: np.ndarray, score: float) -> str:
+        """Why an initialisation's fit at `params` scoring `score` is not taken, or ""."""
         if score < self.config.lost_below:
-            return TrackFailure(
-                f"frame {frame}: {why}; initialisation matched poorly (score {score:.2f} < "
-                f"{self.config.lost_below})",
-                frame=frame,
-                evaluations=evaluations,
-                detections=detections,
-                score=score,
-            )
-        inside = self._inside(fit.params, image.shape)
+            return f"initialisation matched poorly (score {score:.2f} < {self.config.lost_below})"
+        inside = self._inside(params, image.shape)
         if inside < self.config.min_inside:
-            return TrackFailure(
-                f"frame {frame}: {why}; initialisation found a face only {100 * inside:.0f} % "
-                "inside the picture",
-                frame=frame,
-                evaluations=evaluations,
-                detections=detections,
-                score=score,
-            )
-        covered = self._covered(image, fit.params, self.config.occluded_init_above)
-        if covered:
-            return TrackFailure(
-                f"frame {frame}: {why}; initialisation found a {covered}",
-                frame=frame,
-                evaluations=evaluations,
-                detections=detections,
-                score=score,
-            )
-        self.gate.reset()
-        self.gate.accept(image, fit.params)
-        if self._level is None:
-            self._level = score  # the first initialisation's match sets the level to keep
-        self._previous = fit.params
-        self._held, self._next_init = 0, None
-        self._last_good = fit.params
-        return TrackResult(frame, fit.params, score, True, why, evaluations, detections)
+            return f"initialisation found a face only {100 * inside:.0f} % inside the picture"
+        covered = self._covered(image, params, self.config.occluded_init_above)
+        return f"initialisation found a {covered}" if covered else ""

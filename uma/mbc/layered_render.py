@@ -16,7 +16,7 @@ import numpy as np
 
 from uma.mbc.layers import NO_BODY_MOTION, body_matrix, head_ring_points, rigid_fit
 
-__all__ = ["compose_layers", "chroma_matrix"]
+__all__ = ["compose_layers", "chroma_matrix", "mask_box"]
 
 _GAP_KERNEL = np.ones((3, 3), np.uint8)
 # A layer's edge fades over about this many pixels (the head's outward, into the picture moved
@@ -24,6 +24,8 @@ _GAP_KERNEL = np.ones((3, 3), np.uint8)
 # reference (not at all at the reference's pose: the identity returns the reference).
 FEATHER_SIGMA_PX = 1.5
 FEATHER_FULL_PX = 2.0
+# OpenCV's Gaussian at FEATHER_SIGMA_PX reaches 6 px: a box this much wider sees all of it.
+_BLEED_MARGIN_PX = 8
 
 
 def chroma_matrix(matrix: np.ndarray) -> np.ndarray:
@@ -59,7 +61,8 @@ def _head(renderer, params: np.ndarray, target: np.ndarray, box):
         depth=scene.depth(params),
     )
     affine = barycentric_affine(target, scene.triangles)
-    coeffs = np.einsum("tjk,tjc->tck", affine, renderer._reference_points[scene.triangles])
+    # (T, 2, 3): the reference's (x, y) as an affine function of the picture's (x, y, 1).
+    coeffs = np.matmul(renderer._reference_points[scene.triangles].transpose(0, 2, 1), affine)
     still = np.array([[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]])
     table = np.concatenate([coeffs, still]).reshape(-1, 6).T.astype(np.float32)
     flat = np.where(labels < 0, len(coeffs), labels).ravel()
@@ -70,22 +73,113 @@ def _head(renderer, params: np.ndarray, target: np.ndarray, box):
     return labels, map_x, map_y
 
 
+def _shifted(matrix: np.ndarray, x0: int, y0: int) -> np.ndarray:
+    """`matrix` drawing into a box whose corner is (x0, y0) instead of the whole picture."""
+    out = np.array(matrix, dtype=np.float64)
+    out[:, 2] -= (x0, y0)
+    return out
+
+
+def mask_box(mask: np.ndarray, margin: int = 0) -> tuple[int, int, int, int] | None:
+    """The even-cornered, even-sized box (x0, y0, x1, y1) around `mask`'s pixels, `margin`
+    pixels wider on every side (clamped to the picture); None when the mask is empty."""
+    import cv2
+
+    x, y, w, h = cv2.boundingRect(mask.view(np.uint8))
+    if w == 0 or h == 0:
+        return None
+    height, width = mask.shape
+    x0, y0 = max(x - margin, 0) // 2 * 2, max(y - margin, 0) // 2 * 2
+    x1 = min((x + w + margin + 1) // 2 * 2, width)
+    y1 = min((y + h + margin + 1) // 2 * 2, height)
+    return x0, y0, x1, y1
+
+
+def _warped_mask(source: np.ndarray, source_box, matrix: np.ndarray, size) -> np.ndarray:
+    """The 0/1 mask `source` moved by `matrix` into a picture of `size` (W, H), warped over
+    the box its moved bounding box `source_box` covers only."""
+    import cv2
+
+    width, height = size
+    out = np.zeros((height, width), np.uint8)
+    if source_box is None:
+        return out
+    x0, y0, x1, y1 = source_box
+    corners = np.array([[x0, y0], [x1, y0], [x0, y1], [x1, y1]], np.float64)
+    box = _box(corners @ matrix[:, :2].T + matrix[:, 2], size)
+    if box is None:
+        return out
+    bx0, by0, bx1, by1 = box
+    out[by0:by1, bx0:bx1] = cv2.warpAffine(
+        source, _shifted(matrix, bx0, by0), (bx1 - bx0, by1 - by0), flags=cv2.INTER_NEAREST
+    )
+    return out
+
+
+def _draw_layer(renderer, out: np.ndarray, mask: np.ndarray, matrix: np.ndarray, box):
+    """Draw the reference moved by `matrix` into `out` where `mask`, over `box` only; the
+    moved picture over `box` (luma rows, then both chroma planes' rows)."""
+    import cv2
+
+    height = renderer.size[1]
+    x0, y0, x1, y1 = box
+    linear, edge = cv2.INTER_LINEAR, cv2.BORDER_REPLICATE
+    moved = _shifted(matrix, x0, y0)
+    drawn = np.empty(((y1 - y0) * 3 // 2, x1 - x0), np.uint8)
+    drawn[: y1 - y0] = cv2.warpAffine(
+        renderer.reference[:height], moved, (x1 - x0, y1 - y0), flags=linear, borderMode=edge
+    )
+    inside = mask[y0:y1, x0:x1]
+    np.copyto(out[y0:y1, x0:x1], drawn[: y1 - y0], where=inside.view(bool))
+    at = (inside[0::2, 0::2] | inside[1::2, 1::2]).view(bool)
+    half = ((x1 - x0) // 2, (y1 - y0) // 2)
+    chroma = out[height:].reshape(2, height // 2, -1)
+    below = drawn[y1 - y0 :].reshape(2, half[1], half[0])
+    for k, source in enumerate((renderer._u, renderer._v)):
+        below[k] = cv2.warpAffine(source, chroma_matrix(moved), half, flags=linear,
+                                  borderMode=edge)  # fmt: skip
+        np.copyto(chroma[k][y0 // 2 : y1 // 2, x0 // 2 : x1 // 2], below[k], where=at)
+    return drawn
+
+
+def _draw_head(renderer, out: np.ndarray, inside: np.ndarray, maps, box) -> None:
+    """Draw the head over `box` where `inside`, reading the reference at `maps`."""
+    import cv2
+
+    height = renderer.size[1]
+    x0, y0, x1, y1 = box
+    map_x, map_y = maps
+    linear, edge = cv2.INTER_LINEAR, cv2.BORDER_REPLICATE
+    drawn = cv2.remap(renderer.reference[:height], map_x, map_y, linear, borderMode=edge)
+    np.copyto(out[y0:y1, x0:x1], drawn, where=inside)
+    cx = (map_x[0::2, 0::2] + map_x[1::2, 1::2] - 1.0) * 0.25
+    cy = (map_y[0::2, 0::2] + map_y[1::2, 1::2] - 1.0) * 0.25
+    at = inside[0::2, 0::2] | inside[1::2, 1::2]
+    chroma = out[height:].reshape(2, height // 2, -1)
+    for plane, source in zip(chroma, (renderer._u, renderer._v), strict=True):
+        drawn = cv2.remap(source, cx, cy, linear, borderMode=edge)
+        np.copyto(plane[y0 // 2 : y1 // 2, x0 // 2 : x1 // 2], drawn, where=at)
+
+
 def compose_layers(renderer, params: np.ndarray, body: np.ndarray | None):
     """The picture (YUV 4:2:0, no light) of a layered `renderer`
     (`uma.mbc.scene_render.SceneRenderer`) at `params` with the torso at `body` (None:
-    still), and the mask of the face's own pixels."""
+    still), and the mask of the face's own pixels.
+
+    Every layer is warped over the box it covers only (the plate's pixels elsewhere are
+    never touched), which draws the same picture as whole-picture warps at a fraction of
+    their cost."""
     import cv2
 
     width, height = renderer.size
-    size, half = (width, height), (width // 2, height // 2)
-    scene, reference = renderer.scene, renderer.reference
+    size = (width, height)
+    scene = renderer.scene
     target = scene.points(params)
     torso_forward = body_matrix(NO_BODY_MOTION if body is None else body, renderer.anchor)
     head_forward = rigid_fit(renderer._reference_ring, head_ring_points(scene, target))
     out = renderer._plate_picture().copy()
-    nearest, linear, edge = cv2.INTER_NEAREST, cv2.INTER_LINEAR, cv2.BORDER_REPLICATE
-    torso = cv2.warpAffine(renderer._torso_below, torso_forward, size, flags=nearest)
-    halo = cv2.warpAffine(renderer.halo_mask, head_forward, size, flags=nearest)
+    torso = _warped_mask(renderer._torso_below, renderer._torso_box, torso_forward, size)
+    halo = _warped_mask(renderer.halo_mask, renderer._halo_box, head_forward, size)
     head = np.zeros((height, width), np.uint8)
     face = np.zeros((height, width), bool)
     n_head = scene.model.n_vertices + len(scene.outline)
@@ -98,61 +192,62 @@ def compose_layers(renderer, params: np.ndarray, body: np.ndarray | None):
     # The mesh's edge and the halo's rigid motion part by a pixel here and there: close the
     # gap (it would show the plate as a dotted seam).
     halo = cv2.dilate(halo | head, _GAP_KERNEL) & (1 - head)
-    torso &= 1 - (halo | head)
-    luma = out[:height]
-    chroma = out[height:].reshape(2, height // 2, width // 2)
-    around, plate = None, None
+    person = halo | head
+    torso &= 1 - person
     moved = _head_moved_px(renderer, target)
     body_moved = 0.0 if body is None else float(np.hypot(body[0], body[1]) + 100 * abs(body[2]))
-    for mask, matrix in [(torso, torso_forward), (halo, head_forward)]:
-        if mask is torso and body_moved > 0:
-            plate = out.copy()  # the torso's edge fades into the plate
-        if mask is halo:
-            if plate is not None:  # the torso's outer edge only: it meets the head inside
-                strength = min(body_moved / FEATHER_FULL_PX, 1.0)
-                _feather(out, plate, torso.view(bool), strength, (torso | halo | head).view(bool))
-            if moved > 0:  # the picture moved with the head: what the seam fades into
-                around = np.empty_like(out)
-        drawn = cv2.warpAffine(reference[:height], matrix, size, flags=linear, borderMode=edge)
-        np.copyto(luma, drawn, where=mask.view(bool))
-        if mask is halo and around is not None:
-            around[:height] = drawn
-        at = (mask[0::2, 0::2] | mask[1::2, 1::2]).view(bool)
-        for k, (plane, source) in enumerate(zip(chroma, (renderer._u, renderer._v), strict=True)):
-            drawn = cv2.warpAffine(source, chroma_matrix(matrix), half, flags=linear,
-                                   borderMode=edge)  # fmt: skip
-            np.copyto(plane, drawn, where=at)
-            if mask is halo and around is not None:
-                around[height:].reshape(2, height // 2, width // 2)[k] = drawn
+    torso_box = mask_box(torso)
+    if torso_box is not None:
+        plate = out.copy() if body_moved > 0 else None  # the torso's edge fades into it
+        _draw_layer(renderer, out, torso, torso_forward, torso_box)
+        if plate is not None:  # the torso's outer edge only: it meets the head inside
+            strength = min(body_moved / FEATHER_FULL_PX, 1.0)
+            _feather(out, plate, torso.view(bool), strength, (torso | person).view(bool))
+    # The picture moved with the head, around the head and halo: what their seam fades into.
+    around_box = mask_box(person, _BLEED_MARGIN_PX) if moved > 0 else mask_box(halo)
+    around = None
+    if around_box is not None:
+        around = _draw_layer(renderer, out, halo, head_forward, around_box)
     if box is not None:
-        inside = head[y0:y1, x0:x1].view(bool)
-        drawn = cv2.remap(reference[:height], map_x, map_y, linear, borderMode=edge)
-        np.copyto(luma[y0:y1, x0:x1], drawn, where=inside)
-        cx = (map_x[0::2, 0::2] + map_x[1::2, 1::2] - 1.0) * 0.25
-        cy = (map_y[0::2, 0::2] + map_y[1::2, 1::2] - 1.0) * 0.25
-        at = inside[0::2, 0::2] | inside[1::2, 1::2]
-        for plane, source in zip(chroma, (renderer._u, renderer._v), strict=True):
-            drawn = cv2.remap(source, cx, cy, linear, borderMode=edge)
-            np.copyto(plane[y0 // 2 : y1 // 2, x0 // 2 : x1 // 2], drawn, where=at)
-    if around is not None:
-        _bleed(out, around, (halo | head).view(bool), min(moved / FEATHER_FULL_PX, 1.0))
+        _draw_head(renderer, out, head[y0:y1, x0:x1].view(bool), (map_x, map_y), box)
+    if moved > 0 and around is not None:
+        _bleed(out, around, around_box, person.view(bool), min(moved / FEATHER_FULL_PX, 1.0))
     return out, face
 
 
-def _bleed(out: np.ndarray, around: np.ndarray, mask: np.ndarray, strength: float) -> None:
+def _bleed(out: np.ndarray, around: np.ndarray, box, mask: np.ndarray, strength: float) -> None:
     """Fade the head's edge outward: the pixels just outside `mask` (the head and its halo)
-    in `out` move toward `around` (the picture moved rigidly with the head) by up to half,
-    over about `FEATHER_SIGMA_PX`, times `strength`; the head's own pixels stay as drawn."""
+    in `out` move toward `around` (the picture moved rigidly with the head, over `box`, at
+    least `_BLEED_MARGIN_PX` beyond the mask) by up to half, over about `FEATHER_SIGMA_PX`,
+    times `strength`; the head's own pixels stay as drawn."""
     import cv2
 
     height = mask.shape[0]
-    weight = strength * cv2.GaussianBlur(mask.astype(np.float32), (0, 0), FEATHER_SIGMA_PX)
-    weight[mask] = 0.0
+    x0, y0, x1, y1 = box
+    inside = mask[y0:y1, x0:x1]
+    weight = strength * cv2.GaussianBlur(inside.astype(np.float32), (0, 0), FEATHER_SIGMA_PX)
+    weight[inside] = 0.0
     half = weight[0::2, 0::2]
-    for rows, w in ((slice(0, height), weight),
-                    (slice(height, None), np.concatenate([half, half]).reshape(-1, out.shape[1]))):  # fmt: skip
-        top, toward = out[rows].astype(np.float32), around[rows].astype(np.float32)
-        out[rows] = np.clip(np.rint(top + w * (toward - top)), 0, 255)
+    box_h = y1 - y0
+    chroma = out[height:].reshape(2, height // 2, -1)[:, y0 // 2 : y1 // 2, x0 // 2 : x1 // 2]
+    toward = around[box_h:].reshape(2, box_h // 2, -1)
+    for top, target, w in ((out[y0:y1, x0:x1], around[:box_h], weight),
+                           (chroma[0], toward[0], half), (chroma[1], toward[1], half)):  # fmt: skip
+        _blend(top, target, w)
+
+
+def _blend(top: np.ndarray, toward: np.ndarray, weight: np.ndarray) -> None:
+    """`top` (uint8, in place) moved toward `toward` by `weight` (0: unchanged), rounded;
+    only the pixels whose weight is not 0 are computed."""
+    import cv2
+
+    points = cv2.findNonZero((weight != 0).view(np.uint8))  # faster than np.nonzero here
+    if points is None:
+        return
+    where = (points[:, 0, 1], points[:, 0, 0])
+    a = top[where].astype(np.float32)
+    b = toward[where].astype(np.float32)
+    top[where] = np.clip(np.rint(a + weight[where] * (b - a)), 0, 255)
 
 
 def _head_moved_px(renderer, target: np.ndarray) -> float:
@@ -166,17 +261,23 @@ def _feather(
 ) -> None:
     """Fade the pixels of `mask` in `out` into `under` near the edge of `solid` (default
     `mask`) over about `FEATHER_SIGMA_PX`, by `strength` (0: a hard edge, as when the layer has
-    not moved)."""
+    not moved); computed over `mask`'s box (and the blur's reach) only."""
     import cv2
 
     height = mask.shape[0]
     solid = mask if solid is None else solid
-    inner = cv2.GaussianBlur(solid.astype(np.float32), (0, 0), FEATHER_SIGMA_PX)
-    keep = 1.0 - strength * (1.0 - inner)
-    keep[~mask] = 1.0
-    for rows, weight in ((slice(0, height), keep), (slice(height, None), None)):
-        if weight is None:
-            half = keep[0::2, 0::2]
-            weight = np.concatenate([half, half]).reshape(-1, out.shape[1])
-        top, bottom = out[rows].astype(np.float32), under[rows].astype(np.float32)
-        out[rows] = np.clip(np.rint(bottom + weight * (top - bottom)), 0, 255)
+    box = mask_box(mask, _BLEED_MARGIN_PX)
+    if box is None:
+        return
+    x0, y0, x1, y1 = box
+    inner = cv2.GaussianBlur(solid[y0:y1, x0:x1].astype(np.float32), (0, 0), FEATHER_SIGMA_PX)
+    # How far each pixel goes toward `under` (1 - the share of itself it keeps).
+    away = strength * (1.0 - inner)
+    away[~mask[y0:y1, x0:x1]] = 0.0
+    half = away[0::2, 0::2]
+    rows = slice(y0 // 2, y1 // 2), slice(x0 // 2, x1 // 2)
+    top = out[height:].reshape(2, height // 2, -1)
+    bottom = under[height:].reshape(2, height // 2, -1)
+    _blend(out[y0:y1, x0:x1], under[y0:y1, x0:x1], away)
+    for k in range(2):
+        _blend(top[k][rows], bottom[k][rows], half)

@@ -50,6 +50,7 @@ BODY_ROTATION_MAX_RAD = 0.5
 # A new reference whose known background departs from the plate's by more than this median
 # (luma levels) is another scene (a cut, a moved camera): the plate starts again from it.
 PLATE_MISMATCH_LEVELS = 40.0
+EDGE_BAND_PX = 3  # the unknown band along the known background that is inpainted, not averaged
 HAIR_OF_HEAD = 0.1  # how far above the head ring the halo reaches, in head-ring heights
 _PLATE_MIN_OVERLAP = 0.05  # of the picture, to judge a mismatch at all
 
@@ -174,9 +175,9 @@ def fill_unknown(plane: np.ndarray, known: np.ndarray) -> np.ndarray:
     down). Known pixels are kept exactly; with none known, mid-grey."""
     import cv2
 
-    weight = known.astype(np.float32)
-    if not weight.any():
+    if not known.any():
         return np.full_like(plane, 128)
+    weight = known.astype(np.float32)
     values = plane.astype(np.float32) * weight
     levels = [(values, weight)]
     while min(levels[-1][0].shape) > 2:
@@ -190,8 +191,24 @@ def fill_unknown(plane: np.ndarray, known: np.ndarray) -> np.ndarray:
         up = cv2.resize(filled, (v.shape[1], v.shape[0]), interpolation=cv2.INTER_LINEAR)
         trust = np.clip(w, 0.0, 1.0)
         filled = trust * (v / np.maximum(w, 1e-6)) + (1.0 - trust) * up
-    out = np.where(known, plane, np.clip(np.rint(filled), 0, 255))
-    return out.astype(plane.dtype)
+    out = np.where(known, plane, np.clip(np.rint(filled), 0, 255)).astype(plane.dtype)
+    return _continue_edges(out, known)
+
+
+def _continue_edges(filled: np.ndarray, known: np.ndarray, band_px: int = EDGE_BAND_PX):
+    """`filled` (uint8, the push-pull fill) with the unknown pixels within `band_px` of a known
+    one inpainted instead (OpenCV's Telea, from the known pixels and the fill beyond): edges
+    and gradients of the background continue into the band. A person moved by a pixel
+    uncovers that band; the smooth fill alone, an average of what lies on both sides of an
+    edge, showed there as a dotted line along the person's outline."""
+    import cv2
+
+    kernel = np.ones((2 * band_px + 1, 2 * band_px + 1), np.uint8)
+    near = cv2.dilate(known.view(np.uint8), kernel) & ~known.view(np.uint8) & 1
+    if filled.dtype != np.uint8 or not near.any():
+        return filled
+    painted = cv2.inpaint(np.ascontiguousarray(filled), near, band_px, cv2.INPAINT_TELEA)
+    return np.where(near.view(bool), painted, filled)
 
 
 class Plate:
@@ -218,7 +235,10 @@ class Plate:
                 f"plate: expected a {width}x{height} picture and person mask, got "
                 f"{picture.shape} and {person.shape}"
             )
-        outside = ~person if fresh is None else ~person & fresh
+        # Not decoded (drawn by the receiver itself): taught only where nothing better is known
+        # (the torso it drew there beats a fill, which showed as dark bands where the person
+        # had stood on an earlier reference).
+        outside = ~person if fresh is None else ~person & (fresh | ~self.known)
         reason = ""
         both = outside & self.known
         if both.mean() > _PLATE_MIN_OVERLAP:

@@ -23,7 +23,7 @@ import numpy as np
 from uma.face.describe import ContentDescription
 from uma.face.scene import HEAD_RING_SCALE, SceneMesh
 from uma.mbc.errors import SceneError
-from uma.mbc.layered_render import compose_layers
+from uma.mbc.layered_render import compose_layers, mask_box
 from uma.mbc.layers import Plate, body_problem, cut_person, head_ring_points
 from uma.mbc.scene_reference import description_reference
 
@@ -109,6 +109,10 @@ class SceneRenderer:
         self._face_chroma = None
         self._last_face = None
         self.set_reference(*description_reference(description, self.size))
+        # The description's picture is mid-grey around its texture: not background anyone saw.
+        # The first real reference replaces that plate instead of being laid over it (the grey
+        # would show wherever that reference's person hid the background).
+        self._synthetic_plate = True
 
     def set_reference(
         self, picture: np.ndarray, params: np.ndarray, fresh: np.ndarray | None = None
@@ -137,6 +141,9 @@ class SceneRenderer:
         self.reference_serial = getattr(self, "reference_serial", 0) + 1  # one per reference
         self._reference_points = self.scene.points(params)
         if self.layered:
+            if getattr(self, "_synthetic_plate", False):
+                self.plate.forget()
+            self._synthetic_plate = False
             self._cut_layers(params, fresh)
         chroma = self.reference[height:].reshape(2, height // 2, width // 2)
         self._u, self._v = np.ascontiguousarray(chroma[0]), np.ascontiguousarray(chroma[1])
@@ -218,11 +225,16 @@ class SceneRenderer:
         if self._face_source is not None:
             picture = self._face_source[0]
             source = project(model, self._face_source[1])
-        maps = np.einsum("tjc,tjk->tck", source[triangles], barycentric_affine(local, triangles))
-        maps = np.concatenate([maps, np.full((1, 2, 3), -1e4)]).astype(np.float32)[labels]
-        ys, xs = np.mgrid[0 : y1 - y0, 0 : x1 - x0].astype(np.float32)
-        map_x = maps[..., 0, 0] * xs + maps[..., 0, 1] * ys + maps[..., 0, 2]
-        map_y = maps[..., 1, 0] * xs + maps[..., 1, 1] * ys + maps[..., 1, 2]
+        # (T, 2, 3): the source's (x, y) as an affine function of the box's (x, y, 1); one
+        # gather per coefficient (label -1: the last entry, far outside the picture).
+        maps = np.matmul(source[triangles].transpose(0, 2, 1), barycentric_affine(local, triangles))
+        table = np.concatenate([maps, np.full((1, 2, 3), -1e4)]).reshape(-1, 6).T
+        table = table.astype(np.float32)
+        flat = np.where(labels < 0, len(maps), labels).ravel()
+        c = [np.take(row, flat).reshape(labels.shape) for row in table]
+        xs, ys = self._x[: y1 - y0, : x1 - x0], self._y[: y1 - y0, : x1 - x0]
+        map_x = c[0] * xs + c[1] * ys + c[2]
+        map_y = c[3] * xs + c[4] * ys + c[5]
         patch = cv2.remap(
             picture[:height], map_x, map_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE
         )
@@ -257,9 +269,7 @@ class SceneRenderer:
         if self._face_source is not None:
             self._paste_face(luma, params)  # before the light: the pasted face is relit too
         if light is not None:
-            gain, offset = _checked_light(light)
-            lit = luma[face].astype(np.float32) * gain + offset
-            luma[face] = np.clip(np.rint(lit), 0, 255).astype(np.uint8)
+            _relight(luma, face, _checked_light(light))
         chroma = out[height:].reshape(2, height // 2, width // 2)
         if self._face_source is not None and self._face_chroma is not None:
             (x0, y0), mask, planes = self._face_chroma
@@ -297,6 +307,9 @@ class SceneRenderer:
         self._reference_ring = head_ring_points(self.scene, self._reference_points)
         below = np.repeat(self.torso_mask[-1:], self.size[1] // 2, axis=0)
         self._torso_below = np.ascontiguousarray(np.vstack([self.torso_mask, below]))
+        # The boxes the masks' pixels lie in: each frame warps only the box they move to.
+        self._torso_box = mask_box(self._torso_below)
+        self._halo_box = mask_box(self.halo_mask)
         person = (head | self.halo_mask | self.torso_mask) > 0
         self.plate.update(self.reference, person, fresh)
 
@@ -334,6 +347,20 @@ class SceneRenderer:
             for plane in planes
         ]  # fmt: skip
         self._face_chroma = ((x0 // 2, y0 // 2), mask[0:h2:2, 0:w2:2], chroma)
+
+
+def _relight(luma: np.ndarray, face: np.ndarray, light: tuple[float, float]) -> None:
+    """The face's pixels of `luma` (in place) times the gain plus the offset, over the face's
+    box only."""
+    import cv2
+
+    x, y, w, h = cv2.boundingRect(face.view(np.uint8))
+    if w == 0 or h == 0:
+        return
+    gain, offset = light
+    box, inside = luma[y : y + h, x : x + w], face[y : y + h, x : x + w]
+    lit = box[inside].astype(np.float32) * gain + offset
+    box[inside] = np.clip(np.rint(lit), 0, 255).astype(np.uint8)
 
 
 def _checked_light(light) -> tuple[float, float]:

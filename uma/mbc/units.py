@@ -83,27 +83,9 @@ class FaceUnits:
                 f"{model.name}: expected {N_POSE + model.n_actions} parameters with a positive "
                 f"scale, got {params.shape}"
             )
-        from uma.face.fap_map import fap_units
-
-        try:
-            fapu = fap_units(model)
-        except FaceError as err:
-            raise FaceError(f"{model.name}: the codec's units need its FAPUs: {err}") from None
-        distances = {name: 1024.0 * value for name, value in fapu.by_name.items() if name != "AU"}
+        distances = _distances(model)
         scale = float(params[2])
-        unit = [
-            distances["ES"] * scale / FAPU_DIVISOR,
-            distances["ES"] * scale / FAPU_DIVISOR,
-            scale / FAPU_DIVISOR,
-            ANGLE_UNIT_RAD,
-            ANGLE_UNIT_RAD,
-            ANGLE_UNIT_RAD,
-        ]
-        for name, displacement in zip(model.action_unit_names, model.action_units, strict=True):
-            moved = float(np.linalg.norm(displacement, axis=1).max())
-            if moved <= 0:
-                raise FaceError(f"{model.name}: action unit {name} moves no vertex")
-            unit.append(distances[action_fapu(name)] / FAPU_DIVISOR / moved)
+        unit = _geometry_units(model, distances, scale)
         names = (
             "tx_px",
             "ty_px",
@@ -161,3 +143,32 @@ class FaceUnits:
         """Face animation units back to the geometry's parameters."""
         origin = 0.0 if self.origin is None else self.origin
         return np.asarray(values, dtype=np.float64) * self.unit + origin
+
+
+def _distances(model: FaceModel) -> dict[str, float]:
+    """The model's FAPU distances (x 1024, as MPEG-4 defines each unit), AU left out."""
+    from uma.face.fap_map import fap_units
+
+    try:
+        fapu = fap_units(model)
+    except FaceError as err:
+        raise FaceError(f"{model.name}: the codec's units need its FAPUs: {err}") from None
+    return {name: 1024.0 * value for name, value in fapu.by_name.items() if name != "AU"}
+
+
+def _geometry_units(model: FaceModel, distances: dict[str, float], scale: float) -> list[float]:
+    """The unit of each pose parameter and action unit at the description's `scale`."""
+    unit = [
+        distances["ES"] * scale / FAPU_DIVISOR,
+        distances["ES"] * scale / FAPU_DIVISOR,
+        scale / FAPU_DIVISOR,
+        ANGLE_UNIT_RAD,
+        ANGLE_UNIT_RAD,
+        ANGLE_UNIT_RAD,
+    ]
+    for name, displacement in zip(model.action_unit_names, model.action_units, strict=True):
+        moved = float(np.linalg.norm(displacement, axis=1).max())
+        if moved <= 0:
+            raise FaceError(f"{model.name}: action unit {name} moves no vertex")
+        unit.append(distances[action_fapu(name)] / FAPU_DIVISOR / moved)
+    return unit

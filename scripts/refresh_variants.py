@@ -1,0 +1,53 @@
+"""What a model-aided refresh should code: `uma bench mbc`'s refresh displays for other specs.
+
+    PYTHONPATH=$PWD python scripts/refresh_variants.py [--start 150] [--frames 150]
+
+codes akiyo and carphone (frames `start` to `start + frames`: 150-299 by default, the tuning
+frames the bench does not quote) with the MBC plus each refresh variant below at the two
+lowest rungs' total rates, and prints per clip and variant the face box luma PSNR dB, SSIM,
+whole-frame SSIM and total kbit/s, beside the plain MBC, H.264 and AV1 (docs/refresh.md).
+"""
+
+from __future__ import annotations
+
+import argparse
+
+
+def variants() -> dict:
+    """name -> `uma.bench.mbc_refresh.RefreshSpec`: the face box at 1/2, 3/4 and full scale,
+    at the rung's frame rate or half of it, and the whole picture."""
+    from uma.bench.mbc_refresh import RefreshSpec
+
+    out = {}
+    for rung, fps in ((0, 5.0), (1, 25 / 3)):
+        out[f"box0.5_r{rung}"] = RefreshSpec(rung, fps, region="face", face_scale=0.5)
+        out[f"box0.75_r{rung}"] = RefreshSpec(rung, fps, region="face", face_scale=0.75)
+        out[f"box1.0_half_fps_r{rung}"] = RefreshSpec(rung, fps / 2, region="face", face_scale=1)
+        out[f"box0.5_half_fps_r{rung}"] = RefreshSpec(rung, fps / 2, region="face", face_scale=0.5)
+        out[f"frame_half_fps_r{rung}"] = RefreshSpec(rung, fps / 2, region="frame")
+        out[f"frame176_r{rung}"] = RefreshSpec(rung, fps, region="frame", size=(176, 144))
+    return out
+
+
+def main() -> None:
+    from uma.bench import mbc
+    from uma.bench.mbc_clips import default_clips
+
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--start", type=int, default=150)
+    parser.add_argument("--frames", type=int, default=150)
+    args = parser.parse_args()
+    specs = variants()
+    shown = [*specs, "quantised", "h264_lowest", "h264_second", "av1_lowest", "av1_second"]
+    for clip in default_clips(args.frames, start=args.start):
+        if clip.name not in ("akiyo", "carphone"):
+            continue
+        result = mbc.run_clip(clip, refresh=specs)
+        for name in shown:
+            face, frame = result["face"][name], result["frame"][name]
+            print(f"{clip.name} {name}: {face['psnr_db']:.2f} dB / {face['ssim']:.3f}, "
+                  f"frame SSIM {frame['ssim']:.3f}, {face['kbps']:.1f} kbit/s")  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()

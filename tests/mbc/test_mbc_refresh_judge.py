@@ -1,0 +1,38 @@
+"""The refresh's judge: its gain over the mirror's rendering, and when it need not be asked."""
+
+import numpy as np
+import pytest
+
+from uma.mbc.refresh_judge import box_psnr_db, needs_judging, refresh_gain_db
+
+
+def test_nothing_to_decide_without_a_threshold_or_before_a_first_refresh_always_sent() -> None:
+    assert needs_judging(0.5, first_always=False, refresh_taken=False)
+    assert needs_judging(0.5, first_always=True, refresh_taken=True)
+    assert not needs_judging(0.5, first_always=True, refresh_taken=False)
+    assert not needs_judging(float("-inf"), first_always=False, refresh_taken=True)
+    assert needs_judging(float("inf"), first_always=False, refresh_taken=True)
+
+
+def test_the_gain_is_the_box_psnr_of_the_patch_less_the_renderings(head) -> None:
+    import cv2
+
+    from uma.mbc.scene_render import SceneRenderer
+    from uma.mbc.units import FaceUnits
+
+    frame0 = cv2.cvtColor(head.render_bgr(0), cv2.COLOR_BGR2YUV_I420)
+    truth = cv2.cvtColor(head.render_bgr(6), cv2.COLOR_BGR2YUV_I420)
+    renderer = SceneRenderer(head.description, (352, 288))
+    renderer.set_reference(frame0, head.params_at(0))
+    units = FaceUnits.of(head.model, head.description.params, light=True, body=True)
+    values = np.concatenate([head.params_at(6), np.zeros(3), (1.0, 0.0)])
+    (x0, y0), (w, h) = (120, 80), (96, 112)
+    exact = np.vstack([truth[y0 : y0 + h, x0 : x0 + w], np.zeros((h // 2, w), np.uint8)])
+    rendered, _ = renderer.render(head.params_at(6), (1.0, 0.0), np.zeros(3))
+    window = (slice(y0, y0 + h), slice(x0, x0 + w))
+    expected = 100.0 - box_psnr_db(rendered[:288][window], truth[:288][window])
+    gain = refresh_gain_db(renderer, units, values, (x0, y0), exact, truth)
+    assert gain == pytest.approx(expected)
+    assert gain > 10.0  # the true picture beats any rendering of it
+    grey = np.full_like(exact, 128)
+    assert refresh_gain_db(renderer, units, values, (x0, y0), grey, truth) < 0.0
