@@ -43,12 +43,7 @@ BANNED_IDENTIFIERS = {"_family"}
 # Scenario keys users write (`engine.switching.to_mbc_below_kbps`): renaming them would break
 # every scenario file, so they may be read, as attributes only.
 CONFIG_KEYS = {"to_mbc_below_kbps", "to_h264_above_kbps"}
-# Aliases no caller uses any more (uma/bench reads `model_init_frames`, `model_inits`): to be
-# deleted from uma/sim/result.py with these lines.
-KEPT: set[tuple[str, str]] = {  # (module, identifier) pairs allowed to name a codec
-    ("sim/result.py", "mbc_init_frames"),
-    ("sim/result.py", "mbc_inits"),
-}
+KEPT: set[tuple[str, str]] = set()  # (module, identifier) pairs allowed to name a codec
 
 
 def _docstrings(tree: ast.AST) -> set[int]:

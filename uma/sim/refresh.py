@@ -174,31 +174,30 @@ class RefreshChain:
     def gain_db(
         self, mbc_encoder, picture: np.ndarray, frame: int, receiver_picture=None
     ) -> float | None:
-        """How much better the refresh of `frame` is than what the receiver renders there, in
-        luma PSNR over the refresh's box (all it carries): against the engine's mirror once the
-        receiver took a refresh, before that against `receiver_picture` at the stream's first
-        pose; None when there is nothing to compare (or, with `first_always`, before the
-        receiver took a first refresh)."""
+        """How much better the refresh of `frame` is than what the receiver renders there
+        (`uma.mbc.refresh_gain_db`): against the engine's mirror once the receiver took a
+        refresh, before that against `receiver_picture` at the stream's first pose; None when
+        there is nothing to compare or the engine's decision cannot depend on it
+        (`uma.mbc.needs_judging`), so the mirror draws nothing."""
+        from uma.mbc import needs_judging, refresh_gain_db
+
+        taken = getattr(mbc_encoder, "refresh_frame", -1) >= 0
+        config = self.config
+        if not needs_judging(config.min_gain_db, first_always=config.first_always,
+                             refresh_taken=taken):  # fmt: skip
+            return None
         kept = self.encoder.kept.get(frame)
-        mirror = getattr(mbc_encoder, "mirror", None)
-        if getattr(mbc_encoder, "refresh_frame", -1) < 0:
-            # Before the receiver took a refresh, the mirror is the picture the engine
-            # initialised on, sharper than the receiver's last one: judge against that one.
-            if self.config.first_always:
-                return None
-            mirror = self._receiver_view(mbc_encoder, receiver_picture)
+        # Before the receiver took a refresh, the mirror is the picture the engine initialised
+        # on, sharper than the receiver's last one: judge against what the receiver shows.
+        mirror = (
+            getattr(mbc_encoder, "mirror", None)
+            if taken
+            else self._receiver_view(mbc_encoder, receiver_picture)
+        )
         if kept is None or mirror is None:
             return None
-        (x0, y0), patch = kept[0]
-        values = kept[1]
-        params, light = mbc_encoder.units.split(values)
-        rendered, _ = mirror.render(params, light, mbc_encoder.units.body_of(values))
-        box_h = patch.shape[0] * 2 // 3
-        window = (slice(y0, y0 + box_h), slice(x0, x0 + patch.shape[1]))
-        truth = picture[: self.source_size[1]][window].astype(np.float64)
-        return _psnr_db(patch[:box_h], truth) - _psnr_db(
-            rendered[: self.source_size[1]][window], truth
-        )
+        (corner, patch), values = kept[0], kept[1]
+        return refresh_gain_db(mirror, mbc_encoder.units, values, corner, patch, picture)
 
     def engine_adopt(self, mbc_encoder, frame: int) -> bool:
         """The receiver renders from refresh `frame`: so does the encoder's mirror."""
@@ -225,8 +224,3 @@ class RefreshChain:
             # Taken now: the frame's best picture is the new reference (box pasted in).
             return mbc_decoder.renderer.reference.copy()
         return picture
-
-
-def _psnr_db(picture: np.ndarray, truth: np.ndarray) -> float:
-    mse = float(np.mean((picture.astype(np.float64) - truth) ** 2))
-    return 100.0 if mse <= 1e-10 else 10.0 * float(np.log10(255.0**2 / mse))

@@ -54,15 +54,6 @@ class RunResult:
     refresh_decoded: int = 0  # refreshes the receiver decoded
     refresh_lost: int = 0  # refreshes the receiver saw lost or could not decode
 
-    # The names `uma bench sim` and `uma bench headline` read (issue 25: to move to the above).
-    @property
-    def mbc_init_frames(self) -> tuple[int, ...]:
-        return self.model_init_frames
-
-    @property
-    def mbc_inits(self) -> tuple:
-        return self.model_inits
-
 
 def collect_result(
     world,
