@@ -2,9 +2,11 @@
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from uma.config.scenario import AdaptivePlayoutConfig, ReceiverConfig
-from uma.sim.playout import AdaptivePlayout, FixedPlayout, make_playout
+from uma.sim.playout import AdaptivePlayout, FixedPlayout, make_playout, percentile
 
 FPS = 25.0
 
@@ -66,3 +68,11 @@ def test_follows_a_step_smoothly_and_stays_bounded():
 def test_holds_when_nothing_arrives():
     playout = AdaptivePlayout(AdaptivePlayoutConfig(), initial_delay_s=0.4)
     assert [playout.delay_s(t) for t in (0.0, 1.0, 5.0)] == [0.4, 0.4, 0.4]
+
+
+@given(
+    st.lists(st.floats(0, 30, allow_nan=False), min_size=1, max_size=60),
+    st.floats(0, 100, allow_nan=False),
+)
+def test_the_percentile_is_numpys_to_the_last_bit(values, q):
+    assert percentile(values, q) == float(np.percentile(np.array(values), q))
