@@ -114,7 +114,7 @@ def test_a_lost_refresh_leaves_the_reference_and_asks_for_an_intra_one(head):
     assert taken == [0] and requests == []
     send(1, 10, intra=False, drop=(0,))  # a packet lost: the refresh never completes
     send(2, 20, intra=False)  # the chain is broken: not decoded, an intra one asked for
-    assert taken == [0] and receiver.refresh_lost == 1
+    assert taken == [0] and receiver.refresh_received.lost == 1
     assert [r.refresh for r in requests] == [True]
     assert receiver.make_report(0.1).refresh_frame == 0  # still the last good one
     send(3, 30, intra=True)

@@ -148,19 +148,19 @@ def test_description_delivery_under_a_tiny_capacity_delays_the_first_switch():
     base = scenario(switching={"policy": "threshold", "min_dwell_ms": 0.0})
     gsm = base.route[1].model_copy(update={"duration_s": 30.0})
     run = run_scenario(base.model_copy(update={"route": (gsm,)}))
-    chunks = -(-run.description_bytes // base.downlink.packet_bytes)
+    chunks = -(-run.description.size_bytes // base.downlink.packet_bytes)
     fastest_s = 8 * chunks * (base.downlink.packet_bytes + HEADER_BYTES) / 9600.0
-    assert fastest_s <= run.description_delivered_s <= 2.5 * fastest_s
-    assert run.description_acked_s > run.description_delivered_s  # a report carried the news
+    assert fastest_s <= run.description.delivered_s <= 2.5 * fastest_s
+    assert run.description.acked_s > run.description.delivered_s  # a report carried the news
     events = [(e.time_s, e.kind) for e in run.events]
     waiting = next(t for t, k in events if k == "mbc_waiting_description")
     assert waiting < 0.1
     first_init = next(t for t, k in events if k == "mbc_init_start")
     first_switch = next(t for t, k in events if k == "codec_switch")
-    assert run.description_acked_s <= first_init < first_switch < 30.0
-    assert run.description_wait_s == pytest.approx(run.description_acked_s - waiting)
+    assert run.description.acked_s <= first_init < first_switch < 30.0
+    assert run.description.wait_s == pytest.approx(run.description.acked_s - waiting)
     codec = np.array([str(c) for c in run.log["codec"]])
-    assert np.all(codec[: int(run.description_acked_s * 25)] != "mbc")
+    assert np.all(codec[: int(run.description.acked_s * 25)] != "mbc")
 
 
 def test_selection_scheme_moves_the_tracking_to_the_sender(switched):

@@ -132,16 +132,16 @@ def init_mde_px(result) -> float | None:
     """Median MDE of the run's MBC initialisations against the source's ground truth."""
     from uma.fit.mde import mde_px
 
-    if not result.model_inits or result.description is None:
+    if not result.model.inits or result.description.content is None:
         return None
     source = _truth_source(result.scenario.source.model_dump_json(), result.scenario.seed)
     truth = getattr(source, "ground_truth", None)
     if truth is None:
         return None
-    model = result.description.model
+    model = result.description.content.model
     errors = [
         mde_px(model, params, truth(frame)["params"])
-        for frame, params in result.model_inits
+        for frame, params in result.model.inits
         if params is not None
     ]
     return round(float(np.median(errors)), 3) if errors else None

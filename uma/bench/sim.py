@@ -101,7 +101,7 @@ def _chain(scenario: Scenario, result, source: _ListSource, memo):
         height=source.height,
         fps=result.fps,
         account=True,
-        description=result.description,
+        description=result.description.content,
         uplink=memo,
     )
 
@@ -151,7 +151,7 @@ def _replay(scenario: Scenario, result, source: _ListSource, memo) -> tuple[floa
     log = result.log
     chain = _chain(scenario, result, source, memo)
     model = role_indices(result.points, Role.MODEL)
-    inits = set(result.model_init_frames)
+    inits = set(result.model.init_frames)
     # The bare metric work, one plane pair after another on one core.
     serial = scenario.metrics.model_copy(update={"workers": 0})
     meter = QualityMeter(serial, width=source.width, height=source.height)

@@ -113,9 +113,9 @@ def carry_out(world: World, actions, picture: np.ndarray | None = None) -> None:
                     chunk,
                 )  # fmt: skip
             )
-            world.tally_sent(action.kind, action.size_bits)
+            world.sent.add(action.kind, action.size_bits)
         elif isinstance(action, Initialise):
-            world.init_frames.append(action.frame)
+            world.model.init_frames.append(action.frame)
             env.process(init_process(env, world, picture, action.rung, action.frame))
         elif isinstance(action, AdoptRefresh):
             world.codec.engine_adopt_refresh(action.frame)
@@ -153,7 +153,7 @@ def _code(world: World, picture: np.ndarray, decision, index: int):
 
 def _code_refresh(world: World, picture: np.ndarray, decision, index: int):
     """Code the model-aided refresh the engine ordered: what it came to (None: no pose)."""
-    world.refresh_compute_s += world.codec.refresh.config.encode_ms / 1000.0
+    world.model.refresh_compute_s += world.codec.refresh.config.encode_ms / 1000.0
     coded = world.codec.engine_refresh(picture, decision.refresh)
     if coded is None:
         return None
@@ -196,9 +196,9 @@ def pacer_process(env: simpy.Environment, world: World):
 def init_process(env: simpy.Environment, world: World, picture: np.ndarray, rung: int, frame: int):
     """Initialise the model codec of point `rung` on `picture`; done after its modelled time."""
     result = world.codec.initialise_model(picture, rung, frame=frame)
-    world.inits.append((frame, result.params if result else None))
+    world.model.inits.append((frame, result.params if result else None))
     compute_s = world.init_compute_s(result.evaluations)
-    world.model_compute_s += compute_s
+    world.model.compute_s += compute_s
     yield env.timeout(compute_s)
     carry_out(
         world,

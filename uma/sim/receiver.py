@@ -25,6 +25,7 @@ import numpy as np
 from uma.engine.reports import KeyframeRequest, ReceiverReport
 from uma.metrics.framelog import FrameLog
 from uma.sim.packets import EncodedUnit, Packet
+from uma.sim.stats import RefreshReceived
 
 __all__ = ["ReceiverState"]
 
@@ -74,8 +75,7 @@ class ReceiverState:
     refresh_assembling: dict[int, list] = field(default_factory=dict)
     refresh_expected: int = 0
     refresh_broken: bool = True
-    refresh_decoded: int = 0
-    refresh_lost: int = 0
+    refresh_received: RefreshReceived = field(default_factory=RefreshReceived)
 
     def on_packet(self, packet: Packet) -> None:
         now_s = self.now()
@@ -135,7 +135,7 @@ class ReceiverState:
             return
         for seq in [s for s in self.refresh_assembling if s < unit.unit_seq]:
             del self.refresh_assembling[seq]  # FIFO: a later refresh's packet, this one is lost
-            self.refresh_lost += 1
+            self.refresh_received.lost += 1
             self.refresh_broken = True
         entry = self.refresh_assembling.setdefault(unit.unit_seq, [unit, 0])
         entry[1] += 1
@@ -151,7 +151,7 @@ class ReceiverState:
             return
         self.refresh_broken = False
         self.refresh_expected = unit.unit_seq + 1
-        self.refresh_decoded += 1
+        self.refresh_received.decoded += 1
         if isinstance(picture, np.ndarray):
             # The best picture the receiver has of that instant, if it is still to be shown.
             self.decoded[unit.frame] = picture

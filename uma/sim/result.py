@@ -5,13 +5,14 @@ Units: times in seconds, rates in kbit/s, sizes in bits or bytes as the names sa
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 
 from uma.config.scenario import Scenario
 from uma.engine.decisions import EngineEvent, EngineOutcome
 from uma.metrics.framelog import FrameLog
 from uma.sim.capacity import CapacitySchedule
 from uma.sim.links import LinkStats
+from uma.sim.stats import DescriptionStats, ModelStats, RefreshStats, SentBits
 
 __all__ = ["RunResult", "collect_result"]
 
@@ -33,26 +34,14 @@ class RunResult:
     feedback_lost: int
     codec_s: float = 0.0
     metrics_s: float = 0.0
-    padding_bits: int = 0
     points: tuple = ()  # the engine's operating points (`uma.engine.points.OperatingPoint`)
     engine_counts: dict | None = None  # MBC inits, failures, refusals (`UmaEngine.counts`)
     codec_seconds: dict | None = None  # with `account`: wall-clock codec seconds per codec
-    model_init_frames: tuple[int, ...] = ()  # frames the model codec's initialisations began
-    model_inits: tuple = ()  # (frame, fitted parameters or None) of each initialisation
-    engine_model_compute_s: float = 0.0  # modelled engine compute for it (inits included)
-    sender_model_bits: int = 0  # selection: parameter bits the sender sent up
-    sender_model_compute_ms: float = 0.0  # selection: the sender's modelled tracking compute
-    description_bytes: int = 0  # the content description delivered to the receiver
-    description_sent_bits: int = 0  # on the wire, headers and repeats included
-    description_delivered_s: float | None = None  # when its last chunk reached the receiver
-    description_acked_s: float | None = None  # when a report told the engine
-    description_wait_s: float = 0.0  # time MBC was wanted but the description not there
-    description: object = None  # the content description MBC used, if any
+    sent: SentBits = field(default_factory=SentBits)  # bits offered by kind, headers included
+    model: ModelStats = field(default_factory=ModelStats)
+    description: DescriptionStats = field(default_factory=DescriptionStats)
+    refresh: RefreshStats = field(default_factory=RefreshStats)
     face_boxes: tuple = ()  # the face box (`uma.face.Box` or None) of each source frame read
-    refresh_bits: int = 0  # the model-aided refresh on the wire, headers included
-    refresh_compute_s: float = 0.0  # its modelled engine compute
-    refresh_decoded: int = 0  # refreshes the receiver decoded
-    refresh_lost: int = 0  # refreshes the receiver saw lost or could not decode
 
 
 def collect_result(
@@ -83,24 +72,30 @@ def collect_result(
         feedback_lost=world.feedback_lost,
         codec_s=codec.seconds,
         metrics_s=world.quality.seconds,
-        padding_bits=world.padding_bits,
+        sent=replace(world.sent),  # a copy: the result is frozen
         points=world.points,
         engine_counts=dict(outcome.counts),
         codec_seconds=dict(codec.codec_seconds),
-        model_init_frames=tuple(world.init_frames),
-        model_inits=tuple(world.inits),
-        engine_model_compute_s=world.model_compute_s,
-        sender_model_bits=sender.bits if sender is not None else 0,
-        sender_model_compute_ms=sender.compute_ms if sender is not None else 0.0,
-        description_bytes=description_bytes,
-        description_sent_bits=world.description_sent_bits,
-        description_delivered_s=world.receiver.description_done_s,
-        description_acked_s=outcome.description_acked_s,
-        description_wait_s=outcome.description_wait_s,
-        description=description,
+        model=ModelStats(
+            init_frames=tuple(world.model.init_frames),
+            inits=tuple(world.model.inits),
+            engine_compute_s=world.model.compute_s,
+            sender_bits=sender.bits if sender is not None else 0,
+            sender_compute_ms=sender.compute_ms if sender is not None else 0.0,
+        ),
+        description=DescriptionStats(
+            content=description,
+            size_bytes=description_bytes,
+            sent_bits=world.sent.description,
+            delivered_s=world.receiver.description_done_s,
+            acked_s=outcome.description_acked_s,
+            wait_s=outcome.description_wait_s,
+        ),
+        refresh=RefreshStats(
+            bits=world.sent.refresh,
+            compute_s=world.model.refresh_compute_s,
+            decoded=world.receiver.refresh_received.decoded,
+            lost=world.receiver.refresh_received.lost,
+        ),
         face_boxes=tuple(world.face_boxes),
-        refresh_bits=world.refresh_bits,
-        refresh_compute_s=world.refresh_compute_s,
-        refresh_decoded=world.receiver.refresh_decoded,
-        refresh_lost=world.receiver.refresh_lost,
     )

@@ -20,6 +20,7 @@ from uma.metrics.framelog import FrameLog
 from uma.sim.capacity import CapacitySchedule
 from uma.sim.links import Downlink, FixedLink, LinkProps, deliver_later
 from uma.sim.receiver import ReceiverState
+from uma.sim.stats import ModelWork, SentBits
 
 __all__ = ["World"]
 
@@ -28,9 +29,9 @@ __all__ = ["World"]
 class World:
     """Everything the processes share.
 
-    The model codec's work is tallied here for the result: where its initialisations started
-    (`init_frames`), each one's frame and fitted parameters (`inits`, None when it failed)
-    and the engine compute modelled for it (`model_compute_s`, initialisations included).
+    Its tallies (`uma.sim.stats`): the bits offered to the downlink by kind (`sent`), the
+    model codec's work (`model`) and the refresh's engine compute (`refresh`, whose receiver
+    side the receiver keeps).
     """
 
     env: simpy.Environment
@@ -57,34 +58,18 @@ class World:
     on_display: Callable | None = None  # (index, source, shown, picture): `uma report --video`
     faults: Any = None  # uma.sim.faults.Faults: feedback silence
     playout: Any = None  # uma.sim.playout: FixedPlayout or AdaptivePlayout (None: fixed)
-    padding_bits: int = 0
     points: tuple[OperatingPoint, ...] = ()  # the engine's operating points
     init_us_per_evaluation: float = 0.0  # the model codec's initialisation cost
-    init_frames: list[int] = field(default_factory=list)
-    inits: list[tuple[int, Any]] = field(default_factory=list)
     face_boxes: list = field(default_factory=list)  # per source frame read: `uma.face.Box` | None
-    model_compute_s: float = 0.0
-    description_sent_bits: int = 0
+    sent: SentBits = field(default_factory=SentBits)
+    model: ModelWork = field(default_factory=ModelWork)
     pacer_kick: simpy.Event | None = None  # wakes `pacer_process` when a unit is queued
-    # The model-aided refresh: units numbered apart from the others, bits on the wire
-    # (headers included) and the engine compute modelled for them.
-    next_refresh_seq: int = 0
-    refresh_bits: int = 0
-    refresh_compute_s: float = 0.0
+    next_refresh_seq: int = 0  # the model-aided refresh's units are numbered apart
 
     def kick_pacer(self) -> None:
         """Something was queued in the engine's pacer: let it look now."""
         if self.pacer_kick is not None and not self.pacer_kick.triggered:
             self.pacer_kick.succeed()
-
-    def tally_sent(self, kind: str, size_bits: int) -> None:
-        """Count a packet offered to the downlink by what it carries."""
-        if kind == "description":
-            self.description_sent_bits += size_bits
-        elif kind == "refresh":
-            self.refresh_bits += size_bits
-        elif kind == "padding":
-            self.padding_bits += size_bits
 
     def init_compute_s(self, evaluations: int) -> float:
         """Modelled seconds of one model-codec initialisation that cost `evaluations`."""
@@ -94,13 +79,13 @@ class World:
         """Modelled engine seconds for coding one picture at `point` (`out`: its `Coded`).
 
         A model codec whose tracker lost the face and initialised again pays for that as an
-        initialisation; its compute is also tallied in `model_compute_s`."""
+        initialisation; its compute is also tallied in `model`."""
         compute_s = point.compute_s(out.evaluations)
         model = spec(point.codec).role is Role.MODEL
         if model and (out.reinitialised or out.failure):
             compute_s = point.compute_s(0) + self.init_compute_s(out.evaluations)
         if model:
-            self.model_compute_s += compute_s
+            self.model.compute_s += compute_s
         return compute_s
 
     def send_feedback(self, item, handler: Callable) -> None:

@@ -81,17 +81,17 @@ def switching_metrics(result: RunResult) -> dict[str, Any]:
         section = spec(region).config_section
         out[f"{section}_failures"] = counts.get(f"{section}_failures", 0)
     return out | {
-        "description_bytes": result.description_bytes,
-        "kbps_description": round(result.description_sent_bits / result.duration_s / 1000.0, 3),
-        "description_delivered_s": _rounded(result.description_delivered_s),
-        "description_acked_s": _rounded(result.description_acked_s),
-        "description_wait_s": round(result.description_wait_s, 3),
+        "description_bytes": result.description.size_bytes,
+        "kbps_description": round(result.description.sent_bits / result.duration_s / 1000.0, 3),
+        "description_delivered_s": _rounded(result.description.delivered_s),
+        "description_acked_s": _rounded(result.description.acked_s),
+        "description_wait_s": round(result.description.wait_s, 3),
         # The customisation scheme's costs: the engine's modelled MBC compute, and with
         # selection the sender's tracking compute and the parameters it sends up.
         "scheme": _model_section(result).scheme,
-        "engine_mbc_compute_s": round(result.engine_model_compute_s, 3),
-        "kbps_uplink_mbc": round(result.sender_model_bits / result.duration_s / 1000.0, 3),
-        "sender_mbc_ms_per_frame": round(result.sender_model_compute_ms / result.log.frames, 3)
+        "engine_mbc_compute_s": round(result.model.engine_compute_s, 3),
+        "kbps_uplink_mbc": round(result.model.sender_bits / result.duration_s / 1000.0, 3),
+        "sender_mbc_ms_per_frame": round(result.model.sender_compute_ms / result.log.frames, 3)
         if result.log.frames
         else 0.0,
     }
@@ -102,16 +102,16 @@ def refresh_metrics(result: RunResult) -> dict[str, Any]:
     `kbps_mbc`, which are the codecs' own), its compute and what the receiver made of it."""
     counts = result.engine_counts or {}
     return {
-        "kbps_refresh": round(result.refresh_bits / result.duration_s / 1000.0, 3),
-        "refresh_bits": int(result.refresh_bits),
+        "kbps_refresh": round(result.refresh.bits / result.duration_s / 1000.0, 3),
+        "refresh_bits": int(result.refresh.bits),
         "refreshes": counts.get("refreshes", 0),
         "refresh_intra": counts.get("refresh_intra", 0),
         "refresh_dropped": counts.get("refresh_dropped", 0),
         "refresh_skipped": counts.get("refresh_skipped", 0),
-        "refresh_decoded": result.refresh_decoded,
-        "refresh_lost": result.refresh_lost,
+        "refresh_decoded": result.refresh.decoded,
+        "refresh_lost": result.refresh.lost,
         "refresh_adopted": counts.get("refresh_adopted", 0),
-        "engine_refresh_compute_s": round(result.refresh_compute_s, 3),
+        "engine_refresh_compute_s": round(result.refresh.compute_s, 3),
     }
 
 
@@ -130,7 +130,7 @@ def playout_metrics(result: RunResult) -> dict[str, Any]:
     # without more SSIM work: the display instants that show the frame meant for them.
     fresh = log["ssim"][(log["frozen"] == 0) & np.isfinite(log["ssim"])]
     stats["ssim_db_unfrozen"] = round(ssim_to_db(float(fresh.mean())), 4) if fresh.size else None
-    stats["kbps_padding"] = round(result.padding_bits / result.duration_s / 1000.0, 3)
+    stats["kbps_padding"] = round(result.sent.padding / result.duration_s / 1000.0, 3)
     stats["estimator"] = result.scenario.engine.estimator.kind
     stats["playout"] = result.scenario.receiver.playout
     return stats
