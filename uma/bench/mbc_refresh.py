@@ -47,7 +47,9 @@ class RefreshSpec:
     buffer in refresh frame intervals (None: the ladder's); `choose`: the encoder adopts a
     refresh picture only where it is nearer its frame than the encoder's mirror of the
     receiver's rendering there (a flag of one bit a unit, counted), so a worse picture never
-    replaces a better reference."""
+    replaces a better reference. `region="residual"` codes the face box's residual against
+    the engine's rendering (`uma.mbc.refresh_coder`), `intra_every_unit` with an IDR every
+    unit; `preset` is libx264's (None: the ladder's)."""
 
     rung_index: int
     refresh_fps: float
@@ -60,12 +62,18 @@ class RefreshSpec:
     face_scale: float = 1.0
     choose: bool = True
     intra_every_unit: bool = False
+    preset: str | None = None
 
 
-# Chosen on akiyo's and carphone's frames 150-299 (docs/mbc.md), quoted on frames 0-149.
+# Chosen on akiyo's and carphone's frames 150-299 (docs/mbc.md, docs/refresh.md), quoted on
+# frames 0-149: the face box at half size, libx264's medium preset (the simulation's
+# `engine.mbc.refresh.preset`; 0.4-0.5 dB over the ladder's ultrafast at less rate).
+REFRESH_PRESET = "medium"
 DEFAULT_REFRESH = {
-    "mbc_refresh_lowest": RefreshSpec(0, 5.0, region="face", face_scale=0.5),
-    "mbc_refresh_second": RefreshSpec(1, 25 / 3, region="face", face_scale=0.5),
+    "mbc_refresh_lowest": RefreshSpec(0, 5.0, region="face", face_scale=0.5, preset=REFRESH_PRESET),
+    "mbc_refresh_second": RefreshSpec(
+        1, 25 / 3, region="face", face_scale=0.5, preset=REFRESH_PRESET
+    ),
 }
 
 
@@ -94,6 +102,8 @@ def _coder(clip, results, spec, budget_kbps, size):
         settings["vbv_frames"] = spec.vbv_frames
     if spec.intra_every_unit:
         settings["keyint_frames"] = 1
+    if spec.preset is not None:
+        settings["preset"] = spec.preset
     return RefreshCoder(size, coded, spec.refresh_fps, budget_kbps, settings, box), corners
 
 
