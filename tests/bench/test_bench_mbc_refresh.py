@@ -105,3 +105,24 @@ def test_a_residual_refresh_serves_every_adopted_unit_in_order_at_both_ends(
     assert info["mirror_is_receiver"]
     assert kbps > 5.0 and info["delay_frames_median"] >= 1
     assert any(not (a == b).all() for a, b in zip(plain, shown, strict=True))
+
+
+def test_the_default_refresh_codes_at_the_simulations_preset_and_intra_on_request(
+    head_clip,
+) -> None:
+    """The bench's refresh box is coded at libx264's medium preset, as the simulation's
+    `engine.mbc.refresh.preset` default; `intra_every_unit` makes every unit an IDR."""
+    from dataclasses import replace
+
+    from uma.bench.mbc_refresh import DEFAULT_REFRESH, _coder
+    from uma.config.codecs import RefreshConfig
+
+    clip, results = head_clip
+    spec = DEFAULT_REFRESH["mbc_refresh_lowest"]
+    coder, corners = _coder(clip, results, spec, 12.0, (176, 144))
+    assert coder.encoder.preset == RefreshConfig().preset == "medium"
+    assert coder.box is not None and len(corners) == len(results)
+    intra, _ = _coder(clip, results, replace(spec, intra_every_unit=True), 12.0, (176, 144))
+    frames = [clip.frames[i] for i in (0, 5, 10)]
+    assert all(intra.code(f, corners[0])[1] for f in frames)
+    assert [coder.code(f, corners[0])[1] for f in frames] == [True, False, False]
