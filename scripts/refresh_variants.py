@@ -1,6 +1,7 @@
 """What a model-aided refresh should code: `uma bench mbc`'s refresh displays for other specs.
 
     PYTHONPATH=$PWD python scripts/refresh_variants.py [--start 150] [--frames 150]
+        [--set box|residual|preset] [--clips akiyo,carphone]
 
 codes akiyo and carphone (frames `start` to `start + frames`: 150-299 by default, the tuning
 frames the bench does not quote) with the MBC plus each refresh variant below at the two
@@ -29,6 +30,38 @@ def variants() -> dict:
     return out
 
 
+def residual_variants() -> dict:
+    """name -> `RefreshSpec`: the face box at 1/2 scale (the default) against the residual
+    against the MBC rendering in that box, as a P chain or intra every unit, at 1/2 and 3/4
+    scale."""
+    from uma.bench.mbc_refresh import RefreshSpec
+
+    out = {}
+    for rung, fps in ((0, 5.0), (1, 25 / 3)):
+        out[f"box0.5_r{rung}"] = RefreshSpec(rung, fps, region="face", face_scale=0.5)
+        for scale in (0.5, 0.75):
+            out[f"residual{scale:g}_p_r{rung}"] = RefreshSpec(
+                rung, fps, region="residual", face_scale=scale
+            )
+            out[f"residual{scale:g}_intra_r{rung}"] = RefreshSpec(
+                rung, fps, region="residual", face_scale=scale, intra_every_unit=True
+            )
+    return out
+
+
+def preset_variants() -> dict:
+    """name -> `RefreshSpec`: the face box at 1/2 scale (the default) at libx264's presets."""
+    from uma.bench.mbc_refresh import RefreshSpec
+
+    out = {}
+    for rung, fps in ((0, 5.0), (1, 25 / 3)):
+        for preset in ("ultrafast", "veryfast", "medium", "slow"):
+            out[f"box0.5_{preset}_r{rung}"] = RefreshSpec(
+                rung, fps, region="face", face_scale=0.5, preset=preset
+            )
+    return out
+
+
 def main() -> None:
     from uma.bench import mbc
     from uma.bench.mbc_clips import default_clips
@@ -36,11 +69,13 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--start", type=int, default=150)
     parser.add_argument("--frames", type=int, default=150)
+    parser.add_argument("--set", choices=("box", "residual", "preset"), default="box")
+    parser.add_argument("--clips", default="akiyo,carphone")
     args = parser.parse_args()
-    specs = variants()
+    specs = {"box": variants, "residual": residual_variants, "preset": preset_variants}[args.set]()
     shown = [*specs, "quantised", "h264_lowest", "h264_second", "av1_lowest", "av1_second"]
     for clip in default_clips(args.frames, start=args.start):
-        if clip.name not in ("akiyo", "carphone"):
+        if clip.name not in args.clips.split(","):
             continue
         result = mbc.run_clip(clip, refresh=specs)
         for name in shown:

@@ -87,3 +87,42 @@ def test_a_face_box_pasted_back_on_its_own_picture_changes_nothing_and_is_feathe
     assert pasted[26, 44] == 255 and 0 < pasted[10, 44] < 64  # inside full, edge blended
     assert pasted[9, 44] == 0 and pasted[:96].sum() > 0
     assert pasted[96:].any()  # chroma pasted too
+
+
+@pytest.mark.parametrize("intra", [False, True])
+def test_a_residual_refresh_serves_every_adopted_unit_in_order_at_both_ends(
+    head_clip, intra
+) -> None:
+    """A residual adds to the rendering from the reference before it: the receiver takes
+    every adopted unit, in order, and ends on the engine mirror's very picture."""
+    from uma.bench.mbc_refresh import RefreshSpec
+
+    plain, _, _ = _display(head_clip, RefreshSpec(0, 5.0, choose=False), mbc_kbps=100.0)
+    spec = RefreshSpec(0, 5.0, region="residual", face_scale=0.5, intra_every_unit=intra)
+    shown, kbps, info = _display(head_clip, spec, mbc_kbps=2.0)
+    assert info["units"] == 4 and info["region"] == "residual"
+    assert 1 <= info["served"] <= info["adopted"] <= 4
+    assert info["mirror_is_receiver"]
+    assert kbps > 5.0 and info["delay_frames_median"] >= 1
+    assert any(not (a == b).all() for a, b in zip(plain, shown, strict=True))
+
+
+def test_the_default_refresh_codes_at_the_simulations_preset_and_intra_on_request(
+    head_clip,
+) -> None:
+    """The bench's refresh box is coded at libx264's medium preset, as the simulation's
+    `engine.mbc.refresh.preset` default; `intra_every_unit` makes every unit an IDR."""
+    from dataclasses import replace
+
+    from uma.bench.mbc_refresh import DEFAULT_REFRESH, _coder
+    from uma.config.codecs import RefreshConfig
+
+    clip, results = head_clip
+    spec = DEFAULT_REFRESH["mbc_refresh_lowest"]
+    coder, corners = _coder(clip, results, spec, 12.0, (176, 144))
+    assert coder.encoder.preset == RefreshConfig().preset == "medium"
+    assert coder.box is not None and len(corners) == len(results)
+    intra, _ = _coder(clip, results, replace(spec, intra_every_unit=True), 12.0, (176, 144))
+    frames = [clip.frames[i] for i in (0, 5, 10)]
+    assert all(intra.code(f, corners[0])[1] for f in frames)
+    assert [coder.code(f, corners[0])[1] for f in frames] == [True, False, False]

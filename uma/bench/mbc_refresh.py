@@ -47,7 +47,9 @@ class RefreshSpec:
     buffer in refresh frame intervals (None: the ladder's); `choose`: the encoder adopts a
     refresh picture only where it is nearer its frame than the encoder's mirror of the
     receiver's rendering there (a flag of one bit a unit, counted), so a worse picture never
-    replaces a better reference."""
+    replaces a better reference. `region="residual"` codes the face box's residual against
+    the engine's rendering (`uma.mbc.refresh_coder`), `intra_every_unit` with an IDR every
+    unit; `preset` is libx264's (None: the ladder's)."""
 
     rung_index: int
     refresh_fps: float
@@ -59,12 +61,19 @@ class RefreshSpec:
     face_margin: float = 1.6
     face_scale: float = 1.0
     choose: bool = True
+    intra_every_unit: bool = False
+    preset: str | None = None
 
 
-# Chosen on akiyo's and carphone's frames 150-299 (docs/mbc.md), quoted on frames 0-149.
+# Chosen on akiyo's and carphone's frames 150-299 (docs/mbc.md, docs/refresh.md), quoted on
+# frames 0-149: the face box at half size, libx264's medium preset (the simulation's
+# `engine.mbc.refresh.preset`; 0.4-0.5 dB over the ladder's ultrafast at less rate).
+REFRESH_PRESET = "medium"
 DEFAULT_REFRESH = {
-    "mbc_refresh_lowest": RefreshSpec(0, 5.0, region="face", face_scale=0.5),
-    "mbc_refresh_second": RefreshSpec(1, 25 / 3, region="face", face_scale=0.5),
+    "mbc_refresh_lowest": RefreshSpec(0, 5.0, region="face", face_scale=0.5, preset=REFRESH_PRESET),
+    "mbc_refresh_second": RefreshSpec(
+        1, 25 / 3, region="face", face_scale=0.5, preset=REFRESH_PRESET
+    ),
 }
 
 
@@ -74,15 +83,14 @@ def _size_label(spec: RefreshSpec) -> str:
     return "x".join(str(v) for v in spec.size) if spec.size else "rung"
 
 
-def _code_refresh(clip, results, spec, budget_kbps, size):
-    """The refresh units and, per unit index, its decoded picture (`RefreshCoder.code`)."""
-    from uma.mbc.refresh import RefreshUnit, refresh_frames
+def _coder(clip, results, spec, budget_kbps, size):
+    """The refresh's `RefreshCoder` and the box's corner per tracked frame (face regions)."""
     from uma.video import load_ladder
 
     ladder = load_ladder()
     rung = ladder.rungs[spec.rung_index]
     box, corners = None, {}
-    if spec.region == "face":
+    if spec.region in ("face", "residual"):
         model = clip.description.model
         box = face_box_size(model, next(r for r in results if r).params, spec.face_margin, size)
         coded = tuple(even_px(v * spec.face_scale) for v in box)
@@ -92,16 +100,11 @@ def _code_refresh(clip, results, spec, budget_kbps, size):
     settings = ladder.encoder.kwargs()
     if spec.vbv_frames is not None:
         settings["vbv_frames"] = spec.vbv_frames
-    coder = RefreshCoder(size, coded, spec.refresh_fps, budget_kbps, settings, box)
-    units, pictures = [], {}
-    for index in refresh_frames(len(clip.frames), clip.fps, spec.refresh_fps):
-        if not results[index]:
-            continue  # no pose to place the picture with: not coded
-        bits, keyframe, picture = coder.code(clip.frames[index], corners.get(index))
-        if picture is not None:
-            pictures[len(units)] = picture
-        units.append(RefreshUnit(index, bits, keyframe))
-    return units, pictures
+    if spec.intra_every_unit:
+        settings["keyint_frames"] = 1
+    if spec.preset is not None:
+        settings["preset"] = spec.preset
+    return RefreshCoder(size, coded, spec.refresh_fps, budget_kbps, settings, box), corners
 
 
 def _renderer(clip, results, spec, size, head_ring):
@@ -115,12 +118,15 @@ def _renderer(clip, results, spec, size, head_ring):
     return out
 
 
-def _nearer(mirror, face_units, spec, frame: np.ndarray, values: np.ndarray, picture) -> bool:
+def _nearer(mirror, face_units, spec, frame, values, picture, base=None) -> bool:
     """Whether a refresh's decoded `picture` is nearer `frame` than the mirror's rendering at
     `values` (the set coded for that frame): over the box for a face refresh, the judge the
-    simulation uses (`uma.mbc.refresh_gain_db`), over the picture's luma otherwise."""
-    from uma.mbc.refresh_judge import refresh_gain_db
+    simulation uses (`uma.mbc.refresh_gain_db`), over the picture's luma otherwise; a
+    residual's composed box against `base`, the rendering it was coded against."""
+    from uma.mbc.refresh_judge import refresh_gain_db, residual_gain_db
 
+    if base is not None:
+        return residual_gain_db(base, picture, frame) > 0.0
     if spec.region == "face":
         corner, patch = picture
         return refresh_gain_db(mirror, face_units, values, corner, patch, frame) > 0.0
@@ -146,43 +152,120 @@ def _values(mirror, face_units, body_tracker, frame: np.ndarray, params: np.ndar
     return np.concatenate([params, body, light])
 
 
-def _engine(clip, results, face_units, stream_config, spec, units, pictures, schedule, mirror):
-    """The encoder's side: every frame's set coded against its mirror, which adopts a refresh
-    once it has arrived and its frame's pose is decoded. (packets, decoded sets by frame,
-    switches: frame -> (unit, its decoded set), adopted units)."""
+class _Sender:
+    """The encoder's side of the refresh: it codes a refresh unit on each refresh frame inside
+    the render loop, adopts it or not (`RefreshSpec.choose`), and says which adopted units
+    the receiver takes on a frame (after their arrival, once their frame's set is decoded).
+    A residual is coded against `ahead`, the receiver's renderer as it will be when it takes
+    the unit (every adopted unit taken in order, at once); `mirror` lags as the receiver."""
+
+    def __init__(self, clip, face_units, spec, coder, corners, budget_kbps, ahead):
+        from uma.mbc.refresh import refresh_frames
+
+        self.clip, self.face_units, self.spec = clip, face_units, spec
+        self.coder, self.corners, self.budget_kbps, self.ahead = coder, corners, budget_kbps, ahead
+        self.at = set()
+        if coder is not None:
+            self.at = set(refresh_frames(len(clip.frames), clip.fps, spec.refresh_fps))
+        self.units, self.pictures, self.adopted, self.current = [], {}, set(), -1
+        self.seconds = [0.0, 0.0]  # wall, CPU spent coding (and, for a residual, `ahead`)
+        self.judge_seconds = [0.0, 0.0]  # wall, CPU spent judging (the mirror's drawing)
+        self._serving, self._scheduled = None, -1
+
+    def schedule(self):
+        from uma.mbc.refresh import schedule_refresh
+
+        clip = self.clip
+        rate_kbps = max(self.budget_kbps, 1e-9)
+        return schedule_refresh(
+            self.units, len(clip.frames), clip.fps, rate_kbps, latency_s=self.spec.latency_s
+        )
+
+    def due(self, index: int, decoded) -> list[int]:
+        """The units the receiver takes on frame `index`: the newest adopted one that has
+        arrived and whose frame's set is decoded (a residual: with every adopted one before)."""
+        if self._scheduled != len(self.units):  # units coded so far: all before this frame
+            self._serving, self._scheduled = self.schedule().serving, len(self.units)
+        k = int(self._serving[index])
+        while k > self.current and (k not in self.adopted or self.units[k].frame not in decoded):
+            k -= 1
+        if k <= self.current:
+            return []
+        taken = [k]
+        if self.spec.region == "residual":
+            taken = [j for j in range(self.current + 1, k + 1) if j in self.adopted]
+        self.current = k
+        return taken
+
+    def code(self, index: int, mirror, values: np.ndarray, decoded_values: np.ndarray) -> None:
+        """Code frame `index`'s refresh unit if it is a refresh frame (`values` the set coded
+        for it, `decoded_values` as the receiver decodes it) and adopt it if it is worth it."""
+        from uma.mbc.refresh import RefreshUnit
+
+        if index not in self.at:
+            return
+        frame, units = self.clip.frames[index], self.face_units
+        begin, cpu = time.perf_counter(), time.process_time()
+        base = None
+        if self.spec.region == "residual":
+            params, light = units.split(decoded_values)
+            base = self.ahead.render(params, light, units.body_of(decoded_values))[0]
+        bits, keyframe, picture = self.coder.code(frame, self.corners.get(index), base=base)
+        k = len(self.units)
+        self.units.append(RefreshUnit(index, bits, keyframe))
+        _add(self.seconds, begin, cpu)
+        if picture is None:
+            return
+        self.pictures[k] = picture
+        begin, cpu = time.perf_counter(), time.process_time()
+        nearer = not self.spec.choose or _nearer(mirror, units, self.spec, frame, values, picture,
+                                                 base)  # fmt: skip
+        _add(self.judge_seconds, begin, cpu)
+        if nearer:
+            self.adopted.add(k)
+            if base is not None:
+                begin, cpu = time.perf_counter(), time.process_time()
+                take_refresh(self.ahead, units, decoded_values, picture)
+                _add(self.seconds, begin, cpu)
+
+
+def _add(seconds: list[float], begin: float, cpu: float) -> None:
+    """Wall and CPU seconds since (`begin`, `cpu`) added to `seconds`."""
+    seconds[0] += time.perf_counter() - begin
+    seconds[1] += time.process_time() - cpu
+
+
+def _engine(clip, results, face_units, stream_config, sender, mirror):
+    """The encoder's side: every frame's set coded against its mirror, which takes refreshes
+    as the receiver does; the sender codes each refresh unit on its frame. (packets, decoded
+    sets by frame, switches: frame -> [(unit, its decoded set), ...])."""
     from uma.mbc.body import BodyTracker
     from uma.mbc.decoder import ParameterDecoder
     from uma.mbc.stream import ParameterEncoder
 
-    unit_at = {unit.frame: k for k, unit in enumerate(units)}
-    current, switches, packets, adopted = -1, {}, [], set()
+    switches, packets = {}, []
     body_tracker = BodyTracker()
     encoder = ParameterEncoder(face_units, stream_config)
     decoder = ParameterDecoder(face_units, stream_config)
     decoded: dict[int, np.ndarray] = {}
     for index, result in enumerate(results):
-        k = int(schedule.serving[index])
-        while k > current and (k not in adopted or units[k].frame not in decoded):
-            k -= 1  # not adopted, or not decoded (yet): the newest usable one before it
-        if k > current:
-            switches[index] = (k, decoded[units[k].frame])
-            take_refresh(mirror, face_units, decoded[units[k].frame], pictures[k])
-            current = k
+        taken = sender.due(index, decoded)
+        if taken:
+            switches[index] = [(k, decoded[sender.units[k].frame]) for k in taken]
+            for k, values in switches[index]:
+                take_refresh(mirror, face_units, values, sender.pictures[k])
         values = None
         if result:
             frame = clip.frames[index]
             values = _values(mirror, face_units, body_tracker, frame, result.params)
-            k = unit_at.get(index)  # decided on the unit's own frame, before it can arrive
-            if k in pictures and (
-                not spec.choose or _nearer(mirror, face_units, spec, frame, values, pictures[k])
-            ):
-                adopted.add(k)
         out = encoder.push(index, values)
         out += encoder.flush() if index == len(results) - 1 else []
         for packet in out:
             decoded.update(decoder.decode(packet.to_bytes()).frames)
         packets += out
-    return packets, decoded, switches, adopted
+        if values is not None:  # decided on the unit's own frame, before it can arrive
+            sender.code(index, mirror, values, encoder.decoded)
+    return packets, decoded, switches
 
 
 def refresh_display(
@@ -200,39 +283,42 @@ def refresh_display(
     rate, `head_ring` the receiver's (`SceneRenderer`). With nothing left of the rung's rate
     it is the plain MBC (no refresh unit)."""
     from uma.errors import ConfigError
-    from uma.mbc.refresh import schedule_refresh
     from uma.video import load_ladder
 
-    if spec.region not in ("frame", "face"):
-        raise ConfigError(f"refresh region: expected 'frame' or 'face', got {spec.region!r}")
+    if spec.region not in ("frame", "face", "residual"):
+        raise ConfigError(
+            f"refresh region: expected 'frame', 'face' or 'residual', got {spec.region!r}"
+        )
     frames = clip.frames
     size = (frames[0].shape[1], frames[0].shape[0] * 2 // 3)
     budget_kbps = load_ladder().rungs[spec.rung_index].rate_kbps - mbc_kbps
-    units, pictures = [], {}
-    begin, cpu = time.perf_counter(), time.process_time()
+    coder, corners = None, {}
     if budget_kbps > 1.0:  # libx264 takes whole kbit/s
-        units, pictures = _code_refresh(clip, results, spec, budget_kbps, size)
-    coding_s, coding_cpu_s = time.perf_counter() - begin, time.process_time() - cpu
-    schedule = schedule_refresh(
-        units, len(frames), clip.fps, max(budget_kbps, 1e-9), latency_s=spec.latency_s
-    )
+        coder, corners = _coder(clip, results, spec, budget_kbps, size)
+    ahead = _renderer(clip, results, spec, size, head_ring) if spec.region == "residual" else None
+    sender = _Sender(clip, face_units, spec, coder, corners, budget_kbps, ahead)
     mirror = _renderer(clip, results, spec, size, head_ring)
-    packets, decoded, switches, adopted = _engine(
-        clip, results, face_units, stream_config, spec, units, pictures, schedule, mirror
-    )
+    packets, decoded, switches = _engine(clip, results, face_units, stream_config, sender, mirror)
     receiver = _renderer(clip, results, spec, size, head_ring)
     shown, switch_s, switch_cpu_s = _receive(
-        receiver, face_units, frames[0], len(frames), decoded, switches, pictures
+        receiver, face_units, frames[0], len(frames), decoded, switches, sender.pictures
     )
     seconds = len(frames) / clip.fps
     params_kbps = sum(p.size_bytes for p in packets) * 8 / seconds / 1000.0
+    units = sender.units
     flag_bits = len(units) if spec.choose else 0
     refresh_kbps = (sum(u.size_bits for u in units) + flag_bits) / seconds / 1000.0
-    info = _info(spec, budget_kbps, params_kbps, refresh_kbps, units, adopted, switches)
-    # Encoding and decoding the refresh pictures, and the receiver's taking them (the
-    # composition), per frame of the clip: the model path's refresh share.
-    info["ms_per_frame"] = round((coding_s + switch_s) * 1000.0 / len(frames), 3)
-    info["cpu_ms_per_frame"] = round((coding_cpu_s + switch_cpu_s) * 1000.0 / len(frames), 3)
+    info = _info(spec, budget_kbps, params_kbps, refresh_kbps, units, sender.adopted, switches)
+    # The engine's mirror and the receiver took the same refreshes: the same picture at the end.
+    info["mirror_is_receiver"] = bool(np.array_equal(mirror.reference, receiver.reference))
+    # Encoding and decoding the refresh pictures (for a residual, the engine's rendering it is
+    # coded against), and the receiver's taking them (the composition), per frame of the clip:
+    # the model path's refresh share.
+    # The engine's judging (its mirror's drawing of the frame) is counted too, and apart.
+    wall, cpu = (sender.seconds[k] + sender.judge_seconds[k] for k in (0, 1))
+    info["ms_per_frame"] = round((wall + switch_s) * 1000.0 / len(frames), 3)
+    info["cpu_ms_per_frame"] = round((cpu + switch_cpu_s) * 1000.0 / len(frames), 3)
+    info["judge_ms_per_frame"] = round(sender.judge_seconds[0] * 1000.0 / len(frames), 3)
     return shown, params_kbps + refresh_kbps, info
 
 
@@ -242,9 +328,9 @@ def _receive(receiver, face_units, first, count: int, decoded, switches, picture
     shown, last, switch_s, switch_cpu_s = [], first, 0.0, 0.0
     for index in range(count):
         if index in switches:
-            k, values = switches[index]
             begin, cpu = time.perf_counter(), time.process_time()
-            take_refresh(receiver, face_units, values, pictures[k])
+            for k, values in switches[index]:
+                take_refresh(receiver, face_units, values, pictures[k])
             switch_s += time.perf_counter() - begin
             switch_cpu_s += time.process_time() - cpu
         if index in decoded:
@@ -256,7 +342,7 @@ def _receive(receiver, face_units, first, count: int, decoded, switches, picture
 
 def _info(spec, budget_kbps, params_kbps, refresh_kbps, units, adopted, switches) -> dict:
     """What the refresh did, for the bench's JSON."""
-    delays = [i - units[k].frame for i, (k, _) in switches.items()]
+    delays = [i - units[k].frame for i, taken in switches.items() for k, _ in taken]
     return {
         "refresh_fps": spec.refresh_fps,
         "region": spec.region,
@@ -267,7 +353,7 @@ def _info(spec, budget_kbps, params_kbps, refresh_kbps, units, adopted, switches
         "refresh_kbps": round(refresh_kbps, 3),
         "units": len(units),
         "adopted": len(adopted),
-        "served": len(switches),
+        "served": sum(len(taken) for taken in switches.values()),
         "delay_frames_median": float(np.median(delays)) if delays else None,
         "delay_frames_max": int(max(delays)) if delays else None,
     }

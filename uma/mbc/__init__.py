@@ -21,8 +21,8 @@ from uma.mbc.light import choose_head_ring
 from uma.mbc.packets import IP_UDP_RTP_BYTES, Packet, parse_packet
 from uma.mbc.quant import Quantiser, QuantiserConfig
 from uma.mbc.refresh import RefreshSchedule, RefreshUnit, refresh_frames, schedule_refresh
-from uma.mbc.refresh_coder import RefreshCoder, take_refresh
-from uma.mbc.refresh_judge import needs_judging, refresh_gain_db
+from uma.mbc.refresh_coder import RefreshCoder, ResidualBox, take_refresh
+from uma.mbc.refresh_judge import needs_judging, refresh_gain_db, residual_gain_db
 from uma.mbc.scene_render import SceneRenderer, description_reference
 from uma.mbc.stream import ParameterEncoder, StreamConfig
 from uma.mbc.units import FaceUnits
@@ -61,6 +61,8 @@ __all__ = [
     "BodyFailure",
     "RefreshCoder",
     "take_refresh",
+    "ResidualBox",
+    "residual_gain_db",
     "needs_judging",
     "refresh_gain_db",
 ]

@@ -51,7 +51,7 @@ BODY_ROTATION_MAX_RAD = 0.5
 # (luma levels) is another scene (a cut, a moved camera): the plate starts again from it.
 PLATE_MISMATCH_LEVELS = 40.0
 EDGE_BAND_PX = 3  # the unknown band along the known background that is inpainted, not averaged
-HAIR_OF_HEAD = 0.1  # how far above the head ring the halo reaches, in head-ring heights
+HAIR_OF_HEAD = 0.2  # how far above the head ring the halo reaches, in head-ring heights
 _PLATE_MIN_OVERLAP = 0.05  # of the picture, to judge a mismatch at all
 
 

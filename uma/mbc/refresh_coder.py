@@ -10,9 +10,17 @@ a given coded size. The receiver takes a decoded refresh as its new reference
 (`take_refresh`): the box pasted with a feathered edge onto its own rendering of that frame at
 the pose the parameter stream decoded for it, the plate learning only the box's pixels. The
 engine's mirror takes it the same way, so both ends render from the same picture.
+
+A residual refresh (`RefreshCoder.code(..., base=)`) codes instead the source minus the
+engine's rendering of that frame in the box (`base`: what the receiver will draw there, from
+the reference it will hold when it takes the refresh), plus `RESIDUAL_OFFSET`, at the coded
+size; the receiver adds the decoded residual (`ResidualBox`) to its own rendering of that frame
+(`take_refresh`), so the rendering's detail stays where the residual is flat.
 """
 
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -24,11 +32,52 @@ __all__ = [
     "box_corner",
     "even_px",
     "take_refresh",
+    "ResidualBox",
+    "residual_patch",
     "POSITION_BITS",
+    "RESIDUAL_OFFSET",
 ]
 
 POSITION_BITS = 32  # a face box's position, two 16-bit numbers a unit
 FEATHER_PX = 8
+RESIDUAL_OFFSET = 128  # a residual's zero, in levels
+RESIDUAL_DETAIL = 1.0  # how much of the rendering's detail finer than the coded size stays
+
+
+@dataclass(frozen=True, eq=False)
+class ResidualBox:
+    """A decoded residual refresh: the box's corner (x0, y0) and size (W, H) in the picture,
+    and the residual as decoded (YUV 4:2:0 at the coded size, `RESIDUAL_OFFSET` meaning no
+    change)."""
+
+    corner: tuple[int, int]
+    box: tuple[int, int]
+    residual: np.ndarray
+
+
+def _residual(frame_low: np.ndarray, base_low: np.ndarray) -> np.ndarray:
+    """`frame_low` - `base_low` + `RESIDUAL_OFFSET`, clipped to levels (YUV 4:2:0 alike)."""
+    diff = frame_low.astype(np.int16) - base_low.astype(np.int16) + RESIDUAL_OFFSET
+    return np.clip(diff, 0, 255).astype(np.uint8)
+
+
+def residual_patch(base: np.ndarray, refresh: ResidualBox) -> np.ndarray:
+    """The box the receiver composes from a decoded residual `refresh` on its own rendering
+    `base` (YUV 4:2:0 at the source size): the rendering's box at the coded size plus the
+    residual, back at the box's size, plus `RESIDUAL_DETAIL` times the rendering's detail
+    finer than the coded size (YUV 4:2:0 at the box's size)."""
+    from uma.video import resize_yuv420
+
+    box_w, box_h = refresh.box
+    coded_h, coded_w = refresh.residual.shape[0] * 2 // 3, refresh.residual.shape[1]
+    base_box = _crop(base, *refresh.corner, box_w, box_h)
+    base_low = resize_yuv420(base_box, coded_w, coded_h)
+    low = base_low.astype(np.int16) + refresh.residual.astype(np.int16) - RESIDUAL_OFFSET
+    patch = resize_yuv420(np.clip(low, 0, 255).astype(np.uint8), box_w, box_h)
+    if RESIDUAL_DETAIL == 0.0 or base_low is base_box:
+        return patch
+    detail = base_box.astype(np.float32) - resize_yuv420(base_low, box_w, box_h)
+    return np.clip(np.rint(patch + RESIDUAL_DETAIL * detail), 0, 255).astype(np.uint8)
 
 
 def even_px(value: float) -> int:
@@ -106,21 +155,29 @@ class RefreshCoder:
         self.decoder = H264Decoder()
         self.data = b""  # the last unit's H.264 bytes (a simulation carries them)
 
-    def code(self, frame: np.ndarray, corner=None):
+    def code(self, frame: np.ndarray, corner=None, base: np.ndarray | None = None):
         """`frame` (YUV 4:2:0, source size) coded: (size in bits with the box's position,
         keyframe, what the receiver decodes: the whole picture at the source size, or (corner,
-        box picture), or None)."""
+        box picture), or a `ResidualBox` when `base` (the engine's rendering of that frame,
+        YUV 4:2:0 at the source size) is given, or None)."""
         from uma.video import resize_yuv420
 
         extra_bits = 0
         if self.box is not None:
             frame, extra_bits = _crop(frame, *corner, *self.box), POSITION_BITS
-        unit = self.encoder.encode(resize_yuv420(frame, *self.coded))
+        elif base is not None:
+            raise SceneError("refresh: a residual needs a face box, got the whole picture")
+        frame = resize_yuv420(frame, *self.coded)
+        if base is not None:
+            frame = _residual(frame, resize_yuv420(_crop(base, *corner, *self.box), *self.coded))
+        unit = self.encoder.encode(frame)
         self.data = unit.data
         picture = self.decoder.decode(unit.data)
         if picture is not None:
             if self.box is None:
                 picture = resize_yuv420(picture, *self.size)
+            elif base is not None:
+                picture = ResidualBox(tuple(corner), self.box, picture)
             else:
                 picture = (tuple(corner), resize_yuv420(picture, *self.box))
         return unit.size_bits + extra_bits, bool(unit.is_keyframe), picture
@@ -131,16 +188,23 @@ def take_refresh(renderer, units, values: np.ndarray, picture) -> None:
     `picture` (`RefreshCoder.code`'s) from now on, at the decoded set `values` of its frame
     (`units`, `uma.mbc.units.FaceUnits`, split it): a box is pasted onto the renderer's own
     picture of that frame first, and only its pixels teach the plate. A `SceneError` when it
-    cannot (the old reference stays)."""
+    cannot (the old reference stays). A `ResidualBox` is added to the renderer's own
+    picture of that frame in its box first."""
     params, light = units.split(values)
     height, width = renderer.size[1], renderer.size[0]
     fresh = None
-    if isinstance(picture, tuple):
-        (x0, y0), patch = picture
-        box_h, box_w = patch.shape[0] * 2 // 3, patch.shape[1]
+    if isinstance(picture, (tuple, ResidualBox)):
+        residual = isinstance(picture, ResidualBox)
+        if residual:
+            (x0, y0), (box_w, box_h), patch = picture.corner, picture.box, None
+        else:
+            (x0, y0), patch = picture
+            box_h, box_w = patch.shape[0] * 2 // 3, patch.shape[1]
         if x0 < 0 or y0 < 0 or x0 + box_w > width or y0 + box_h > height:
             raise SceneError(f"refresh box at ({x0}, {y0}) of {box_w}x{box_h}: outside the picture")
         drawn = renderer.render(params, light, units.body_of(values))[0]
+        if residual:
+            patch = residual_patch(drawn, picture)
         picture = _paste(drawn, patch, x0, y0)
         fresh = np.zeros((height, width), bool)
         fresh[y0 : y0 + box_h, x0 : x0 + box_w] = True

@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-__all__ = ["needs_judging", "refresh_gain_db", "box_psnr_db"]
+__all__ = ["needs_judging", "refresh_gain_db", "residual_gain_db", "box_psnr_db"]
 
 
 def needs_judging(min_gain_db: float, *, first_always: bool, refresh_taken: bool) -> bool:
@@ -51,3 +51,18 @@ def refresh_gain_db(
     window = (slice(y0, y0 + box_h), slice(x0, x0 + patch.shape[1]))
     truth_box = truth[:height][window]
     return box_psnr_db(patch[:box_h], truth_box) - box_psnr_db(rendered[:height][window], truth_box)
+
+
+def residual_gain_db(base: np.ndarray, refresh, truth: np.ndarray) -> float:
+    """How much better (dB) the box a decoded residual `refresh` (`uma.mbc.refresh_coder.
+    ResidualBox`) composes on `base` (the rendering it was coded against, YUV 4:2:0 at the
+    source size) is than `base` there, both against `truth` (the source picture), over the
+    box's luma."""
+    from uma.mbc.refresh_coder import residual_patch
+
+    patch = residual_patch(base, refresh)
+    (box_w, box_h), (x0, y0) = refresh.box, refresh.corner
+    window = (slice(y0, y0 + box_h), slice(x0, x0 + box_w))
+    height = base.shape[0] * 2 // 3
+    truth_box = truth[:height][window]
+    return box_psnr_db(patch[:box_h], truth_box) - box_psnr_db(base[:height][window], truth_box)
