@@ -168,3 +168,28 @@ def test_source_synth_cli_bad_output(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.startswith("uma: error:") and err.count("\n") == 1
     assert "existing file" in err and str(blocked) in err
+
+
+def test_the_compiled_maps_and_light_are_the_numpy_forms_to_the_bit():
+    from uma.face.talking_head_kernels import light_and_noise, pixel_maps
+
+    rng = np.random.default_rng(5)
+    height, width, triangles = 23, 31, 7
+    table = rng.normal(0, 3, (triangles + 1, 3, 3)).astype(np.float32)
+    labels = rng.integers(-1, triangles, (height, width)).astype(np.int32)
+    ys, xs = np.mgrid[0:height, 0:width].astype(np.float32)
+    per_pixel = table[labels]
+    maps = per_pixel[..., 0] * xs[..., None] + per_pixel[..., 1] * ys[..., None] + per_pixel[..., 2]
+    map_x, map_y, light = pixel_maps(table, labels)
+    assert np.array_equal(map_x, maps[..., 0]) and np.array_equal(map_y, maps[..., 1])
+    assert np.array_equal(light, maps[..., 2])
+
+    sampled = rng.integers(0, 256, (height, width, 3)).astype(np.uint8)
+    noise = rng.standard_normal(sampled.shape, dtype=np.float32)
+    gain = 1.0123456789
+    frame = sampled.astype(np.float32)
+    frame *= (gain * light)[..., None]
+    frame += 2.0 * noise
+    expected = np.clip(np.rint(frame), 0, 255).astype(np.uint8)
+    got = light_and_noise(sampled, light, np.float32(gain), noise, np.float32(2.0))
+    assert np.array_equal(got, expected)

@@ -158,8 +158,6 @@ class TalkingHeadSource:
         self.scene = SceneMesh.build(self.model, description.params, (height, width))
         # Where every scene point sits on the canvas at the template pose.
         self._scene_template = self.scene.points(description.params) + self._margin
-        ys, xs = np.mgrid[0:height, 0:width].astype(np.float32)
-        self._grid = (xs[..., None], ys[..., None])
         frontal = self.scene.normals(self.description.params)[:, 2]
         self._template_shade = AMBIENT + (1 - AMBIENT) * np.clip(frontal, 0, None)
         self._plan = _speech_plan(np.random.default_rng(seed), self.motion)
@@ -235,10 +233,12 @@ class TalkingHeadSource:
         """Frame `index` as a BGR image (lighting and, with `rng`, noise applied).
 
         Every pixel takes the affine map of the scene triangle drawn there (nearest triangle
-        first): where on the canvas to sample, and how much the light changes it. One gather of
-        per-triangle coefficients and one cv2.remap make the frame.
+        first): where on the canvas to sample, and how much the light changes it. The maps
+        (compiled, `uma.face.talking_head_kernels`) and one cv2.remap make the frame.
         """
         import cv2
+
+        from uma.face.talking_head_kernels import light_and_noise, pixel_maps
 
         params = self.params_at(index)
         scene = self.scene
@@ -257,20 +257,16 @@ class TalkingHeadSource:
         # A pixel no triangle covers (a strip folded over at an extreme pose) keeps the template.
         m = self._margin
         still = np.array([[[1.0, 0.0, m], [0.0, 1.0, m], [0.0, 0.0, 1.0]]])
-        per_pixel = np.concatenate([coeffs, still]).astype(np.float32)[labels]  # -1: the last
-        x, y = self._grid
-        maps = per_pixel[..., 0] * x + per_pixel[..., 1] * y + per_pixel[..., 2]
-        frame = cv2.remap(
-            self._canvas,
-            np.ascontiguousarray(maps[..., 0]),
-            np.ascontiguousarray(maps[..., 1]),
-            cv2.INTER_LINEAR,
-            borderMode=cv2.BORDER_REPLICATE,
-        ).astype(np.float32)
-        frame *= (gain * maps[..., 2])[..., None]
-        if rng is not None and self.motion.noise_std > 0:
-            frame += self.motion.noise_std * rng.standard_normal(frame.shape, dtype=np.float32)
-        return np.clip(np.rint(frame), 0, 255).astype(np.uint8)
+        table = np.ascontiguousarray(np.concatenate([coeffs, still]).astype(np.float32))
+        map_x, map_y, light = pixel_maps(table, labels)  # label -1: the last row
+        sampled = cv2.remap(
+            self._canvas, map_x, map_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE
+        )
+        noisy = rng is not None and self.motion.noise_std > 0
+        shape = sampled.shape if noisy else (0, 0, 0)
+        noise = rng.standard_normal(shape, dtype=np.float32) if noisy else _NO_NOISE
+        std = np.float32(self.motion.noise_std)
+        return light_and_noise(sampled, light, np.float32(gain), noise, std)
 
     def _shading(self, params: np.ndarray, direction: np.ndarray) -> np.ndarray:
         """Per scene point: brightness under `direction` relative to the template's lighting."""
@@ -293,6 +289,9 @@ class TalkingHeadSource:
             bgr = self.render_bgr(index, rng=rng)
             yield cv2.cvtColor(bgr, cv2.COLOR_BGR2YUV_I420)
             index += 1
+
+
+_NO_NOISE = np.empty((0, 0, 0), np.float32)
 
 
 def _speech_plan(rng: np.random.Generator, motion: Motion) -> dict:
