@@ -59,10 +59,12 @@ BODY_ROTATION_MAX_RAD = 0.5
 # (luma levels) is another scene (a cut, a moved camera): the plate starts again from it.
 PLATE_MISMATCH_LEVELS = 40.0
 EDGE_BAND_PX = 3  # the unknown band along the known background that is inpainted, not averaged
-# How that band is filled: the "nearest" known pixel, or OpenCV's "telea" inpainting. Nearest:
-# a new reference's plate 35-45 % less CPU (CIF, docs/mbc.md session mbc4), bench figures on
-# frames 150-299 within 0.03 dB and 0.002 SSIM of Telea's.
-EDGE_FILL = "nearest"
+# How that band is filled, luma and chroma: the "nearest" known pixel, or OpenCV's "telea"
+# inpainting (docs/mbc.md, session mbc4). Nearest on luma too: a new reference 35-45 % less CPU
+# at CIF, frames 150-299 within 0.03 dB, but foreman -0.16 to -0.19 dB with the refresh; on
+# chroma alone: 19-24 % less CPU, luma figures identical.
+EDGE_FILL = "telea"
+EDGE_FILL_CHROMA = "nearest"
 HAIR_OF_HEAD = 0.2  # how far above the head ring the halo reaches, in head-ring heights
 _PLATE_MIN_OVERLAP = 0.05  # of the picture, to judge a mismatch at all
 
@@ -206,10 +208,11 @@ def rigid_fit(source: np.ndarray, target: np.ndarray) -> np.ndarray:
     return np.column_stack([linear, mt - linear @ ms])
 
 
-def fill_unknown(plane: np.ndarray, known: np.ndarray) -> np.ndarray:
+def fill_unknown(plane: np.ndarray, known: np.ndarray, edge: str | None = None) -> np.ndarray:
     """`plane` (H, W) with the pixels not `known` filled smoothly from the known ones (a
     push-pull pyramid: averages of the known pixels at ever coarser levels, pulled back
-    down). Known pixels are kept exactly; with none known, mid-grey."""
+    down), the band next to the known pixels by `edge` (`_continue_edges`; None:
+    `EDGE_FILL`). Known pixels are kept exactly; with none known, mid-grey."""
     import cv2
 
     if not known.any():
@@ -229,12 +232,12 @@ def fill_unknown(plane: np.ndarray, known: np.ndarray) -> np.ndarray:
         trust = np.clip(w, 0.0, 1.0)
         filled = trust * (v / np.maximum(w, 1e-6)) + (1.0 - trust) * up
     out = np.where(known, plane, np.clip(np.rint(filled), 0, 255)).astype(plane.dtype)
-    return _continue_edges(out, known)
+    return _continue_edges(out, known, EDGE_FILL if edge is None else edge)
 
 
-def _continue_edges(filled: np.ndarray, known: np.ndarray, band_px: int = EDGE_BAND_PX):
+def _continue_edges(filled: np.ndarray, known: np.ndarray, edge: str, band_px: int = EDGE_BAND_PX):
     """`filled` (uint8, the push-pull fill) with the unknown pixels within `band_px` of a known
-    one taken instead from the known background: its nearest known pixel (`EDGE_FILL`
+    one taken instead from the known background: its nearest known pixel (`edge`
     "nearest", an exact Euclidean distance transform with labels) or OpenCV's Telea
     inpainting from the known pixels and the fill beyond ("telea"). Either way edges and
     gradients of the background continue into the band: a person moved by a pixel uncovers
@@ -247,7 +250,7 @@ def _continue_edges(filled: np.ndarray, known: np.ndarray, band_px: int = EDGE_B
     if filled.dtype != np.uint8 or not near.any():
         return filled
     where = near.view(bool)
-    if EDGE_FILL == "nearest":
+    if edge == "nearest":
         # Labels number the known (zero) pixels in raster order, from 1.
         _, labels = cv2.distanceTransformWithLabels(
             (~known).view(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE,
@@ -310,7 +313,7 @@ class Plate:
         filled = self.picture[height:].reshape(2, height // 2, width // 2)
         for k in range(2):
             seen[k][chroma_out] = new[k][chroma_out]
-            filled[k] = fill_unknown(seen[k], known_chroma)
+            filled[k] = fill_unknown(seen[k], known_chroma, EDGE_FILL_CHROMA)
         self.reason = reason
         return reason
 
