@@ -162,3 +162,7 @@ def test_the_fill_continues_an_edge_into_the_band_next_to_known_background() -> 
     # Measured: within 3 and 18 levels (the smooth fill alone: 3 and 33).
     assert np.all(np.abs(filled[band & (ys > 34)].astype(int) - 170) <= 6)
     assert np.all(np.abs(filled[band & (ys < 26)].astype(int) - 90) <= 22)
+    # The chroma planes' fill, the nearest known pixel: exact here.
+    nearest = fill_unknown(plane, known, "nearest")
+    assert np.array_equal(nearest[known], plane[known])
+    assert np.all(nearest[band & (ys > 34)] == 170) and np.all(nearest[band & (ys < 26)] == 90)

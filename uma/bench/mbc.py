@@ -68,6 +68,9 @@ SCALED_FPS = 25.0
 FULL_FRAME_CODECS = ("h264", "av1", "vp8")  # names in `uma.codecs`
 RING_CHOICE_FRAMES = 25  # the first second: the sender's look at the call before it settles
 MODEL_OWN = "model's own rendering"
+# Whether the stream carries the camera's motion (`uma.mbc.camera`): off, held at zero on every
+# shipped clip and 0.02-0.04 kbit/s dearer (docs/mbc.md, session mbc4).
+CAMERA_MOTION = False
 LARGEST_MOTION = -1  # `run_clip(keep_frame=)`: keep the frame of the largest head motion
 
 
@@ -150,14 +153,15 @@ def _as_decoded(first, units, stream_config):
     frame 0's draws the reference itself."""
     from dataclasses import replace
 
-    from uma.mbc.layers import NO_BODY_MOTION
+    from uma.mbc.layers import N_BODY, N_TORSO, NO_BODY_MOTION
     from uma.mbc.light import NEUTRAL_LIGHT
     from uma.mbc.stream import ParameterEncoder
 
     if not first:
         return first
     encoder = ParameterEncoder(units, stream_config)
-    encoder.push(0, np.concatenate([first.params, NO_BODY_MOTION, NEUTRAL_LIGHT]))
+    still = NO_BODY_MOTION[: N_BODY if units.camera else N_TORSO]
+    encoder.push(0, np.concatenate([first.params, still, NEUTRAL_LIGHT]))
     return replace(first, params=units.split(encoder.decoded)[0])
 
 
@@ -195,10 +199,11 @@ def run_clip(
     keep_frame: int | None = None,
     kept: dict | None = None,
     refresh: dict | None = None,
+    camera: bool = CAMERA_MOTION,
 ) -> dict:
     """Code one clip and score it; see the module docstring. `refresh` names the
     `mbc_refresh_*` displays (`uma.bench.mbc_refresh.RefreshSpec` by name; default
-    `DEFAULT_REFRESH`)."""
+    `DEFAULT_REFRESH`); `camera`: the stream carries the camera's motion."""
     from uma.bench.mbc_refresh import refresh_display
     from uma.mbc.stream import StreamConfig
     from uma.mbc.units import FaceUnits
@@ -211,7 +216,8 @@ def run_clip(
         keep_frame = _largest_motion(results)
     _check_tracked(clip, results)
     # The encoder's mirror of the receiver: its light is measured against what it will show.
-    units = FaceUnits.of(clip.description.model, clip.description.params, light=True, body=True)
+    units = FaceUnits.of(clip.description.model, clip.description.params, light=True, body=True,
+                         camera=camera)  # fmt: skip
     results[0] = _as_decoded(results[0], units, stream_config)
     ring = _choose_ring(clip, results)
     *renderers, receiver = _renderers(clip, results, reference, ring)

@@ -244,7 +244,7 @@ def _engine(clip, results, face_units, stream_config, sender, mirror):
     from uma.mbc.stream import ParameterEncoder
 
     switches, packets = {}, []
-    body_tracker = BodyTracker()
+    body_tracker = BodyTracker(camera=face_units.camera)
     encoder = ParameterEncoder(face_units, stream_config)
     decoder = ParameterDecoder(face_units, stream_config)
     decoded: dict[int, np.ndarray] = {}

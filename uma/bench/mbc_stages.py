@@ -67,7 +67,11 @@ def encode(lumas, results, units, stream_config, renderers, clock: Clock) -> Cod
     from uma.mbc.stream import ParameterEncoder
 
     mirror, other, mixed = renderers
-    encoder, body_tracker, coded = ParameterEncoder(units, stream_config), BodyTracker(), Coded()
+    encoder, body_tracker, coded = (
+        ParameterEncoder(units, stream_config),
+        BodyTracker(camera=units.camera),
+        Coded(),
+    )
     for index, result in enumerate(results):
         values = None
         if result:

@@ -18,7 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from uma.mbc.layers import NO_BODY_MOTION, body_matrix, body_problem, rigid_of
+from uma.mbc.camera import CameraAligner
+from uma.mbc.layers import N_BODY, N_TORSO, NO_BODY_MOTION, body_matrix, body_problem, rigid_of
 
 __all__ = ["BodyTracker", "BodyFailure"]
 
@@ -42,17 +43,20 @@ class BodyFailure:
 
 
 class BodyTracker:
-    """Measures the torso's motion against one renderer's reference; `reset` when the
-    reference changes (a new reference starts from no motion)."""
+    """Measures the torso's motion against one renderer's reference (with `camera`, the
+    camera's too: `uma.mbc.camera`, `last` then holds both); `reset` when the reference
+    changes (a new reference starts from no motion)."""
 
-    def __init__(self) -> None:
-        self.last = NO_BODY_MOTION.copy()
+    def __init__(self, *, camera: bool = False) -> None:
+        self._n = N_BODY if camera else N_TORSO
+        self.last = NO_BODY_MOTION[: self._n].copy()
         self._key = None
         self._template = None
         self._aligned = None  # the half-resolution picture the last motion was measured on
+        self.camera = CameraAligner() if camera else None
 
     def reset(self) -> None:
-        self.last = NO_BODY_MOTION.copy()
+        self.last = NO_BODY_MOTION[: self._n].copy()
         self._key = None
         self._aligned = None
 
@@ -70,8 +74,10 @@ class BodyTracker:
         mask[: max(int(renderer.anchor[1] + _BELOW_CHIN_OF_HEIGHT * height), 0)] = 0
         mask = cv2.resize(mask, half, interpolation=cv2.INTER_NEAREST)
         self._template = (luma.astype(np.float32), mask.astype(np.uint8))
+        if self.camera is not None:
+            self.camera.prepare(self._template[0], renderer.person_mask)
         self._key = key
-        self.last = NO_BODY_MOTION.copy()
+        self.last = NO_BODY_MOTION[: self._n].copy()
         self._aligned = None
 
     def measure(self, renderer, luma: np.ndarray) -> np.ndarray | BodyFailure:
@@ -90,6 +96,9 @@ class BodyTracker:
         start[:, 2] *= 0.5  # half resolution: the same map on halved coordinates
         width, height = renderer.size
         picture = cv2.resize(luma, (width // 2, height // 2), interpolation=cv2.INTER_AREA)
+        if self.camera is not None:
+            self.last = self.last.copy()
+            self.last[N_TORSO:] = self.camera.measure(picture)
         if self._aligned is not None and self._still(picture, mask):
             return self.last  # the torso did not change since it was last aligned
         criteria = (cv2.TERM_CRITERIA_COUNT | cv2.TERM_CRITERIA_EPS, _ITERATIONS, _EPSILON)
@@ -101,7 +110,7 @@ class BodyTracker:
             return BodyFailure(f"body motion: no alignment ({str(err).strip().splitlines()[-1]})")
         warp = warp.astype(np.float64)
         warp[:, 2] *= 2.0
-        body = rigid_of(warp, anchor)
+        body = np.concatenate([rigid_of(warp, anchor), self.last[N_TORSO:]])
         problem = body_problem(body, renderer.size)
         if problem:
             return BodyFailure(problem)

@@ -105,7 +105,8 @@ class ParameterDecoder:
         """A packet whose light or body motion flag disagrees with the stream's set-up is a
         `PacketError`."""
         for name, present, expected in (("light", packet.light, self.units.light),
-                                        ("body motion", packet.body, self.units.body)):  # fmt: skip
+                                        ("body motion", packet.body, self.units.body),
+                                        ("camera motion", packet.camera, self.units.camera)):  # fmt: skip
             if present != expected:
                 raise PacketError(
                     f"{where} (seq {packet.seq}): {name} {'present' if present else 'absent'}, "

@@ -14,7 +14,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from uma.mbc.layers import NO_BODY_MOTION, body_matrix, head_ring_points, rigid_fit
+from uma.mbc.layers import (
+    N_BODY,
+    N_TORSO,
+    NO_BODY_MOTION,
+    body_matrix,
+    head_ring_points,
+    rigid_fit,
+    shift_yuv,
+)
 
 __all__ = ["compose_layers", "chroma_matrix", "mask_box"]
 
@@ -177,7 +185,7 @@ def compose_layers(renderer, params: np.ndarray, body: np.ndarray | None):
     target = scene.points(params)
     torso_forward = body_matrix(NO_BODY_MOTION if body is None else body, renderer.anchor)
     head_forward = rigid_fit(renderer._reference_ring, head_ring_points(scene, target))
-    out = renderer._plate_picture().copy()
+    out = _plate(renderer, body)
     torso = _warped_mask(renderer._torso_below, renderer._torso_box, torso_forward, size)
     halo = _warped_mask(renderer.halo_mask, renderer._halo_box, head_forward, size)
     head = np.zeros((height, width), np.uint8)
@@ -213,6 +221,17 @@ def compose_layers(renderer, params: np.ndarray, body: np.ndarray | None):
     if moved > 0 and around is not None:
         _bleed(out, around, around_box, person.view(bool), min(moved / FEATHER_FULL_PX, 1.0))
     return out, face
+
+
+def _plate(renderer, body: np.ndarray | None) -> np.ndarray:
+    """The plate to draw on (a copy), moved by `body`'s camera motion if it has one."""
+    import cv2
+
+    plate = renderer._plate_picture()
+    if body is None or len(body) < N_BODY or not np.any(body[N_TORSO:]):
+        return plate.copy()
+    tx, ty = (float(v) for v in body[N_TORSO:])
+    return shift_yuv(plate, np.array([[1.0, 0.0, tx], [0.0, 1.0, ty]]), cv2.INTER_LINEAR)
 
 
 def _bleed(out: np.ndarray, around: np.ndarray, box, mask: np.ndarray, strength: float) -> None:

@@ -6,7 +6,7 @@ Layout (big-endian header, then the range coder's 32-bit words little-endian, th
 
 | bytes | field |
 |---|---|
-| 0 | version (high nibble, 1) and flags (bit 0: the first set is intra; bit 1: every set ends with the face's light, gain and offset; bit 2: the torso's motion, three values, comes before the light) |
+| 0 | version (high nibble, 1) and flags (bit 0: the first set is intra; bit 1: every set ends with the face's light, gain and offset; bit 2: the torso's motion, three values, comes before the light; bit 3: the camera's motion, two values, after the torso's) |
 | 1-2 | sequence number (uint16, wraps) |
 | 3-5 | first frame index (uint24, wraps after 7.7 days at 25 frames/s) |
 | 6 | frame count (1-255): frames first .. first + count - 1, one set each |
@@ -60,17 +60,24 @@ class Packet:
     words: np.ndarray  # uint32
     light: bool = False  # the sets carry light (`uma.mbc.units.LIGHT_NAMES`)
     body: bool = False  # the sets carry the torso's motion (`uma.mbc.units.BODY_KINDS`)
+    camera: bool = False  # and the camera's (`uma.mbc.units.CAMERA_KINDS`)
 
     def __post_init__(self) -> None:
         if not 0 <= self.seq < SEQ_MODULUS or not 1 <= self.count <= 255:
             raise ValueError(f"packet: seq 0-65535 and count 1-255 expected, got {self}")
         if not 1 <= self.global_code <= 255:
             raise ValueError(f"packet: global step code 1-255 expected, got {self.global_code}")
+        if self.camera and not self.body:
+            raise ValueError("packet: a camera motion comes only with the body motion")
 
     def to_bytes(self) -> bytes:
         first = (self.first_frame % FRAME_MODULUS).to_bytes(3, "big")
         head = _HEADER.pack(
-            (VERSION << 4) | int(self.intra) | (int(self.light) << 1) | (int(self.body) << 2),
+            (VERSION << 4)
+            | int(self.intra)
+            | (int(self.light) << 1)
+            | (int(self.body) << 2)
+            | (int(self.camera) << 3),
             self.seq,
             first,
             self.count,
@@ -106,8 +113,11 @@ def parse_packet(data: bytes, *, where: str = "packet") -> Packet:
     if (n - HEADER_BYTES - CRC_BYTES) % 4:
         raise PacketError(f"{where}: payload of {n - 12} bytes is not whole 32-bit words")
     flags, seq, first, count, code = _HEADER.unpack(data[:HEADER_BYTES])
-    if flags >> 4 != VERSION or flags & 0x08:
-        raise PacketError(f"{where}: version/flags byte {flags:#04x}, expected version {VERSION}")
+    if flags >> 4 != VERSION or (flags & 0x08 and not flags & 0x04):
+        raise PacketError(
+            f"{where}: version/flags byte {flags:#04x}, expected version {VERSION} (and a "
+            f"camera motion only with the body motion)"
+        )
     if count == 0 or code == 0:
         raise PacketError(f"{where}: frame count and global step must be >= 1, got {count}, {code}")
     words = np.frombuffer(data[HEADER_BYTES:-CRC_BYTES], dtype="<u4").astype(np.uint32)
@@ -120,4 +130,5 @@ def parse_packet(data: bytes, *, where: str = "packet") -> Packet:
         words=words,
         light=bool(flags & 2),
         body=bool(flags & 4),
+        camera=bool(flags & 8),
     )

@@ -39,7 +39,7 @@ DEFAULT_ACTION_STEPS = (("MNS", 32.0), ("MW", 12.0), ("ENS", 5.0), ("IRISD", 24.
 LIGHT_STEPS = (("LIGHT_GAIN", 8.0), ("LIGHT_OFFSET", 12.0))
 # The torso's motion (`uma.mbc.units.BODY_KINDS`): at the global step 1.5 a shift step of 6
 # ES/1024 (about 0.35 px on a CIF face), rotation 0.0045 rad.
-BODY_STEPS = (("BODY_SHIFT", 4.0), ("BODY_ROTATION", 300.0))
+BODY_STEPS = (("BODY_SHIFT", 4.0), ("BODY_ROTATION", 300.0), ("CAMERA_SHIFT", 4.0))
 
 
 @dataclass(frozen=True)

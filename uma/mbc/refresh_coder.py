@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from uma.mbc.errors import SceneError
+from uma.mbc.layers import N_BODY, N_TORSO
 
 __all__ = [
     "RefreshCoder",
@@ -189,9 +190,12 @@ def take_refresh(renderer, units, values: np.ndarray, picture) -> None:
     (`units`, `uma.mbc.units.FaceUnits`, split it): a box is pasted onto the renderer's own
     picture of that frame first, and only its pixels teach the plate. A `SceneError` when it
     cannot (the old reference stays). A `ResidualBox` is added to the renderer's own
-    picture of that frame in its box first."""
+    picture of that frame in its box first. A set carrying the camera's motion moves the plate
+    by it first (`SceneRenderer.set_reference`'s `camera`)."""
     params, light = units.split(values)
     height, width = renderer.size[1], renderer.size[0]
+    body = units.body_of(values)
+    camera = None if body is None or len(body) < N_BODY else body[N_TORSO:]
     fresh = None
     if isinstance(picture, (tuple, ResidualBox)):
         residual = isinstance(picture, ResidualBox)
@@ -202,10 +206,10 @@ def take_refresh(renderer, units, values: np.ndarray, picture) -> None:
             box_h, box_w = patch.shape[0] * 2 // 3, patch.shape[1]
         if x0 < 0 or y0 < 0 or x0 + box_w > width or y0 + box_h > height:
             raise SceneError(f"refresh box at ({x0}, {y0}) of {box_w}x{box_h}: outside the picture")
-        drawn = renderer.render(params, light, units.body_of(values))[0]
+        drawn = renderer.render(params, light, body)[0]
         if residual:
             patch = residual_patch(drawn, picture)
         picture = _paste(drawn, patch, x0, y0)
         fresh = np.zeros((height, width), bool)
         fresh[y0 : y0 + box_h, x0 : x0 + box_w] = True
-    renderer.set_reference(picture, params, fresh)
+    renderer.set_reference(picture, params, fresh, camera)

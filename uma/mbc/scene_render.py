@@ -117,13 +117,18 @@ class SceneRenderer:
         self._synthetic_plate = True
 
     def set_reference(
-        self, picture: np.ndarray, params: np.ndarray, fresh: np.ndarray | None = None
+        self,
+        picture: np.ndarray,
+        params: np.ndarray,
+        fresh: np.ndarray | None = None,
+        camera: np.ndarray | None = None,
     ) -> None:
         """Render from `picture` (YUV 4:2:0 at the source size) on which the model sits at
         `params` from now on: the model-aided refresh's entry point. `fresh` (H, W bool) says
         which pixels were decoded (the rest drawn by this renderer: the plate learns only
-        decoded background; None: all). A picture of another size or a pose no face has is a
-        `SceneError`; the old reference stays."""
+        decoded background; None: all); `camera` (x, y px) the camera's motion from the old
+        reference to `picture` (the plate moves by it first; None: none). A picture of
+        another size or a pose no face has is a `SceneError`; the old reference stays."""
         width, height = self.size
         picture = np.asarray(picture)
         if picture.shape != (height * 3 // 2, width) or picture.dtype != np.uint8:
@@ -146,6 +151,8 @@ class SceneRenderer:
             if getattr(self, "_synthetic_plate", False):
                 self.plate.forget()
             self._synthetic_plate = False
+            if camera is not None:
+                self.plate.shift(camera)
             self._cut_layers(params, fresh)
         chroma = self.reference[height:].reshape(2, height // 2, width // 2)
         self._u, self._v = np.ascontiguousarray(chroma[0]), np.ascontiguousarray(chroma[1])
@@ -313,6 +320,7 @@ class SceneRenderer:
         self._torso_box = mask_box(self._torso_below)
         self._halo_box = mask_box(self.halo_mask)
         person = (head | self.halo_mask | self.torso_mask) > 0
+        self.person_mask = person
         self.plate.update(self.reference, person, fresh)
 
     def _plate_picture(self) -> np.ndarray | None:

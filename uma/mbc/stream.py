@@ -121,6 +121,7 @@ class ParameterEncoder:
             words=words,
             light=self.units.light,
             body=self.units.body,
+            camera=self.units.camera,
         )
         self._seq = (self._seq + 1) % SEQ_MODULUS
         self._pending = []

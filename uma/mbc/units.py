@@ -32,6 +32,7 @@ __all__ = [
     "LIGHT_NAMES",
     "LIGHT_UNITS",
     "BODY_KINDS",
+    "CAMERA_KINDS",
 ]
 
 ANGLE_UNIT_RAD = 1e-5
@@ -44,6 +45,8 @@ FAPU_DIVISOR = 1024.0
 # The torso's motion (`uma.mbc.layers.BODY_NAMES`): shifts in ES/1024 like the head's, rotation
 # in AU.
 BODY_KINDS = ("BODY_SHIFT", "BODY_SHIFT", "BODY_ROTATION")
+# The camera's motion (`uma.mbc.layers.CAMERA_NAMES`, the plate's shift): in ES/1024.
+CAMERA_KINDS = ("CAMERA_SHIFT", "CAMERA_SHIFT")
 
 # Which neutral face distance each of uma's action units is measured against; others use MNS.
 _ACTION_FAPU = {
@@ -68,15 +71,23 @@ class FaceUnits:
     kinds: tuple[str, ...] = ()  # per action unit, the distance it is measured in (then light)
     light: bool = False  # the last two parameters are the light (`LIGHT_NAMES`)
     body: bool = False  # three parameters before the light: the torso's motion (`BODY_KINDS`)
+    camera: bool = False  # with `body`, two more after it: the camera's motion (`CAMERA_KINDS`)
     origin: np.ndarray | None = None  # subtracted before scaling (a gain travels as gain - 1)
 
     @classmethod
     def of(
-        cls, model: FaceModel, params: np.ndarray, *, light: bool = False, body: bool = False
+        cls,
+        model: FaceModel,
+        params: np.ndarray,
+        *,
+        light: bool = False,
+        body: bool = False,
+        camera: bool = False,
     ) -> FaceUnits:
         """Units of `model` placed by `params` (the description's pose: its scale_px); with
-        `body` three more parameters, the torso's motion, and with `light` two more, the
-        face's light, end every set (in that order)."""
+        `body` three more parameters, the torso's motion, then with `camera` (only with
+        `body`) two more, the camera's, and with `light` two more, the face's
+        light, end every set (in that order)."""
         params = np.asarray(params, dtype=np.float64)
         if params.shape != (N_POSE + model.n_actions,) or not params[2] > 0:
             raise FaceError(
@@ -97,12 +108,17 @@ class FaceUnits:
         )
         kinds = tuple(action_fapu(name) for name in model.action_unit_names)
         if body:
-            from uma.mbc.layers import BODY_NAMES
+            from uma.mbc.layers import CAMERA_NAMES, TORSO_NAMES
 
             shift = distances["ES"] * scale / FAPU_DIVISOR
             unit += [shift, shift, ANGLE_UNIT_RAD]
-            names += BODY_NAMES
+            names += TORSO_NAMES
             kinds += BODY_KINDS
+        camera = bool(camera) and body
+        if camera:
+            unit += [shift, shift]
+            names += CAMERA_NAMES
+            kinds += CAMERA_KINDS
         if light:
             unit += LIGHT_UNITS
             names += LIGHT_NAMES
@@ -117,22 +133,28 @@ class FaceUnits:
             kinds=kinds,
             light=light,
             body=body,
+            camera=camera,
             origin=origin,
         )
 
     def split(self, values: np.ndarray) -> tuple[np.ndarray, tuple[float, float] | None]:
         """A decoded set as (geometry parameters, light or None); the body motion, if any, is
         `body_of`'s."""
-        end = len(values) - 2 * self.light - len(BODY_KINDS) * self.body
+        end = len(values) - 2 * self.light - self._n_body
         light = (float(values[-2]), float(values[-1])) if self.light else None
         return values[:end], light
 
     def body_of(self, values: np.ndarray) -> np.ndarray | None:
-        """The torso's motion in a decoded set (`uma.mbc.layers.BODY_NAMES`), or None."""
+        """The torso's motion in a decoded set, then the camera's if the stream has it
+        (`uma.mbc.layers.BODY_NAMES`), or None."""
         if not self.body:
             return None
         end = len(values) - 2 * self.light
-        return np.asarray(values[end - len(BODY_KINDS) : end], dtype=np.float64)
+        return np.asarray(values[end - self._n_body : end], dtype=np.float64)
+
+    @property
+    def _n_body(self) -> int:
+        return (len(BODY_KINDS) + len(CAMERA_KINDS) * self.camera) * self.body
 
     def to_units(self, params: np.ndarray) -> np.ndarray:
         """Parameters (..., 6 + A) in face animation units."""
