@@ -64,7 +64,9 @@ def test_an_interrupted_sweep_is_one_line(tmp_path, number, group, when):
     code, err = interrupt(tmp_path, number, group=group, when=when)
     assert "Traceback" not in err and err.count("\n") == 1, err
     if number == signal.SIGINT:
-        assert code == 130, (code, err)
+        # 130, or (when the signal lands in the interpreter's own start-up or shutdown, after
+        # uma's line) death by SIGINT, which a shell reports as the same 130.
+        assert code in (130, -signal.SIGINT), (code, err)
     else:
         assert code in (143, -signal.SIGTERM), (code, err)  # before its handler: killed
         if when == "mid-run":
