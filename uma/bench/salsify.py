@@ -68,6 +68,7 @@ class SalsifyBenchConfig:
     # system -> {delay_p95_ms, ssim_db} published for this trace ({}: none)
     published: dict[str, dict[str, float]] | None = None
     published_file: str | None = None
+    estimators: tuple[str, ...] = ESTIMATOR_NAMES  # the kinds to run (uma and BASELINE at least)
 
 
 class _LoopedSource:
@@ -99,13 +100,15 @@ def _with_estimator(scenario: Scenario, kind: str) -> Scenario:
     )
 
 
-def _run_both(scenario: Scenario, clip_frames: int) -> dict[str, Any]:
+def _run_both(
+    scenario: Scenario, clip_frames: int, estimators: tuple[str, ...] = ESTIMATOR_NAMES
+) -> dict[str, Any]:
     from uma.sim import run_scenario
     from uma.sim.summary import run_metrics
 
     source = _prepared(scenario, clip_frames)
     out: dict[str, Any] = {}
-    for kind in ESTIMATOR_NAMES:
+    for kind in estimators:
         start = time.perf_counter()
         result = run_scenario(_with_estimator(scenario, kind), source=source)
         metrics = run_metrics(result)
@@ -158,7 +161,7 @@ def run_salsify_bench(config: SalsifyBenchConfig) -> dict[str, Any]:
     published = dict(config.published or {})
     if config.frames is not None:
         scenario = scenario.model_copy(update={"duration_s": config.frames / scenario.source.fps})
-    rows = _run_both(scenario, config.clip_frames)
+    rows = _run_both(scenario, config.clip_frames, config.estimators)
     uma = rows["uma"]
     targets: dict[str, Any] = {
         "salsify_scenario": _estimator_target(rows),
@@ -176,7 +179,7 @@ def run_salsify_bench(config: SalsifyBenchConfig) -> dict[str, Any]:
         "published_file": config.published_file,
     }
     if config.default_scenario is not None:
-        default_rows = _run_both(config.default_scenario, config.clip_frames)
+        default_rows = _run_both(config.default_scenario, config.clip_frames, config.estimators)
         result["default_scenario"] = {
             "scenario": config.default_scenario.name,
             "estimators": default_rows,
