@@ -134,14 +134,14 @@ PUBLISHED = {
 
 
 def salsify_table(results: Results, args: Args) -> str:
-    """`uma bench salsify`: both estimators beside the published figures."""
+    """`uma bench salsify`: each estimator kind run beside the published figures."""
     result = results[0]
     lines = [
         "| Salsify scenario | delay p95 ms | SSIM dB | SSIM dB unfrozen | frozen "
         "| video kbit/s (+ padding) |",
         "|---|---|---|---|---|---|",
     ]
-    names = {"uma": "uma's estimator", "webrtc": "WebRTC's estimator"}
+    names = {"uma": "uma's controller", "gcc": "the GCC baseline", "webrtc": "aiortc's estimator"}
     for kind, row in result["estimators"].items():
         rate = _num(row["kbps_h264"], ",.0f")
         if row.get("kbps_padding"):

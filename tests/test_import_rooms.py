@@ -21,7 +21,8 @@ LEVELS: list[set[str]] = [
     {"atomic", "codecs"},  # `codecs`: the codec registry, pure data
     {"__init__"},
     {"config"},
-    {"traces", "engine", "metrics", "video", "control"},
+    {"control"},  # rate control, pure: the engine follows it, the world's receiver reports to it
+    {"traces", "engine", "metrics", "video"},
     {"face"},  # reads a template from a video frame (`uma.face.clip`)
     {"fit"},  # uses face
     {"mbc"},  # uses fit and face

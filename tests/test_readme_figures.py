@@ -70,7 +70,7 @@ The rate is <!-- fig value toy.json rate_kbps .1f -->12.3<!-- /fig --> kbit/s (<
 <!-- fig salsify-table toy.json -->
 | Salsify scenario | delay p95 ms | SSIM dB | SSIM dB unfrozen | frozen | video kbit/s (+ padding) |
 |---|---|---|---|---|---|
-| uma H.264, uma's estimator | 3,116 | 10.51 | 12.30 | 0.154 | 697 |
+| uma H.264, uma's controller | 3,116 | 10.51 | 12.30 | 0.154 | 697 |
 | Salsify-1c (published) | 3,907 | 13.2 | | | |
 
 From `uma bench toy --json` on `0123456` ([record](docs/results/toy.json)).

@@ -23,8 +23,12 @@ def one_error_line(capsys):
 @pytest.mark.parametrize(
     ("extra", "key", "names"),
     [
-        ("engine: {estimator: foo}\n", "(engine.estimator)", "uma, webrtc"),
-        ("engine:\n  estimator: {kind: foo}\n", "(engine.estimator.kind)", "'uma' or 'webrtc'"),
+        ("engine: {estimator: foo}\n", "(engine.estimator)", "uma, gcc, webrtc"),
+        (
+            "engine:\n  estimator: {kind: foo}\n",
+            "(engine.estimator.kind)",
+            "'uma', 'gcc' or 'webrtc'",
+        ),
         ("receiver: {playout: foo}\n", "(receiver.playout)", "'fixed' or 'adaptive'"),
     ],
 )

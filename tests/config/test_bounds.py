@@ -113,7 +113,6 @@ def test_a_route_longer_than_a_run_may_be_needs_a_duration(tmp_path):
             "engine.switching.low_technologies",
         ),
         ("downlink:\n  technologies: {6G: {delay_ms: 10}}\n", "downlink.technologies"),
-        ("engine:\n  handover: {priors_kbps: {6G: 10}}\n", "engine.handover.priors_kbps"),
     ],
 )
 def test_unknown_technologies_are_refused_everywhere(tmp_path, text, key):
@@ -130,18 +129,14 @@ def test_unknown_technologies_are_refused_everywhere(tmp_path, text, key):
     low=st.floats(1, 1e5),
     high=st.floats(1, 1e5),
     initial=st.floats(1, 1e5),
-    queue_low=st.floats(1, 1e4),
-    queue_high=st.floats(1, 1e4),
 )
-def test_estimator_settings_that_contradict_are_refused(
-    tmp_path_factory, low, high, initial, queue_low, queue_high
-):
+def test_estimator_settings_that_contradict_are_refused(tmp_path_factory, low, high, initial):
     tmp_path = tmp_path_factory.mktemp("estimator")
     text = HEAD + (
         f"engine:\n  estimator: {{min_kbps: {low!r}, max_kbps: {high!r}, initial_kbps: "
-        f"{initial!r}, queue_low_ms: {queue_low!r}, queue_high_ms: {queue_high!r}}}\n"
+        f"{initial!r}}}\n"
     )
-    if low <= initial <= high and queue_low <= queue_high:
+    if low <= initial <= high:
         assert load(tmp_path, text).engine.estimator.initial_kbps == initial
     else:
-        refused(tmp_path, text, r"s\.yaml:5 \(engine\.estimator\): (min_kbps|initial_kbps|queue)")
+        refused(tmp_path, text, r"s\.yaml:5 \(engine\.estimator\): (min_kbps|initial_kbps)")

@@ -20,7 +20,7 @@ def _load(tmp_path, mbc: str):
 
 
 def test_defaults_keep_the_renderer_as_it_was_and_refresh_off(tmp_path):
-    mbc = _load(tmp_path, "    probe: true\n")
+    mbc = _load(tmp_path, "    light: true\n")
     assert mbc.light is True and mbc.light_ms == 1.5
     assert (mbc.far_ring_head_radii, mbc.head_ring_outlines) == (1.6, 1.4)
     assert mbc.refresh.enabled is False and mbc.refresh.face == "recent"

@@ -208,8 +208,8 @@ def test_model_validate_checks_names_as_loading_does():
 
 def test_switching_and_estimator_names_are_the_engines():
     from uma.config.scenario import ESTIMATOR_KINDS, SWITCHING_NAMES
-    from uma.engine.estimators import ESTIMATORS
     from uma.engine.policy import SWITCHING
+    from uma.engine.rate import RATE_CONTROLS
 
     assert set(SWITCHING_NAMES) == set(SWITCHING) and "oracle" in SWITCHING_NAMES
-    assert set(ESTIMATOR_KINDS) == set(ESTIMATORS)
+    assert set(ESTIMATOR_KINDS) == set(RATE_CONTROLS)

@@ -49,9 +49,25 @@ def test_additive_increase_near_convergence():
 
 
 def test_increase_never_beyond_1_5_times_received_plus_10():
-    aimd = AimdController(GccRateSettings(initial_kbps=1000.0))
-    aimd.update(Usage.NORMAL, 100.0, 0.0, 100.0)
-    assert aimd.update(Usage.NORMAL, 100.0, 1000.0, 100.0) == pytest.approx(160.0)
+    aimd = AimdController(GccRateSettings(initial_kbps=100.0))
+    aimd.update(Usage.NORMAL, 50.0, 0.0, 100.0)
+    # x1.08 after a second would be 108; the bound is 1.5 x 50 + 10 = 85
+    assert aimd.update(Usage.NORMAL, 50.0, 1000.0, 100.0) == pytest.approx(100.0)
+    aimd = AimdController(GccRateSettings(initial_kbps=60.0))
+    aimd.update(Usage.NORMAL, 50.0, 0.0, 100.0)
+    assert aimd.update(Usage.NORMAL, 50.0, 1000.0, 100.0) == pytest.approx(64.8)  # under 85
+    aimd = AimdController(GccRateSettings(initial_kbps=80.0))
+    aimd.update(Usage.NORMAL, 50.0, 0.0, 100.0)
+    assert aimd.update(Usage.NORMAL, 50.0, 1000.0, 100.0) == pytest.approx(85.0)  # 86.4 capped
+
+
+def test_the_bound_does_not_undo_a_probe():
+    """An application-limited sender (50 kbit/s received) whose probe showed 1,000: the target
+    stays at 1,000, neither raised further nor pulled down to 1.5 x received + 10."""
+    aimd = AimdController(GccRateSettings(initial_kbps=60.0))
+    aimd.update(Usage.NORMAL, 50.0, 0.0, 100.0)
+    aimd.raise_to(1000.0)
+    assert aimd.update(Usage.NORMAL, 50.0, 1000.0, 100.0) == pytest.approx(1000.0)
 
 
 def test_loss_above_10_percent_cuts_by_half_the_loss():

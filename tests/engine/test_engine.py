@@ -1,6 +1,7 @@
 import pytest
 
 from uma.config import EngineConfig, EstimatorConfig, FeedbackConfig
+from uma.control import DeliveryReport, DeliverySettings, DeliveryTracker
 from uma.engine import CodedReport, KeyframeRequest, ReceiverReport, SendPacket, UmaEngine
 from uma.engine.points import OperatingPoint
 
@@ -75,22 +76,47 @@ def test_keyframe_request_survives_a_frame_that_was_never_coded():
     assert not engine.on_frame(28, 1.5).force_idr
 
 
-def test_switch_down_forces_idr_and_is_logged():
+def delivered(seq0: int, count: int, *, send_ms: float, gap_ms: float, bits: int = 8000,
+              base_ms: float = 20.0) -> DeliveryReport:  # fmt: skip
+    """A report of `count` packets sent together at `send_ms` that arrived `gap_ms` apart
+    (a train measuring bits / gap_ms kbit/s)."""
+    tracker = DeliveryTracker(DeliverySettings(interval_ms=1e9))  # closed by `flush` only
+    for k in range(count):
+        tracker.on_packet(seq0 + k, send_ms, send_ms + base_ms + k * gap_ms, bits)
+    return tracker.flush(send_ms + base_ms + count * gap_ms)
+
+
+def test_switch_down_within_a_size_retargets_without_a_keyframe_and_is_logged():
     engine = make_engine()
+    coded(engine, engine.on_frame(0, 0.0), 0.0)  # the stream is open at rung 2
     in_flight(engine, [8000] * 10)
+    train = delivered(0, 10, send_ms=0.0, gap_ms=200.0)  # 40 kbit/s
+    report = ReceiverReport(0.1, 0.1, 80_000, 10, 0, 9, 5.0, delivery=train)
+    engine.on_report(report, 0.15)
+    assert engine.estimate_kbps < 100.0
+    decision = engine.on_frame(4, 0.16)
+    assert decision.rung == 0 and not decision.force_idr and not decision.keyframe
+    assert decision.target_kbps == 30.0  # the open encoder is aimed at the rung's rate
+    assert [e.kind for e in engine.events] == ["rung_switch"]
+
+
+def test_a_switch_to_another_size_is_a_new_stream_with_a_keyframe():
+    config = EngineConfig(estimator=EstimatorConfig(initial_kbps=400.0), safety=1.0)
+    points = (
+        OperatingPoint("h264", 30.0, 12.5, 176, 144, compute_ms=4.0),
+        OperatingPoint("h264", 300.0, 25.0, 352, 288, compute_ms=4.0),
+    )
+    engine = UmaEngine(config, points=points, source_fps=25.0, feedback=FeedbackConfig())
+    first = engine.on_frame(0, 0.0)
+    assert first.rung == 1 and first.keyframe  # the first frame opens the stream
+    coded(engine, first, 0.0)
     report = ReceiverReport(
-        sent_s=0.1,
-        interval_s=0.1,
-        received_bits=5000,
-        packets_received=5,
-        packets_lost=0,
-        highest_seq=4,
-        queue_delay_ms=500.0,
+        0.1, 0.1, 80_000, 10, 0, 9, 5.0, delivery=delivered(0, 10, send_ms=0.0, gap_ms=200.0)
     )
     engine.on_report(report, 0.15)
-    decision = engine.on_frame(4, 0.16)
-    assert decision.rung == 0 and decision.force_idr
-    assert [e.kind for e in engine.events] == ["rung_switch"]
+    decision = engine.on_frame(5, 0.2)
+    assert decision.rung == 0 and decision.force_idr and decision.keyframe
+    assert decision.target_kbps is None
 
 
 def test_backlog_skips_frames_until_reports_catch_up():
@@ -123,14 +149,7 @@ def test_backlogged_engine_still_probes_and_presumes_old_packets_lost():
     assert engine.outstanding_bits == 0
 
 
-def test_missing_reports_decay_the_estimate():
-    engine = make_engine()
-    before = engine.estimate_kbps
-    engine.on_frame(0, 1.0)
-    assert engine.estimate_kbps < before
-
-
-def _report(now_s, *, bits=20000, packets=2, highest_seq=0):
+def _report(now_s, *, bits=20000, packets=2, highest_seq=0, delivery=None):
     return ReceiverReport(
         sent_s=now_s,
         interval_s=0.1,
@@ -139,27 +158,30 @@ def _report(now_s, *, bits=20000, packets=2, highest_seq=0):
         packets_lost=0,
         highest_seq=highest_seq,
         queue_delay_ms=0.0,
+        delivery=delivery,
     )
 
 
-def test_silent_feedback_decays_the_estimate_but_keeps_its_window():
-    engine = make_engine(stale_reports=3)
-    in_flight(engine, [8000, 8000])
-    for i in range(10):
-        engine.on_report(_report(i / 10, highest_seq=1), i / 10)
-    before = engine.estimator
-    engine.on_frame(50, 2.0)  # reports stopped 1.1 s ago: stale
-    after = engine.estimator
-    assert after.estimate_kbps == before.estimate_kbps * 0.85
-    assert after.window == before.window and after.received_kbps == before.received_kbps
-    assert after.last_decrease_s == 2.0
+def test_silent_feedback_lowers_the_estimate_once_per_silence_interval():
+    """No report for 250 ms (the controller's `silence_ms`): the estimate x0.25, once each."""
+    engine = make_engine()
+    train = delivered(0, 10, send_ms=0.0, gap_ms=20.0)  # 400 kbit/s
+    engine.on_report(_report(0.1, delivery=train), 0.1)
+    before = engine.estimate_kbps
+    engine.on_frame(3, 0.3)  # 200 ms without a report: not yet silent
+    assert engine.estimate_kbps == before
+    engine.on_frame(9, 0.36)
+    assert engine.estimate_kbps == pytest.approx(before * 0.25, rel=0.01)
+    engine.on_frame(10, 0.4)  # once per interval
+    assert engine.estimate_kbps == pytest.approx(before * 0.25, rel=0.01)
+    assert [e.kind for e in engine.events if e.kind == "silence"] == ["silence"]
 
 
-def test_stale_threshold_is_configurable():
-    engine = make_engine(stale_reports=30)
+def test_without_any_report_the_estimate_stays_the_initial_one():
+    engine = make_engine()
     estimate = engine.estimate_kbps
-    engine.on_frame(50, 2.0)  # 20 intervals without a report: not yet stale
-    assert engine.estimate_kbps == estimate
+    engine.on_frame(50, 2.0)
+    assert engine.estimate_kbps == estimate == 400.0
 
 
 def test_report_naming_a_sequence_never_sent_is_clamped():

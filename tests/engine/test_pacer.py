@@ -118,20 +118,6 @@ def test_burst_allowance_bounds_what_leaves_at_once():
     assert 10 <= len(release.sent) <= 11
 
 
-def test_a_frame_fits_only_when_it_drains_before_the_next():
-    from uma.engine.pacing import frame_fits
-    from uma.engine.points import OperatingPoint
-
-    point = OperatingPoint("h264", 400.0, 25.0, 352, 288, 4.0)  # 16 kbit a frame
-    fits = dict(rate_kbps=500.0, fps=25.0, slack_frames=1.0)  # 20 kbit drain a frame
-    assert frame_fits(point, queued_bits=0, **fits)
-    assert frame_fits(point, queued_bits=4000, **fits)
-    assert not frame_fits(point, queued_bits=4001, **fits)
-    assert frame_fits(point, queued_bits=20000, **(fits | {"slack_frames": 2.0}))
-    model = OperatingPoint("mbc", 4.0, 25.0, 352, 288, 4.0)
-    assert frame_fits(model, queued_bits=10**6, **fits)  # never skipped for backlog
-
-
 def test_a_silent_feedback_path_holds_everything_and_judges_deadlines_still():
     pacer = Pacer(burst_ms=40.0, padding_wait_ms=100.0)
     pacer.push(_unit(0, 0, 0.5, packets=2), VIDEO)

@@ -6,10 +6,11 @@ import pytest
 pytest.importorskip("aiortc")
 
 from uma.bench.estimator_loop import closed_loop, step_response  # noqa: E402
-from uma.config.scenario import EstimatorConfig  # noqa: E402
-from uma.engine.estimator import initial_estimate  # noqa: E402
+from uma.config.scenario import EngineConfig, FeedbackConfig  # noqa: E402
+from uma.control import DeliveryReport, PacketRecord  # noqa: E402
+from uma.engine.rate import make_rate  # noqa: E402
 from uma.engine.reports import ReceiverReport  # noqa: E402
-from uma.engine.webrtc import abs_send_time, remb_update  # noqa: E402
+from uma.engine.webrtc import RembEstimator, abs_send_time  # noqa: E402
 
 
 def test_abs_send_time_is_24_bit_six_point_eighteen():
@@ -45,25 +46,41 @@ def test_step_down_backs_off_within_a_second_and_a_half(high, low):
     assert 0.6 * low <= result["settled_kbps"] <= 1.1 * low
 
 
-def test_remb_update_takes_the_remb_and_holds_without_one():
-    config = EstimatorConfig()
-    state = initial_estimate(config)
-    report = ReceiverReport(
-        sent_s=1.0,
-        interval_s=0.1,
-        received_bits=50_000,
-        packets_received=5,
-        packets_lost=0,
-        highest_seq=4,
-        queue_delay_ms=3.0,
-        remb_kbps=812.5,
+def _report(records, sent_s):
+    delivery = DeliveryReport(
+        start_ms=records[0].arrival_ms, end_ms=records[-1].arrival_ms, packets=len(records),
+        received_bits=sum(r.size_bits for r in records), lost=0, train_bits=0, train_ms=0.0,
+        queue_delay_ms=tuple(0.0 for _ in records), records=tuple(records),
+    )  # fmt: skip
+    bits = delivery.received_bits
+    return ReceiverReport(
+        sent_s, 0.1, bits, len(records), 0, records[-1].seq, 0.0, delivery=delivery
     )
-    state = remb_update(state, report, now_s=1.0, outstanding_bits=0, config=config)
-    assert state.estimate_kbps == 812.5
-    quiet = ReceiverReport(1.1, 0.1, 0, 0, 0, 4, None, None)
-    state = remb_update(state, quiet, now_s=1.1, outstanding_bits=8000, config=config)
-    assert state.estimate_kbps == 812.5
-    tiny = ReceiverReport(1.2, 0.1, 800, 1, 0, 5, 1.0, 0.001)
-    assert remb_update(state, tiny, now_s=1.2, outstanding_bits=0, config=config).estimate_kbps == (
-        config.min_kbps
-    )
+
+
+def test_the_engine_runs_aiortc_over_the_reported_packets():
+    """`WebrtcRate` feeds aiortc's estimator each report's packets: its estimate is the one a
+    receiver fed the same packets would send as a REMB; silence lowers it."""
+    config = EngineConfig(estimator={"kind": "webrtc"})
+    rate = make_rate(config, FeedbackConfig())
+    direct = RembEstimator()
+    seq = 0
+    for report_index in range(60):  # 6 s of 800 kbit/s in 1,000-byte packets, 10 ms apart
+        records = []
+        for _ in range(10):
+            send_ms = seq * 10.0
+            records.append(PacketRecord(seq, send_ms, send_ms + 30.0, 8000))
+            direct.on_packet(
+                arrival_s=(send_ms + 30.0) / 1000, sent_s=send_ms / 1000, size_bits=8000
+            )
+            seq += 1
+        probe, _ = rate.on_report(
+            _report(records, records[-1].arrival_ms / 1000), report_index / 10
+        )
+        assert probe is None
+    assert direct.estimate_kbps is not None
+    assert rate.state.estimate_kbps == pytest.approx(direct.estimate_kbps)
+    before = rate.state.estimate_kbps
+    assert rate.on_silence(5.95) == [] and rate.state.estimate_kbps == before
+    rate.on_silence(6.5)
+    assert rate.state.estimate_kbps == pytest.approx(0.85 * before)

@@ -158,9 +158,9 @@ def test_shipped_experiment_loads():
 def test_key_paths_reach_nested_and_mapping_keys(folder):
     (folder / "exp.yaml").write_text(
         "name: g\nbase: base.yaml\ngrid:\n  downlink.technologies.GPRS.delay_ms: [100, 400]\n"
-        "  engine.estimator.queue_high_ms: [120]\n  engine.stale_reports: [2]\n"
+        "  engine.estimator.min_kbps: [12]\n  engine.stale_reports: [2]\n"
     )
     points = load_experiment(folder / "exp.yaml").points
     assert [p.scenario.downlink.technologies["GPRS"].delay_ms for p in points] == [100, 400]
-    assert points[0].scenario.engine.estimator.queue_high_ms == 120
+    assert points[0].scenario.engine.estimator.min_kbps == 12
     assert points[0].scenario.engine.stale_reports == 2

@@ -141,3 +141,35 @@ def test_reports_carry_the_access_technology_the_receiver_is_on():
         now=lambda: now[0],
     )  # fmt: skip
     assert silent.make_report(0.1).technology == ""
+
+
+def test_reports_carry_what_arrived_and_a_new_path_is_measured_afresh():
+    """Each report carries the tracker's `DeliveryReport` of the interval (every packet, its
+    send stamp and arrival); a change of technology forgets the path's propagation delay, and
+    once more `PATH_SETTLE_S` later."""
+    from uma.control import DeliverySettings, DeliveryTracker
+    from uma.sim.packets import Packet
+    from uma.sim.receiver import PATH_SETTLE_S
+
+    receiver, clock, _, _ = make_receiver()
+    receiver.delivery = DeliveryTracker(DeliverySettings(interval_ms=1e9))
+    technology = ["3G"]
+    receiver.technology = lambda: technology[0]
+
+    def arrive(seq, sent_s, t):
+        clock.t = t
+        receiver.on_packet(Packet(seq, None, 0, 1, 8000, sent_s))
+
+    arrive(0, 0.00, 0.02)  # 20 ms one way: the base
+    arrive(1, 0.05, 0.07)
+    report = receiver.make_report(0.1)
+    assert report.delivery.packets == 2 and report.delivery.received_bits == 16000
+    assert [r.seq for r in report.delivery.records] == [0, 1]
+    assert report.delivery.queue_delay_ms == (0.0, 0.0)
+    arrive(2, 0.10, 0.45)  # 350 ms one way: a slower path...
+    technology[0] = "GPRS"
+    clock.t = 0.5
+    assert receiver.make_report(0.1).delivery.queue_delay_ms == (330.0,)  # ...read as queue
+    arrive(3, 0.55, 0.90)  # after the change: the new path's delay is its base
+    assert receiver.make_report(0.1).delivery.queue_delay_ms == (0.0,)
+    assert receiver.settle_at_s == 0.5 + PATH_SETTLE_S

@@ -151,7 +151,8 @@ def test_estimators_and_playouts_on_a_constant_link(tmp_path, estimator, playout
     # Adaptive playout follows the queueing delay each estimator leaves (WebRTC's stays low;
     # uma's own estimator probes upwards and queues a few hundred ms on a constant link).
     assert 50 <= metrics["playout_delay_mean_ms"] < max_playout_ms
-    assert (metrics["kbps_padding"] > 0) == (estimator == "webrtc")
+    assert metrics["kbps_padding"] > 0  # webrtc: padding to its estimate; uma: its probes
+    assert (metrics["probes"] > 0) == (estimator == "uma")
     import csv
 
     rows = list(csv.DictReader((tmp_path / "r" / "frames.csv").open()))

@@ -5,8 +5,8 @@ Units: delays in ms, rates in kbit/s, SSIM in dB, utilisation and shares as frac
 Each trace replaces the trace of the Salsify scenario (`scenarios/salsify-tmobile-umts.yaml`:
 CIF talking head, 20 ms one way, drop-tail queue, adaptive playout) and runs for its first
 `duration_s` seconds (shorter traces run whole) once per engine of `ENGINES`. An engine is data:
-the scenario keys it sets, so the GCC baseline is one more line once `engine.estimator: gcc`
-exists. Every (trace, engine) pair is one task for the sweep executor (`uma.experiments`), so
+the scenario keys it sets (`uma`: the default controller; `gcc`: the GCC baseline; `webrtc`:
+aiortc's estimator; `oracle`: the oracle policy). Every (trace, engine) pair is one task for the sweep executor (`uma.experiments`), so
 `--workers` and `--scheduler` spread them. `utilisation` is what the engine sent (every codec's
 bits and padding) over what the trace could carry in the same time; `keyframe_bits_share` the
 share of the sent bits that were keyframes.
@@ -36,9 +36,10 @@ __all__ = [
     "median_row",
 ]
 
-# engine -> the scenario keys it sets (key path, value); adding `gcc` is one line here.
+# engine -> the scenario keys it sets (key path, value)
 ENGINES: dict[str, tuple[tuple[str, Any], ...]] = {
     "uma": (("engine.estimator.kind", "uma"),),
+    "gcc": (("engine.estimator.kind", "gcc"),),
     "webrtc": (("engine.estimator.kind", "webrtc"),),
     "oracle": (("engine.policy", "oracle"),),
 }

@@ -1,10 +1,10 @@
-"""`uma bench salsify`: uma's H.264 path on Salsify's trace, with uma's and WebRTC's estimators.
+"""`uma bench salsify`: uma's H.264 path on Salsify's trace, with uma's controller, GCC and aiortc's.
 
 Units: delays in ms, rates in kbit/s, SSIM in dB, wall-clock seconds for the run times.
 
 The Salsify scenario (`scenarios/salsify-tmobile-umts.yaml`) runs twice on the same prepared
-frames, once with `engine.estimator: uma` and once with `webrtc`; the default scenario does
-too (the first target compares the estimators on both). Beside them stand the figures
+frames, once with each `engine.estimator` kind of `ESTIMATOR_NAMES` (`uma`, `gcc`, `webrtc`);
+the default scenario does too; the targets judge uma against the GCC baseline. Beside them stand the figures
 published for the trace given (`uma.bench.published`: Salsify, Fouladi et al., NSDI 2018, per
 trace), or none when nothing was published for it. Salsify's delay is
 the 95th percentile of the displayed picture's age ("signal delay", a frame never shown
@@ -35,7 +35,12 @@ __all__ = [
 
 # What Salsify subtracts is its testbed's own pipeline delay; the simulation has none.
 DELAY_OFFSET_MS = 0.0
-ESTIMATOR_NAMES = ("uma", "webrtc")
+# uma's controller, the GCC baseline (the rate targets are judged against it), aiortc's estimator
+ESTIMATOR_NAMES = ("uma", "gcc", "webrtc")
+BASELINE = "gcc"
+# Issue 26's targets on the Salsify trace: delay p95 at most, unfrozen SSIM dB at least.
+TARGET_DELAY_P95_MS = 3000.0
+TARGET_SSIM_DB_UNFROZEN = 13.2
 KEYS = (
     "delay_p95_ms",
     "ssim_db",
@@ -63,6 +68,7 @@ class SalsifyBenchConfig:
     # system -> {delay_p95_ms, ssim_db} published for this trace ({}: none)
     published: dict[str, dict[str, float]] | None = None
     published_file: str | None = None
+    estimators: tuple[str, ...] = ESTIMATOR_NAMES  # the kinds to run (uma and BASELINE at least)
 
 
 class _LoopedSource:
@@ -94,13 +100,15 @@ def _with_estimator(scenario: Scenario, kind: str) -> Scenario:
     )
 
 
-def _run_both(scenario: Scenario, clip_frames: int) -> dict[str, Any]:
+def _run_both(
+    scenario: Scenario, clip_frames: int, estimators: tuple[str, ...] = ESTIMATOR_NAMES
+) -> dict[str, Any]:
     from uma.sim import run_scenario
     from uma.sim.summary import run_metrics
 
     source = _prepared(scenario, clip_frames)
     out: dict[str, Any] = {}
-    for kind in ESTIMATOR_NAMES:
+    for kind in estimators:
         start = time.perf_counter()
         result = run_scenario(_with_estimator(scenario, kind), source=source)
         metrics = run_metrics(result)
@@ -117,10 +125,21 @@ def _within(uma: float | None, webrtc: float | None, *, slack: float = 0.10) -> 
 
 
 def _estimator_target(rows: dict[str, Any]) -> dict[str, Any]:
-    uma, webrtc = rows["uma"], rows["webrtc"]
+    """uma against the baseline (`BASELINE`, within 10 %), and issue 26's absolute targets:
+    delay p95, unfrozen SSIM dB, frozen at most the baseline's."""
+    uma, base = rows["uma"], rows[BASELINE]
+    p95, unfrozen = uma["delay_p95_ms"], uma["ssim_db_unfrozen"]
     return {
-        "freeze_ratio_met": _within(uma["freeze_ratio"], webrtc["freeze_ratio"]),
-        "delay_p95_met": _within(uma["delay_p95_ms"], webrtc["delay_p95_ms"]),
+        "baseline": BASELINE,
+        "freeze_ratio_met": _within(uma["freeze_ratio"], base["freeze_ratio"]),
+        "delay_p95_met": _within(uma["delay_p95_ms"], base["delay_p95_ms"]),
+        "delay_p95_le_3000_met": None if p95 is None else p95 <= TARGET_DELAY_P95_MS,
+        "ssim_db_unfrozen_ge_13_2_met": None
+        if unfrozen is None
+        else unfrozen >= TARGET_SSIM_DB_UNFROZEN,
+        "freeze_ratio_le_baseline_met": _within(
+            uma["freeze_ratio"], base["freeze_ratio"], slack=0.0
+        ),
     }
 
 
@@ -142,7 +161,7 @@ def run_salsify_bench(config: SalsifyBenchConfig) -> dict[str, Any]:
     published = dict(config.published or {})
     if config.frames is not None:
         scenario = scenario.model_copy(update={"duration_s": config.frames / scenario.source.fps})
-    rows = _run_both(scenario, config.clip_frames)
+    rows = _run_both(scenario, config.clip_frames, config.estimators)
     uma = rows["uma"]
     targets: dict[str, Any] = {
         "salsify_scenario": _estimator_target(rows),
@@ -160,7 +179,7 @@ def run_salsify_bench(config: SalsifyBenchConfig) -> dict[str, Any]:
         "published_file": config.published_file,
     }
     if config.default_scenario is not None:
-        default_rows = _run_both(config.default_scenario, config.clip_frames)
+        default_rows = _run_both(config.default_scenario, config.clip_frames, config.estimators)
         result["default_scenario"] = {
             "scenario": config.default_scenario.name,
             "estimators": default_rows,
@@ -257,13 +276,18 @@ def format_table(result: dict[str, Any]) -> str:
         f"back-off {_fmt(step['backoff_s'], 'g')} s, settled {step['settled_kbps']:g} kbit/s",
         "",
         "  targets:",
-        "    uma estimator within 10 % of WebRTC's (Salsify scenario): frozen "
+        f"    uma within 10 % of {BASELINE}'s (Salsify scenario): frozen "
         f"{_verdict(targets['salsify_scenario']['freeze_ratio_met'])}, delay p95 "
         f"{_verdict(targets['salsify_scenario']['delay_p95_met'])}",
+        f"    issue 26 (Salsify scenario): delay p95 <= {TARGET_DELAY_P95_MS:,.0f} ms "
+        f"{_verdict(targets['salsify_scenario']['delay_p95_le_3000_met'])}, unfrozen SSIM >= "
+        f"{TARGET_SSIM_DB_UNFROZEN:g} dB "
+        f"{_verdict(targets['salsify_scenario']['ssim_db_unfrozen_ge_13_2_met'])}, frozen <= "
+        f"{BASELINE}'s {_verdict(targets['salsify_scenario']['freeze_ratio_le_baseline_met'])}",
     ]
     if "default_scenario" in targets:
         rows.append(
-            "    uma estimator within 10 % of WebRTC's (default scenario): frozen "
+            f"    uma within 10 % of {BASELINE}'s (default scenario): frozen "
             f"{_verdict(targets['default_scenario']['freeze_ratio_met'])}, delay p95 "
             f"{_verdict(targets['default_scenario']['delay_p95_met'])}"
         )

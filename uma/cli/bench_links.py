@@ -17,7 +17,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "links",
         help="the Salsify setting on many measured traces, every engine, with a plot",
         description="Run scenarios/salsify-tmobile-umts.yaml (CIF talking head, adaptive "
-        "playout) on each trace with every engine (uma, webrtc = aiortc's estimator, oracle) "
+        "playout) on each trace with every engine (uma, gcc, webrtc = aiortc's estimator, oracle) "
         "and print delay p95 and median, SSIM dB, frozen share, kbit/s, sent over capacity and "
         "the keyframes' share of the bits per trace, the published figures where known, and "
         "the median over the traces. Default traces: the Mahimahi, HSDPA, NYU-METS, "

@@ -48,6 +48,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--skip-default", action="store_true", help="do not also run the default scenario"
     )
+    parser.add_argument(
+        "--estimators",
+        metavar="KINDS",
+        default="uma,gcc,webrtc",
+        help="comma-separated engine.estimator kinds to run (uma and gcc at least; "
+        "default uma,gcc,webrtc)",
+    )
     add_common_arguments(parser)
     parser.set_defaults(func=handle)
 
@@ -81,7 +88,16 @@ def handle(args: argparse.Namespace) -> int:
     scenario_path = args.scenario or scenarios_dir() / "salsify-tmobile-umts.yaml"
     scenario = load_scenario(scenario_path).with_seed(args.seed)
     default = None if args.skip_default else load_scenario(None).with_seed(args.seed)
+    from uma.bench.salsify import BASELINE, ESTIMATOR_NAMES
+
+    kinds = tuple(k.strip() for k in args.estimators.split(",") if k.strip())
+    if not set(kinds) <= set(ESTIMATOR_NAMES) or not {"uma", BASELINE} <= set(kinds):
+        raise ConfigError(
+            f"--estimators: expected kinds among {', '.join(ESTIMATOR_NAMES)} including uma "
+            f"and {BASELINE}, got {args.estimators!r}"
+        )
     config = SalsifyBenchConfig(
+        estimators=kinds,
         scenario=scenario,
         trace=str(trace.resolve()),
         frames=args.frames,

@@ -119,9 +119,6 @@ class MbcConfig(Section):
     sharing the downlink with the video when the estimate leaves room (false: the receiver is
     assumed to hold it), using the room the estimate leaves above the point's rate but at least
     `description_share` of the estimate; MBC is used only once a receiver report confirms it.
-    `probe`: while on MBC, follow each parameter packet with padding up to the estimate's
-    share of the frame interval, so the estimate can grow back (without it, it stays within
-    3 x the parameters' few kbit/s and the engine never returns to H.264).
     `light`: code the face's light (gain and offset) in every parameter set and relight the
     rendering by it; `light_ms`: its modelled compute per frame (the encoder renders the face
     and fits the light). `far_ring_head_radii`, `head_ring_outlines`: the renderer's scene
@@ -137,7 +134,6 @@ class MbcConfig(Section):
     init_us_per_evaluation: PosNum = 143.0
     track_us_per_evaluation: PosNum = 1021.0
     encode_ms: NonNeg = 0.2
-    probe: Bool = True
     deliver_description: Bool = True
     description_share: Fraction = 0.1
     # Hold MBC frames (but a probe every `engine.probe_interval_ms`) while no receiver report

@@ -14,14 +14,13 @@ from pydantic import AllowInfNan, Field, Strict, field_validator, model_validato
 from uma.codecs import full_frame_names
 from uma.config.codecs import FaceRegionConfig, MbcConfig
 from uma.config.technologies import check_technologies
-from uma.config.types import Bool, Fraction, NonNeg, NonNegInt, PosInt, PosNum, Section, Str
+from uma.config.types import Bool, NonNeg, NonNegInt, PosInt, PosNum, Section, Str
 
 __all__ = [
     "EngineConfig",
     "EstimatorConfig",
     "SwitchingConfig",
     "PacerConfig",
-    "HandoverConfig",
     "POLICY_NAMES",
     "ESTIMATOR_KINDS",
     "SWITCHING_NAMES",
@@ -34,9 +33,9 @@ __all__ = [
 # The rate policies `engine.policy` may name; `uma.engine.policy.POLICIES` implements each.
 PolicyName = Literal["throughput", "oracle", "fixed"]
 POLICY_NAMES: tuple[str, ...] = get_args(PolicyName)
-# Bandwidth estimators the engine can use: its own delay-based one, or WebRTC's receiver-side
-# estimator (aiortc's port of webrtc.org's RemoteBitrateEstimator) carried back as a REMB.
-EstimatorKind = Literal["uma", "webrtc"]
+# Rate control the engine can follow (`uma.engine.rate.RATE_CONTROLS`): uma's controller, the
+# GCC baseline, or WebRTC's receiver-side estimator (aiortc's port) carried back as a REMB.
+EstimatorKind = Literal["uma", "gcc", "webrtc"]
 ESTIMATOR_KINDS: tuple[str, ...] = get_args(EstimatorKind)
 # Switching policies `engine.switching.policy` may name (`uma.engine.policy.SWITCHING`).
 SwitchingName = Literal["none", "threshold", "predictive", "oracle"]
@@ -44,27 +43,18 @@ SWITCHING_NAMES: tuple[str, ...] = get_args(SwitchingName)
 
 
 class EstimatorConfig(Section):
-    """The engine's delay-based bandwidth estimator (see `uma.engine.estimator`)."""
+    """The engine's rate control (`uma.engine.rate`): which kind, and the bounds of its rate.
+
+    `uma`: uma's controller (`uma.control.UmaController`, the default); `gcc`: the GCC
+    baseline written from the published description (`uma.control.GccController`); `webrtc`:
+    aiortc's port of webrtc.org's receiver-side estimator carried back as a REMB. The old
+    estimator's tuning keys are retired (`uma.config.retired`).
+    """
 
     initial_kbps: PosNum = 300.0
     min_kbps: PosNum = 5.0
     max_kbps: PosNum = 20000.0
-    queue_high_ms: PosNum = 150.0
-    queue_low_ms: PosNum = 40.0
-    decrease_factor: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, lt=1)] = 0.85
-    increase_per_s: NonNeg = 0.5
-    loss_high: Fraction = 0.1
-    window_s: PosNum = 1.0
-    # Decrease once per window (not per queue-drain time) while the received rate is below
-    # this fraction of the estimate; 0 turns it off.
-    collapse_below: Fraction = 0.25
-    # The estimate never grows above this multiple of the received rate.
-    increase_cap: Annotated[float, Strict(), AllowInfNan(False), Field(ge=1)] = 3.0
-    # Delay trend (0: off): the slope of the reports' queueing delay over this window; above
-    # `trend_high_ms_per_s` the queue is building and the estimate backs off.
-    trend_window_s: NonNeg = 0.0
-    trend_high_ms_per_s: PosNum = 50.0
-    # Which estimator: `engine.estimator: webrtc` is short for `engine.estimator: {kind: webrtc}`.
+    # Which kind: `engine.estimator: gcc` is short for `engine.estimator: {kind: gcc}`.
     kind: EstimatorKind = "uma"
 
     @model_validator(mode="after")
@@ -77,11 +67,6 @@ class EstimatorConfig(Section):
             raise ValueError(
                 f"initial_kbps ({self.initial_kbps:g}) must lie within min_kbps "
                 f"({self.min_kbps:g}) and max_kbps ({self.max_kbps:g})"
-            )
-        if self.queue_low_ms > self.queue_high_ms:
-            raise ValueError(
-                f"queue_low_ms ({self.queue_low_ms:g}) must not exceed queue_high_ms "
-                f"({self.queue_high_ms:g})"
             )
         return self
 
@@ -99,39 +84,18 @@ class PacerConfig(Section):
     """The engine's pacer and its queue (`uma.engine.pacer`); off: units go straight to the
     downlink.
 
-    Packets leave at `rate_factor` x the estimate (the oracle's true capacity), with
-    `burst_ms` of that rate as the burst allowance; a frame that would leave later than its
-    capture time + `deadline_ms` (less the reported queueing delay) is dropped in the engine,
-    and a keyframe follows; padding waits at most `padding_wait_ms`; with `hold_after_ms`,
-    nothing leaves while no report came for that long.
+    Packets leave at `rate_factor` x the estimate (the oracle's true capacity; libwebrtc's
+    pacing factor, 2.5, so a frame's packets leave as a train that measures the link, not the
+    pacer), with `burst_ms` of that rate as the burst allowance; a frame that would leave
+    later than its capture time + `deadline_ms` (less the reported queueing delay) is dropped
+    in the engine, and a keyframe follows; padding waits at most `padding_wait_ms`.
     """
 
-    enabled: Bool = False
-    # Salsify's frame sizing: hold a frame when what waits plus its share of the rate would
-    # not leave within `fit_frames` frame intervals (0: off).
-    fit_frames: NonNeg = 0.0
-    rate_factor: PosNum = 1.0
+    enabled: Bool = True
+    rate_factor: PosNum = 2.5
     burst_ms: PosNum = 40.0
     deadline_ms: PosNum = 1000.0
     padding_wait_ms: NonNeg = 100.0
-    # No report for this long (an outage, a handover gap): nothing leaves the pacer, so the
-    # old link's rate is not pushed into the new one's queue (0: off).
-    hold_after_ms: NonNeg = 0.0
-
-
-class HandoverConfig(Section):
-    """Handover awareness (`uma.engine.handover`): on a change of the technology the receiver
-    reports, the estimate becomes that technology's prior capacity at once (its rate model's
-    mean, or `priors_kbps[technology]`). Off for a single-technology route."""
-
-    enabled: Bool = False
-    priors_kbps: dict[Str, PosNum] = Field(default_factory=dict)
-
-    @field_validator("priors_kbps")
-    @classmethod
-    def _technologies(cls, value: dict[str, float]) -> dict[str, float]:
-        check_technologies(value)
-        return value
 
 
 class SwitchingConfig(Section):
@@ -195,8 +159,8 @@ class EngineConfig(Section):
     mbc: MbcConfig = Field(default_factory=MbcConfig)
     face_region: FaceRegionConfig = Field(default_factory=FaceRegionConfig)
     pacer: PacerConfig = Field(default_factory=PacerConfig)
-    handover: HandoverConfig = Field(default_factory=HandoverConfig)
-    # Tuning (see `uma.engine.engine`): reports missing for this many intervals mean an outage;
+    # Tuning (see `uma.engine.engine`): reports missing for this many intervals mean an outage
+    # (aiortc's estimate falls);
     # no more than this much sending time in flight; unacknowledged packets presumed lost after
     # this long; while backlogged, a probe frame this often.
     stale_reports: PosInt = 3

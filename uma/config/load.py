@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from uma.config.retired import find_retired
 from uma.config.scenario import Scenario
 from uma.config.technologies import LABELS, technology_label
 from uma.config.yamlfile import KeyLines, load_yaml
@@ -59,6 +60,10 @@ def scenario_from_dict(data: Any, lines: KeyLines, *, base_dir: Path) -> Scenari
         raise ConfigError(
             f"{lines.where(())}: expected a mapping of scenario keys, got {type(data).__name__}"
         )
+    retired = find_retired(data)
+    if retired is not None:
+        path, why = retired
+        raise ConfigError(f"{lines.where(path)}: {'.'.join(path)} is retired: {why}")
     try:
         scenario = Scenario.model_validate(data)
     except ValidationError as err:

@@ -10,7 +10,10 @@ documented design:
   per response time, rtt + 100 ms, at least 4 kbit/s per second) near it. Near means: the
   received rate lies within three standard deviations of the link capacity estimate, a
   moving average of the received rate at each decrease; above it the estimate is dropped and
-  the increase is multiplicative again. The target never exceeds 1.5 x received + 10 kbit/s.
+  the increase is multiplicative again. An increase never takes the target above 1.5 x
+  received + 10 kbit/s, nor does that bound lower a target already above it (a probe's
+  result, libwebrtc's reading of the draft's bound: an application-limited sender, whose
+  encoder cannot fill the estimate, keeps what its probe measured).
 - **Loss** (draft 6): loss above 10 % -> A_s x (1 - 0.5 loss); below 2 % -> A_s x 1.05 per
   second, and without loss never below A_r (it binds only after losses); in between, hold.
   The target is min(A_r, A_s).
@@ -114,11 +117,16 @@ class AimdController:
             mean = self.capacity.mean_kbps
             if mean is not None and received_kbps > mean + 3.0 * self.capacity.std_kbps():
                 self.capacity.mean_kbps = None  # the link grew: far from convergence again
+            before = self.target_kbps
             if self.capacity.mean_kbps is not None:
                 self.target_kbps += self._additive_kbps_per_s(rtt_ms) * dt_s
             else:
                 self.target_kbps *= s.multiplicative_per_s ** min(dt_s, 1.0)
-            self.target_kbps = min(self.target_kbps, 1.5 * received_kbps + 10.0)
+            # The increase stops at 1.5 x received + 10 (the draft's bound); it never takes the
+            # target below where it was (a probe's result stays, as in libwebrtc).
+            cap = 1.5 * received_kbps + 10.0
+            if self.target_kbps > cap:
+                self.target_kbps = max(min(before, self.target_kbps), cap)
         elif self.state is AimdState.DECREASE:
             decreased = s.beta * received_kbps
             self.target_kbps = min(self.target_kbps, decreased)

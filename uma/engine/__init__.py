@@ -16,17 +16,12 @@ from uma.engine.decisions import (
     WakePacer,
 )
 from uma.engine.engine import UmaEngine
-from uma.engine.estimator import (
-    EstimatorState,
-    delay_trend_ms_per_s,
-    initial_estimate,
-    update_estimate,
-)
-from uma.engine.handover import Handover, handover_estimate
+from uma.engine.estimator import EstimatorState
 from uma.engine.model import TRANSITIONS, ModelEvent, ModelState
 from uma.engine.pacer import PacedPacket, Pacer, PacerRelease
 from uma.engine.parts import DescriptionPlan
 from uma.engine.policy import POLICIES, PolicyView, fixed_policy, oracle_policy, throughput_policy
+from uma.engine.rate import RATE_CONTROLS, RateControl, make_rate
 from uma.engine.refresh import (
     REFRESH_TRANSITIONS,
     RefreshEvent,
@@ -54,16 +49,14 @@ __all__ = [
     "Pacer",
     "PacedPacket",
     "PacerRelease",
-    "Handover",
-    "handover_estimate",
-    "delay_trend_ms_per_s",
     "DescriptionPlan",
     "ModelState",
     "ModelEvent",
     "TRANSITIONS",
     "EstimatorState",
-    "initial_estimate",
-    "update_estimate",
+    "RateControl",
+    "RATE_CONTROLS",
+    "make_rate",
     "POLICIES",
     "PolicyView",
     "throughput_policy",

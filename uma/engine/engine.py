@@ -10,6 +10,12 @@ an intra picture left, the tracker re-initialised or failed, the refresh coded) 
 the refresh's packets due). Between frames: `on_report`, `on_keyframe_request`, `on_init_done`
 and `on_pace` (the pacer's packets due). The parts own their state and return actions; the
 engine keeps the events and counts among them (`_keep`) and hands them on in `finish`.
+
+Rate control is one object of `uma.engine.rate` (the kind `engine.estimator` names): each
+report goes to it, and its estimate is what the rate policy reads; a probe it asks for leaves
+at once as padding packets with one send stamp; at each frame decision it is told of silence
+and asked whether to skip the frame. A change of rung within one codec and size retargets the
+open encoder (the decision's `target_kbps`, no keyframe); a new codec or size is a new stream.
 """
 
 from __future__ import annotations
@@ -28,11 +34,9 @@ from uma.engine.decisions import (
     OutgoingUnit,
     PaceDecision,
 )
-from uma.engine.estimator import stale_decrease
-from uma.engine.estimators import ESTIMATORS
 from uma.engine.pacing import held as pacing_held
 from uma.engine.parts import DescriptionPlan, build_parts
-from uma.engine.points import OperatingPoint
+from uma.engine.points import OperatingPoint, same_stream
 from uma.engine.records import EngineEvent, Tally
 from uma.engine.reports import KeyframeRequest, ReceiverReport
 
@@ -46,21 +50,20 @@ class UmaEngine:
         self, config: EngineConfig, *, points: tuple[OperatingPoint, ...], source_fps: float,
         feedback: FeedbackConfig, model_unavailable: str = "",
         coverage: tuple[tuple[float, str], ...] = (), description: DescriptionPlan | None = None,
-        technology_priors_kbps: dict[str, float] | None = None, payload_bytes: int = 1200,
+        payload_bytes: int = 1200,
     ) -> None:  # fmt: skip
         self.config, self.feedback, self.points = config, feedback, points
         self.oracle = config.policy == "oracle"
         parts = build_parts(
             config, points, source_fps=source_fps, model_unavailable=model_unavailable,
             coverage=coverage, description=description or DescriptionPlan(),
-            technology_priors_kbps=technology_priors_kbps, payload_bytes=payload_bytes,
+            feedback=feedback, payload_bytes=payload_bytes,
             keyframe_min_interval_s=feedback.keyframe_min_interval_ms / 1000.0,
         )  # fmt: skip
         self.ladder, self.model, self.description = parts.ladder, parts.model, parts.description
-        self.refresh, self.outbox, self.handover = parts.refresh, parts.outbox, parts.handover
+        self.refresh, self.outbox = parts.refresh, parts.outbox
         self.keyframes, self.position, self.sender = parts.keyframes, parts.position, parts.sender
-        self.inflight, self.estimator = parts.outbox.inflight, parts.estimator
-        self.update_estimate = ESTIMATORS[config.estimator.kind]
+        self.inflight, self.rate = parts.outbox.inflight, parts.rate
         self.events: list[EngineEvent] = []
         self.counts: dict[str, int] = {}
         self._keep(parts.declared)
@@ -81,15 +84,8 @@ class UmaEngine:
     def on_report(self, report: ReceiverReport, now_s: float) -> list:
         self.inflight.on_report(report.highest_seq, now_s)
         actions = self.description.on_report(report.description_complete, now_s)
-        self.estimator = self.update_estimate(
-            self.estimator, report, now_s=now_s, outstanding_bits=self.outstanding_bits,
-            config=self.config.estimator,
-        )  # fmt: skip
-        if self.handover is not None:
-            self.estimator, taken = self.handover.take_prior(
-                self.estimator, report.technology, now_s=now_s, config=self.config.estimator
-            )
-            actions += taken
+        probe, taken = self.rate.on_report(report, now_s)
+        actions += taken + self.sender.probe(None if self.oracle else probe)  # the oracle knows
         if self.refresh is not None:
             actions += self.refresh.on_ack(report.refresh_frame)
         return self._keep(actions)
@@ -137,7 +133,7 @@ class UmaEngine:
         oracle = self.oracle and capacity_kbps is not None
         decision, actions, needs_keyframe = self.sender.pace(
             now_s, seen_kbps=capacity_kbps if oracle else self.estimate_kbps, rung=self.rung,
-            estimator=self.estimator, last_report_s=self.inflight.last_report_s,
+            estimator=self.estimator,
         )  # fmt: skip
         self.keyframes.pending |= needs_keyframe
         self._keep(actions)
@@ -154,6 +150,11 @@ class UmaEngine:
     @property
     def outstanding_bits(self) -> int:
         return self.inflight.outstanding_bits
+
+    @property
+    def estimator(self):
+        """What the rate control gives the rest of the engine (`EstimatorState`)."""
+        return self.rate.state
 
     @property
     def estimate_kbps(self) -> float:
@@ -173,16 +174,15 @@ class UmaEngine:
         picture). The oracle policies see the true capacity (`capacity_kbps`) and, switching,
         its lowest ahead (`lowest_kbps(start_s, end_s)`, a pure query of the trace)."""
         capacity_kbps = capacity_kbps if self.oracle else None
-        interval_s, config = self.feedback.interval_ms / 1000.0, self.config
-        if self.inflight.stale_due(now_s, interval_s, config.stale_reports):  # reports missing
-            self.estimator = stale_decrease(self.estimator, now_s=now_s, config=config.estimator)
+        silence = self.rate.on_silence(now_s)
         self.inflight.presume_lost(now_s, self.config.presume_lost_ms / 1000.0)
         budget_kbps = self.config.safety * (capacity_kbps if self.oracle else self.estimate_kbps)
         position = self.position
-        wanted, initialise, actions = position.choose(
+        wanted, initialise, chosen = position.choose(
             now_s, estimate_kbps=self.estimate_kbps, capacity_kbps=capacity_kbps,
             budget_kbps=budget_kbps, lowest_kbps=lowest_kbps,
         )  # fmt: skip
+        actions = silence + chosen
         switched = wanted != position.rung or position.switched_between
         if wanted != position.rung:
             actions += position.switch_to(wanted, now_s, "rung_switch", self.estimate_kbps)
@@ -218,11 +218,12 @@ class UmaEngine:
         probe_due = now_s - self.last_sent_s >= self.config.probe_interval_ms / 1000.0
         seen_kbps = self.estimate_kbps if capacity_kbps is None else capacity_kbps
         held = pacing_held(
-            self.config, point, now_s, self.inflight, seen_kbps, queued_bits=self.queued_bits,
-            paced=self.outbox.paced, source_fps=self.ladder.source_fps,
-        )  # fmt: skip
+            self.config, point, now_s, self.inflight, seen_kbps, queued_bits=self.queued_bits
+        )
         if held and not switched and not probe_due:
             return replace(decision, reason="backlog")
+        if not self.oracle and self.rate.skips_frame(point, self.queued_bits, now_s):
+            return replace(decision, reason="skip", actions=(Tally("skipped_frames", 1),))
         self.position.switched_between, self.last_sent_s = False, now_s
         self.ordered, actions = None, []
         if self.refresh is not None:
@@ -231,9 +232,11 @@ class UmaEngine:
                 decision.frame, now_s, on_model=spec(point.codec).role is Role.MODEL,
                 budget_kbps=budget_kbps, model_kbps=point.rate_kbps, received_kbps=received_kbps,
             )  # fmt: skip
-        self.asked_idr = switched or self.keyframes.due(now_s)
-        keyframe = self.asked_idr or self.rung != self.coder_rung  # a new point: a new stream
+        new_stream = self.coder_rung < 0 or not same_stream(point, self.points[self.coder_rung])
+        self.asked_idr = (switched and new_stream) or self.keyframes.due(now_s)
+        keyframe = self.asked_idr or new_stream
+        target_kbps = None if new_stream or self.rung == self.coder_rung else point.rate_kbps
         return replace(
             decision, send=True, force_idr=self.asked_idr, keyframe=keyframe,
-            refresh=self.ordered, actions=tuple(actions),
+            target_kbps=target_kbps, refresh=self.ordered, actions=tuple(actions),
         )  # fmt: skip

@@ -8,16 +8,15 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from uma.codecs import Role, model_names, names, spec
-from uma.config.scenario import EngineConfig
+from uma.config.scenario import EngineConfig, FeedbackConfig
 from uma.engine.description import Delivery
-from uma.engine.estimator import EstimatorState, initial_estimate
-from uma.engine.handover import Handover
 from uma.engine.inflight import Keyframes
 from uma.engine.ladder import Ladder
 from uma.engine.model import ModelMachine
 from uma.engine.points import OperatingPoint
 from uma.engine.policy import POLICIES, SWITCHING, switch_settings
 from uma.engine.position import Position
+from uma.engine.rate import RateControl, make_rate
 from uma.engine.records import Tally
 from uma.engine.refresh import RefreshPlanner
 from uma.engine.sending import Outbox
@@ -48,11 +47,10 @@ class EngineParts:
     switcher: Switcher
     refresh: RefreshPlanner | None
     outbox: Outbox
-    handover: Handover | None
     keyframes: Keyframes
     position: Position
     sender: SendSide
-    estimator: EstimatorState
+    rate: RateControl
     declared: tuple[Tally, ...]
 
 
@@ -64,7 +62,7 @@ def build_parts(
     model_unavailable: str,
     coverage: tuple[tuple[float, str], ...],
     description: DescriptionPlan,
-    technology_priors_kbps: dict[str, float] | None,
+    feedback: FeedbackConfig,
     payload_bytes: int,
     keyframe_min_interval_s: float,
 ) -> EngineParts:
@@ -93,21 +91,20 @@ def build_parts(
     )  # fmt: skip
     refresh = _refresh(model_config)
     declared += [Tally(key, 0) for key in RefreshPlanner.COUNTS] if refresh else []
+    declared += [Tally("skipped_frames", 0), Tally("probes", 0)]
     outbox = Outbox(config.pacer, payload_bytes=payload_bytes, source_fps=source_fps)
-    handover = Handover(technology_priors_kbps or {}) if config.handover.enabled else None
     keyframes = Keyframes(keyframe_min_interval_s)
-    estimator = initial_estimate(config.estimator)
+    rate = make_rate(config, feedback)
     position = Position(
         config, points, ladder=ladder, switcher=switcher, policy=POLICIES[config.policy],
-        rung=ladder.initial(config, estimator.estimate_kbps),
+        rung=ladder.initial(config, rate.state.estimate_kbps),
     )  # fmt: skip
     sender = SendSide(
-        config, points, outbox=outbox, refresh=refresh, source_fps=source_fps,
-        probe=model_config.probe,
-    )  # fmt: skip
+        config, points, outbox=outbox, refresh=refresh, source_fps=source_fps, pads=rate.pads
+    )
     return EngineParts(
-        ladder, model, model_config, delivery, switcher, refresh, outbox, handover, keyframes,
-        position, sender, estimator, tuple(declared),
+        ladder, model, model_config, delivery, switcher, refresh, outbox, keyframes,
+        position, sender, rate, tuple(declared),
     )  # fmt: skip
 
 

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 from uma.codecs import REGISTRY, Role, names
 
 __all__ = [
+    "same_stream",
     "OperatingPoint",
     "full_frame_points",
     "role_indices",
@@ -91,3 +92,10 @@ def rate_indices(points: tuple[OperatingPoint, ...]) -> tuple[int, ...]:
     """Indices of the rate ladder's points (`RATE_CODECS`), lowest rate first."""
     family = [i for i, point in enumerate(points) if point.codec in RATE_CODECS]
     return tuple(sorted(family, key=lambda i: (points[i].rate_kbps, i)))
+
+
+def same_stream(a: OperatingPoint, b: OperatingPoint) -> bool:
+    """Whether a change between `a` and `b` keeps one stream: one full-frame codec at one size
+    (only the rate or frame rate changes, so the open encoder is retargeted, no keyframe)."""
+    full = REGISTRY[a.codec].role is Role.FULL_FRAME
+    return full and a.codec == b.codec and (a.width, a.height) == (b.width, b.height)

@@ -19,7 +19,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 from uma.codecs import full_frame_names, model_names
-from uma.engine.points import OperatingPoint, rate_indices
+from uma.engine.points import OperatingPoint, rate_indices, same_stream
 
 __all__ = [
     "PolicyView",
@@ -80,8 +80,14 @@ def highest_fitting(rates_kbps: tuple[float, ...], budget_kbps: float) -> int:
     return best
 
 
+# Up to a rung of another size (a keyframe) only when the budget is this multiple of its rate.
+UPSIZE_MARGIN = 1.25
+
+
 def throughput_policy(view: PolicyView) -> int:
-    """Down at once to what the estimate carries; up one rung at a time after `up_hold_s`.
+    """Down at once to what the estimate carries; up one rung at a time after `up_hold_s`, to a
+    rung of another size only with `UPSIZE_MARGIN` to spare (a new size costs a keyframe; a
+    rung of the same size only retargets the encoder).
 
     From a point off the rate ladder (the model codec's), straight to the highest rung that fits.
     """
@@ -93,7 +99,12 @@ def throughput_policy(view: PolicyView) -> int:
     if target < current:
         return rungs[target]
     if target > current and view.now_s - view.last_switch_s >= view.up_hold_s:
-        return rungs[current + 1]
+        up = rungs[current + 1]
+        if same_stream(view.points[up], view.points[view.current]):
+            return up
+        # a new size costs a keyframe: only with room to spare (hysteresis)
+        if view.safety * view.estimate_kbps >= UPSIZE_MARGIN * view.points[up].rate_kbps:
+            return up
     return view.current
 
 

@@ -7,6 +7,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from uma.control.delivery import DeliveryReport
+
 __all__ = ["ReceiverReport", "KeyframeRequest"]
 
 
@@ -16,9 +18,10 @@ class ReceiverReport:
 
     `queue_delay_ms` is the mean one-way delay of the packets received in the interval minus the
     smallest one-way delay seen in the recent past: it grows when a queue builds at the
-    bottleneck. It is None when no packet arrived in the interval. `remb_kbps` is the receiver's
-    WebRTC bandwidth estimate (a REMB), None when the scenario does not use it or it has none yet.
-    `technology` is the access technology the receiver is on ("" when it does not say).
+    bottleneck. It is None when no packet arrived in the interval. `technology` is the access
+    technology the receiver is on ("" when it does not say). `delivery`: every packet that
+    arrived in the interval, with its send stamp and arrival time, folded by the receiver's
+    `DeliveryTracker` (trains, loss, queueing-delay samples); the rate controllers read it.
     """
 
     sent_s: float
@@ -28,10 +31,10 @@ class ReceiverReport:
     packets_lost: int
     highest_seq: int
     queue_delay_ms: float | None
-    remb_kbps: float | None = None
     description_complete: bool = False  # the receiver holds the whole content description
     technology: str = ""
     refresh_frame: int = -1  # the newest model-aided refresh the receiver renders from
+    delivery: DeliveryReport | None = None
 
     @property
     def received_kbps(self) -> float:

@@ -122,6 +122,15 @@ class Outbox:
         self.pacer.push(packets, PADDING)
         return self._flush(now_s)
 
+    def probe(self, packets: int, packet_bits: int) -> list[SendPacket]:
+        """A rate controller's probe: `packets` padding packets of `packet_bits` on the wire,
+        numbered and sent now, back to back with one send stamp (not paced: their arrival
+        spacing is to measure the link, not the pacer)."""
+        bits = max(packet_bits, 8 * (HEADER_BYTES + 1))
+        return self.number(
+            [SendPacket("padding", None, i, packets, bits, -1) for i in range(packets)]
+        )
+
     def _flush(self, now_s: float) -> list:
         if self.paced:
             return [WakePacer()]

@@ -3,10 +3,11 @@
 Units: times in seconds, rates in kbit/s, sizes in bits.
 
 A coded unit goes into the outbox (`uma.engine.sending`: the pacer, the numbering) with the
-padding due behind it (`uma.engine.pacing.padding_bits`; refresh bits released since the last
-unit fill the probe's share too); the refresh's packets leave at its planner's pace
-(`uma.engine.refresh`); the pacer releases at the rate it is given, never slower than the
-point in use sends, and holds while the feedback is silent for `engine.pacer.hold_after_ms`.
+padding due behind it when the rate control pads (`uma.engine.pacing.padding_bits`; refresh
+bits released since the last unit fill that share too); a rate controller's probe leaves at
+once, back to back (`Outbox.probe`); the refresh's packets leave at its planner's pace
+(`uma.engine.refresh`); the pacer releases at `engine.pacer.rate_factor` x the rate it is
+given, never slower than the point in use sends.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from __future__ import annotations
 from uma.codecs import Role, spec
 from uma.engine.decisions import OutgoingUnit, PaceDecision, SendPacket
 from uma.engine.pacing import padding_bits
+from uma.engine.records import Tally
 from uma.engine.refresh import RefreshPlanner
 from uma.engine.sending import Outbox, dropped_actions
 
@@ -25,10 +27,10 @@ class SendSide:
 
     def __init__(
         self, config, points, *, outbox: Outbox, refresh: RefreshPlanner | None,
-        source_fps: float, probe: bool,
+        source_fps: float, pads: bool,
     ) -> None:  # fmt: skip
         self.config, self.points, self.outbox, self.refresh = config, points, outbox, refresh
-        self.source_fps, self.probe = source_fps, probe
+        self.source_fps, self.pads = source_fps, pads
 
     def unit(self, unit: OutgoingUnit, now_s: float, estimator) -> list:
         """Queue a coded unit and the padding due behind it: what leaves at once, and why
@@ -40,9 +42,16 @@ class SendSide:
         )  # fmt: skip
         interval_s = len(unit.frames) / min(point.fps, self.source_fps)
         bits += self.refresh.take_released_bits() if self.refresh is not None else 0
-        pad = padding_bits(self.config, estimator, point, interval_s, sent_bits=bits,
-                           probe=self.probe)  # fmt: skip
-        return actions if pad is None else actions + self.outbox.padding(pad, now_s)
+        if not self.pads:
+            return actions
+        pad = padding_bits(estimator.estimate_kbps, interval_s, sent_bits=bits)
+        return actions + self.outbox.padding(pad, now_s)
+
+    def probe(self, probe) -> list:
+        """A rate controller's `ProbeRequest` (None: none): its packets, sent now, counted."""
+        if probe is None:
+            return []
+        return self.outbox.probe(probe.packets, probe.packet_bits) + [Tally("probes", 1)]
 
     def refresh_due(self, now_s: float, estimator) -> list[SendPacket]:
         """The refresh's packets that leave now (ask every frame: it keeps the recent delays)."""
@@ -52,7 +61,7 @@ class SendSide:
         return self.outbox.number([packet for packet, _ in out]) if out else []
 
     def pace(
-        self, now_s: float, *, seen_kbps: float, rung: int, estimator, last_report_s: float
+        self, now_s: float, *, seen_kbps: float, rung: int, estimator
     ) -> tuple[PaceDecision, list, bool]:
         """What the pacer lets out at `now_s` at `seen_kbps` x `rate_factor`, the actions of
         what it dropped, and whether a keyframe must follow."""
@@ -61,10 +70,8 @@ class SendSide:
         pacer = self.config.pacer
         # Never slower than the point in use sends (else nothing would be measured).
         rate_kbps = max(seen_kbps * pacer.rate_factor, self.points[rung].rate_kbps)
-        hold_s = pacer.hold_after_ms / 1000.0
         sent, release = self.outbox.release(
-            now_s, rate_kbps, network_delay_s=estimator.queue_delay_ms / 1000.0,
-            hold=hold_s > 0 and now_s - last_report_s > hold_s,
-        )  # fmt: skip
+            now_s, rate_kbps, network_delay_s=estimator.queue_delay_ms / 1000.0, hold=False
+        )
         actions = dropped_actions(release.dropped_frames, now_s, "too late to be shown")
         return PaceDecision(tuple(sent), release.next_s), actions, release.needs_keyframe

@@ -7,9 +7,10 @@ The estimator is aiortc's port of webrtc.org's remote bitrate estimator
 growth of the inter-arrival delay, an over-use detector with an adaptive threshold, AIMD rate
 control), used as the library ships it. The receiver feeds it every packet's arrival time, its
 send time as the 24-bit abs-send-time header extension (6.18 fixed-point seconds, wrapping every
-64 s) and its size; its latest estimate travels back to the engine in each receiver report, as a
-REMB (RTCP receiver estimated maximum bitrate) would. `remb_update` folds a report into the
-engine's `EstimatorState` with the same signature as `uma.engine.estimator.update_estimate`.
+64 s) and its size; its latest estimate is the engine's at each receiver report, as a REMB (RTCP
+receiver estimated maximum bitrate) would carry it. The engine runs it (`uma.engine.rate.
+WebrtcRate`) over the packets each report lists, in arrival order: the estimate at each report
+is the one a receiver running it would have sent.
 
 One difference from webrtc.org is put back: libwebrtc's inter-arrival filter ends a burst
 (packets arriving within 5 ms of each other, merged into one group) after 100 ms
@@ -25,14 +26,9 @@ aiortc is imported only when a `RembEstimator` is made: it pulls in aiortc's who
 
 from __future__ import annotations
 
-from dataclasses import replace
-
-from uma.config.scenario import EstimatorConfig
-from uma.engine.estimator import EstimatorState, windowed_received
-from uma.engine.reports import ReceiverReport
 from uma.errors import ConfigError
 
-__all__ = ["RembEstimator", "remb_update", "abs_send_time"]
+__all__ = ["RembEstimator", "abs_send_time"]
 
 # abs-send-time: seconds in 6.18 fixed point, 24 bits (RFC 8285 extension, webrtc.org's format).
 _ABS_SEND_TIME_FRACTION_BITS = 18
@@ -113,31 +109,3 @@ class RembEstimator:
         if result is not None:
             self.estimate_kbps = result[0] / 1000.0
             self.updates += 1
-
-
-def remb_update(
-    state: EstimatorState,
-    report: ReceiverReport,
-    *,
-    now_s: float,
-    outstanding_bits: int,
-    config: EstimatorConfig,
-) -> EstimatorState:
-    """Take the report's REMB as the estimate (kept when it carries none), within the bounds.
-
-    The received rate and loss over the window are still tracked, for the logs; they do not
-    change the estimate (WebRTC's sender would also cap by its loss-based controller: not
-    modelled, see the README).
-    """
-    window, received_kbps, loss = windowed_received(state, report, config.window_s)
-    estimate = report.remb_kbps if report.remb_kbps is not None else state.estimate_kbps
-    estimate = min(max(estimate, config.min_kbps), config.max_kbps)
-    queue_ms = report.queue_delay_ms if report.queue_delay_ms is not None else state.queue_delay_ms
-    return replace(
-        state,
-        estimate_kbps=estimate,
-        queue_delay_ms=queue_ms,
-        loss_fraction=loss,
-        received_kbps=received_kbps,
-        window=window,
-    )

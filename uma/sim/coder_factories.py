@@ -37,18 +37,38 @@ __all__ = [
 
 class FullFramePointEncoder:
     """A full-frame codec at one operating point: its rate, size (never above the source's)
-    and frame rate, coded by the `uma.video` class its registry entry names."""
+    and frame rate, coded by the `uma.video` class its registry entry names.
 
-    def __init__(self, point: OperatingPoint, *, source_size, source_fps, settings, context=None):
+    `span`: (fps, max_rate_kbps) of every point of its size (`Ladder.open_span`): an encoder
+    that can be retargeted (H.264's `max_rate_kbps`) opens so that `retarget` reaches each of
+    them without a keyframe; one that cannot opens at the point as before."""
+
+    def __init__(
+        self, point: OperatingPoint, *, source_size, source_fps, settings, context=None,
+        span: tuple[float, float] | None = None,
+    ) -> None:  # fmt: skip
+        import inspect
+
         self.width = min(point.width, source_size[0])
         self.height = min(point.height, source_size[1])
-        self.encoder = video_class(point.codec, "video_encoder")(
-            self.width,
-            self.height,
-            min(point.fps, source_fps),
-            point.rate_kbps,
-            **settings.kwargs(),
-        )
+        self.source_fps = source_fps
+        cls = video_class(point.codec, "video_encoder")
+        fps = min(point.fps, source_fps)
+        if span is None or "max_rate_kbps" not in inspect.signature(cls).parameters:
+            self.encoder = cls(self.width, self.height, fps, point.rate_kbps, **settings.kwargs())
+            return
+        span_fps = min(span[0], source_fps)
+        self.encoder = cls(
+            self.width, self.height, span_fps, point.rate_kbps * span_fps / fps,
+            max_rate_kbps=max(span[1], point.rate_kbps * span_fps / fps), **settings.kwargs(),
+        )  # fmt: skip
+        self.encoder.set_target(point.rate_kbps, fps)
+
+    def retarget(self, point: OperatingPoint) -> bool:
+        """Aim the open encoder at `point` (same size) from the next frame, no keyframe;
+        False when it cannot (a new encoder is needed)."""
+        fps = min(point.fps, self.source_fps)
+        return bool(self.encoder.set_target(point.rate_kbps, fps))
 
     def encode(self, picture: np.ndarray, *, intra: bool, frame: int = -1) -> Coded:
         from uma.video import resize_yuv420

@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from uma.codecs import Role, model_names, spec, uplink_name
-from uma.engine.points import OperatingPoint
+from uma.engine.points import OperatingPoint, same_stream
 from uma.sim.coded import Coded
 from uma.sim.coder_factories import DECODERS, encoder_factory, video_class
 from uma.sim.context import CodecContext
@@ -124,10 +124,19 @@ class EngineCoder:
     def make_encoder(self, index: int):
         point = self.points[index]
         factory = encoder_factory(point.codec, selection=self.uplink_params is not None)
+        span = {"span": self.span(index)} if spec(point.codec).role is Role.FULL_FRAME else {}
         return factory(
             point, source_size=(self.width, self.height), source_fps=self.fps,
-            settings=self.settings(point.codec), context=self.context,
+            settings=self.settings(point.codec), context=self.context, **span,
         )  # fmt: skip
+
+    def span(self, index: int) -> tuple[float, float]:
+        """(fps, max_rate_kbps) to open point `index`'s encoder with so that it reaches every
+        point of its codec and size (as `uma.video.Ladder.open_span`)."""
+        point = self.points[index]
+        same = [p for p in self.points if same_stream(p, point)]
+        fps = max(p.fps for p in same)
+        return fps, max(p.rate_kbps * fps / p.fps for p in same)
 
     def settings(self, codec: str):
         """The encoder settings `codec` is coded with: the run's ladder's for the run's
@@ -158,8 +167,10 @@ class EngineCoder:
         """Code `picture` at point `index`, intra when `force_idr` (the engine's decision: it
         asks for intra on a change of point, which starts a new encoder here)."""
         point = self.points[index]
-        if index != self.point:
-            # A new point is a new stream: new codec, size or rate.
+        if index != self.point and self._retarget(index):
+            self.point = index  # the same stream at a new rate (a keyframe only if asked)
+        elif index != self.point:
+            # A new point is a new stream: new codec or size (or an encoder deaf to its rate).
             if self.pending_model is not None and spec(point.codec).role is Role.MODEL:
                 self.encoder, self.pending_model = self.pending_model, None
             else:
@@ -167,6 +178,15 @@ class EngineCoder:
             self.point = index
         return self.clock.timed(point.codec, self.encoder.encode, picture, intra=force_idr,
                                 frame=frame)  # fmt: skip
+
+    def _retarget(self, index: int) -> bool:
+        """Point `index` continues the open encoder's stream and the encoder took its rate."""
+        if self.encoder is None or self.point < 0:
+            return False
+        if not same_stream(self.points[index], self.points[self.point]):
+            return False
+        retarget = getattr(self.encoder, "retarget", None)
+        return retarget is not None and retarget(self.points[index])
 
     def flush(self) -> Coded | None:
         """What the encoder still holds (a model codec's open packet) when it leaves its point."""

@@ -214,7 +214,9 @@ def report_process(env: simpy.Environment, world: World):
     while True:
         yield env.timeout(interval_s)
         report = world.receiver.make_report(interval_s)
-        world.send_feedback(report, world.engine.on_report)
+        world.send_feedback(
+            report, lambda got, now_s: carry_out(world, world.engine.on_report(got, now_s))
+        )
 
 
 def display_process(env: simpy.Environment, world: World):

@@ -11,6 +11,12 @@ until the next keyframe, and the receiver asks for one. Each source frame has a 
 newer than it. The display is frozen when that is not the frame the engine meant to be seen then
 (the last frame the rung's frame rate scheduled): a late, lost, undecodable or backlog-skipped
 frame freezes it; a lower frame rate by design does not.
+
+Every arrival also goes to a `DeliveryTracker` (`uma.control`), whose report of the interval
+(packet trains, loss, queueing-delay samples, the packets themselves) rides in each receiver
+report for the engine's rate controller. On a change of the technology the receiver is on, the
+tracker forgets the path's propagation delay, and once more `PATH_SETTLE_S` later, when the
+packets the old path still carried have arrived.
 """
 
 from __future__ import annotations
@@ -18,16 +24,19 @@ from __future__ import annotations
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 
+from uma.control.delivery import DeliveryTracker
 from uma.engine.reports import KeyframeRequest, ReceiverReport
 from uma.metrics.framelog import FrameLog
 from uma.sim.packets import EncodedUnit, Packet
 from uma.sim.stats import RefreshReceived
 
-__all__ = ["ReceiverState"]
+__all__ = ["ReceiverState", "PATH_SETTLE_S"]
+
+# After a technology change, the old path's packets still arrive for about this long.
+PATH_SETTLE_S = 1.0
 
 
 @dataclass
@@ -56,9 +65,10 @@ class ReceiverState:
     highest_seq: int = -1
     owd_sum_s: float = 0.0
     base_window: deque = field(default_factory=deque)  # (time_s, owd_s), increasing owd
-    # WebRTC's receiver-side estimator (`uma.engine.webrtc.RembEstimator`) when the scenario
-    # uses it: fed every packet, its estimate rides in the reports as a REMB.
-    bwe: Any = None
+    # What arrived and when, for the rate controller (None: not reported).
+    delivery: DeliveryTracker | None = None
+    last_technology: str = ""
+    settle_at_s: float | None = None  # when the new path's delay is measured afresh once more
     # Told (frame, arrival_s) of every decoded frame: the adaptive playout listens.
     on_decoded: Callable[[int, float], None] | None = None
     # The content description's chunks received, and when the last one came (cached: MBC
@@ -87,8 +97,10 @@ class ReceiverState:
         owd_s = now_s - packet.sent_s
         self.owd_sum_s += owd_s
         self._track_base(now_s, owd_s)
-        if self.bwe is not None:
-            self.bwe.on_packet(arrival_s=now_s, sent_s=packet.sent_s, size_bits=packet.size_bits)
+        if self.delivery is not None:
+            self.delivery.on_packet(
+                packet.seq, packet.sent_s * 1000.0, now_s * 1000.0, packet.size_bits
+            )
 
         unit = packet.unit
         if unit is None:
@@ -197,6 +209,8 @@ class ReceiverState:
         if self.packets:
             base_s = self.base_window[0][1]
             queue_ms = max(0.0, (self.owd_sum_s / self.packets - base_s) * 1000.0)
+        technology = self.technology() if self.technology is not None else ""
+        delivery = self._delivery_report(now_s, technology)
         report = ReceiverReport(
             sent_s=now_s,
             interval_s=interval_s,
@@ -205,13 +219,28 @@ class ReceiverState:
             packets_lost=self.lost,
             highest_seq=self.highest_seq,
             queue_delay_ms=queue_ms,
-            remb_kbps=self.bwe.estimate_kbps if self.bwe is not None else None,
             description_complete=self.description_done_s is not None,
-            technology=self.technology() if self.technology is not None else "",
+            technology=technology,
             refresh_frame=self.refresh_frame() if self.refresh_frame is not None else -1,
+            delivery=delivery,
         )
         self.bits = self.packets = self.lost = 0
         self.owd_sum_s = 0.0
+        return report
+
+    def _delivery_report(self, now_s: float, technology: str):
+        """The tracker's report of the interval; a new path's delay measured afresh."""
+        if self.delivery is None:
+            return None
+        report = self.delivery.flush(now_s * 1000.0)
+        if technology != self.last_technology:
+            if self.last_technology:
+                self.delivery.on_path_change()
+                self.settle_at_s = now_s + PATH_SETTLE_S
+            self.last_technology = technology
+        elif self.settle_at_s is not None and now_s >= self.settle_at_s:
+            self.delivery.on_path_change()
+            self.settle_at_s = None
         return report
 
     def shown_at(self, frame: int) -> tuple[int, np.ndarray | None]:

@@ -132,6 +132,11 @@ def playout_metrics(result: RunResult) -> dict[str, Any]:
     stats["ssim_db_unfrozen"] = round(ssim_to_db(float(fresh.mean())), 4) if fresh.size else None
     stats["kbps_padding"] = round(result.sent.padding / result.duration_s / 1000.0, 3)
     stats["estimator"] = result.scenario.engine.estimator.kind
+    counts = result.engine_counts or {}
+    # frames the rate control's skip rule left uncoded; probes of padding it sent
+    stats["skipped_frames"] = counts.get("skipped_frames", 0)
+    stats["probes"] = counts.get("probes", 0)
+    stats["pacer_dropped_frames"] = counts.get("pacer_dropped_frames", 0)
     stats["playout"] = result.scenario.receiver.playout
     return stats
 

@@ -13,6 +13,7 @@ import numpy as np
 import simpy
 
 from uma.config.scenario import Scenario
+from uma.control.delivery import DeliverySettings, DeliveryTracker
 from uma.engine.decisions import EngineEvent
 from uma.engine.engine import DescriptionPlan, UmaEngine
 from uma.face.region import FaceBoxes
@@ -164,7 +165,7 @@ def run_scenario(
 
 def _engine(scenario: Scenario, points, plan, fps: float) -> UmaEngine:
     """The engine on `points`, told what the world knows: the description to deliver, the
-    coverage map, the technologies' priors, the packet size."""
+    coverage map, the packet size."""
     payload_bytes = scenario.downlink.packet_bytes
     return UmaEngine(
         scenario.engine, points=points, source_fps=fps, feedback=scenario.feedback,
@@ -174,8 +175,12 @@ def _engine(scenario: Scenario, points, plan, fps: float) -> UmaEngine:
             chunks=-(-plan.description_bytes // payload_bytes),
             chunk_bits=8 * (payload_bytes + HEADER_BYTES),
         ),
-        technology_priors_kbps=technology_priors_kbps(scenario), payload_bytes=payload_bytes,
+        payload_bytes=payload_bytes,
     )  # fmt: skip
+
+
+# Longer than any run: a `DeliveryTracker` that never closes an interval on its own.
+REPORT_NEVER_MS = 1e9
 
 
 def _wire_receiver(world: World, loss_rng: np.random.Generator) -> None:
@@ -200,10 +205,8 @@ def _wire_receiver(world: World, loss_rng: np.random.Generator) -> None:
     receiver.on_decoded = lambda frame, arrival_s: playout.on_decoded(
         log["capture_ms"][frame] / 1000.0, arrival_s
     )
-    if scenario.engine.estimator.kind == "webrtc":
-        from uma.engine.webrtc import RembEstimator
-
-        receiver.bwe = RembEstimator()
+    # The receiver's reports close the tracker's intervals (`flush`), never the tracker itself.
+    receiver.delivery = DeliveryTracker(DeliverySettings(interval_ms=REPORT_NEVER_MS))
     world.receiver = receiver
 
 
@@ -222,16 +225,6 @@ def _run(world: World) -> None:
         log["psnr_face_db"][index] = face_psnr
         log["ssim_face"][index] = face_ssim
     world.downlink.stats.packets_queued_at_end = len(world.downlink.queue)
-
-
-def technology_priors_kbps(scenario: Scenario) -> dict[str, float]:
-    """Each technology's prior capacity for the engine's handover awareness: its rate
-    model's mean, unless `engine.handover.priors_kbps` names it."""
-    from uma.config.technologies import LABELS
-    from uma.traces import technology_defaults
-
-    priors = {label: technology_defaults(label).rate.mean_kbps for label in LABELS}
-    return priors | dict(scenario.engine.handover.priors_kbps)
 
 
 def _time_s(event: EngineEvent) -> float:

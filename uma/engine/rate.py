@@ -1,0 +1,221 @@
+"""The engine's rate control: one object per `engine.estimator.kind`, a report in, a rate out.
+
+Units: times in seconds (the controllers' own in ms), rates in kbit/s, sizes in bits.
+
+Every kind has the same interface (`RateControl`): `on_report(report, now_s)` folds a receiver
+report in and returns a probe to send (or None) and the events it caused; `on_silence(now_s)`
+is asked at each frame decision while no report comes; `skip(frame_bits, queued_bits)` says
+whether a frame should not be coded (Salsify's rule); `state` is the `EstimatorState` the rest
+of the engine reads (the estimate the rate policy scales by `safety`, the queueing delay, the
+received rate). `pads`: the kind wants padding behind each unit up to its estimate (a WebRTC
+encoder sends at its target; uma's ladder sends at most a rung's rate).
+
+- `uma`: `uma.control.UmaController` on the report's delivery (trains, queue, trend, loss),
+  probes when application-limited, `on_silence` per report interval without a report, the
+  technology's prior on a handover, the skip rule.
+- `gcc`: `uma.control.GccController` (the published GCC), its probes, no skip.
+- `webrtc`: aiortc's receiver-side estimator fed the report's packets (a REMB, as before the
+  controllers: earlier results stay comparable), padding to its estimate, a decrease by
+  `STALE_DECREASE` while reports are missing for `engine.stale_reports` intervals.
+
+This module's `RATE_CONTROLS` is the only place the engine branches on the kind.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import replace
+
+from uma.codecs import spec
+from uma.config.scenario import EngineConfig, FeedbackConfig
+from uma.control import (
+    GccController,
+    ProbeRequest,
+    RateDecision,
+    UmaController,
+    UmaSettings,
+    should_skip,
+)
+from uma.control.gcc_rate import GccRateSettings
+from uma.engine.estimator import EstimatorState, windowed_received
+from uma.engine.points import OperatingPoint
+from uma.engine.records import EngineEvent
+from uma.engine.reports import ReceiverReport
+
+__all__ = ["RateControl", "UmaRate", "GccRate", "WebrtcRate", "RATE_CONTROLS", "make_rate"]
+
+# The received rate the rest of the engine reads (the refresh's spend) is over this window.
+RECEIVED_WINDOW_S = 1.0
+# aiortc's estimate falls by this factor while reports are missing (as before the controllers).
+STALE_DECREASE = 0.85
+
+
+class RateControl:
+    """The interface every kind implements (the base: no probes, no skips, no padding)."""
+
+    pads = False
+
+    def __init__(self, config: EngineConfig, feedback: FeedbackConfig) -> None:
+        self.estimator = config.estimator
+        self.state = EstimatorState(estimate_kbps=config.estimator.initial_kbps)
+
+    def on_report(self, report: ReceiverReport, now_s: float) -> tuple[ProbeRequest | None, list]:
+        raise NotImplementedError
+
+    def on_silence(self, now_s: float) -> list:
+        return []
+
+    def skip(self, frame_bits: float, queued_bits: float, now_s: float) -> bool:
+        return False
+
+    def skips_frame(self, point: OperatingPoint, queued_bits: int, now_s: float) -> bool:
+        """Whether a frame at `point` is not coded (`skip` on its share of the point's rate;
+        never a codec that may not be skipped for backlog)."""
+        if not spec(point.codec).skip_for_backlog:
+            return False
+        return self.skip(point.rate_kbps * 1000.0 / point.fps, queued_bits, now_s)
+
+    def _follow(self, report: ReceiverReport, estimate_kbps: float, queue_ms: float | None):
+        """`state` after `report` with `estimate_kbps` (bounded) and its queueing delay."""
+        cfg = self.estimator
+        window, received_kbps, loss = windowed_received(self.state, report, RECEIVED_WINDOW_S)
+        self.state = replace(
+            self.state,
+            estimate_kbps=min(max(estimate_kbps, cfg.min_kbps), cfg.max_kbps),
+            queue_delay_ms=self.state.queue_delay_ms if queue_ms is None else queue_ms,
+            loss_fraction=loss,
+            received_kbps=received_kbps,
+            window=window,
+        )
+
+
+class UmaRate(RateControl):
+    """uma's controller (`uma.control.UmaController`)."""
+
+    def __init__(self, config: EngineConfig, feedback: FeedbackConfig) -> None:
+        super().__init__(config, feedback)
+        cfg = config.estimator
+        self.controller = UmaController(
+            UmaSettings(initial_kbps=cfg.initial_kbps, min_kbps=cfg.min_kbps, max_kbps=cfg.max_kbps)
+        )
+        self.technology = ""
+        self._report_ms: float | None = None  # the last report's end, on the receiver's clock
+        self._report_s = 0.0  # when it arrived here
+        self._skipping_s: float | None = None  # since when frames are skipped in a row
+
+    def on_report(self, report: ReceiverReport, now_s: float) -> tuple[ProbeRequest | None, list]:
+        probe = None
+        if report.delivery is not None:  # what arrived (over the old path, if it changed)
+            decision: RateDecision = self.controller.on_report(report.delivery)
+            self._report_ms, self._report_s = report.delivery.end_ms, now_s
+            self._follow(report, decision.target_kbps, self.controller.queue_ms)
+            probe = decision.probe
+        return probe, self._technology(report.technology, now_s)
+
+    def _technology(self, technology: str, now_s: float) -> list:
+        """A change of the technology the reports name: the controller's prior for it."""
+        if not technology or technology == self.technology:
+            return []
+        first, self.technology = not self.technology, technology
+        if first:
+            return []
+        decision = self.controller.on_handover(technology, now_s * 1000.0)
+        self.state = replace(self.state, estimate_kbps=decision.target_kbps)
+        detail = f"{technology} {decision.target_kbps:.1f} kbps ({decision.reason})"
+        return [EngineEvent(now_s, "handover_prior", detail)]
+
+    def on_silence(self, now_s: float) -> list:
+        if self._report_ms is None:
+            return []
+        # The controller's clock is the receiver's: the time since the last report arrived.
+        now_ms = self._report_ms + (now_s - self._report_s) * 1000.0
+        decision = self.controller.on_silence(now_ms)
+        if not decision.reason:
+            return []
+        self.state = replace(self.state, estimate_kbps=decision.target_kbps)
+        return [EngineEvent(now_s, "silence", f"estimate {decision.target_kbps:.1f} kbps")]
+
+    def skip(self, frame_bits: float, queued_bits: float, now_s: float) -> bool:
+        """Salsify's rule on the controller's capacity and the queue it last saw (the pacer's
+        bits plus the bottleneck's), never for more than `max_skip_ms` in a row."""
+        c, s = self.controller, self.controller.settings
+        ahead_bits = queued_bits + c.queue_ms * c.capacity_kbps
+        skip = should_skip(frame_bits, ahead_bits, c.capacity_kbps, s.skip_budget_ms)
+        if skip:
+            if self._skipping_s is None:
+                self._skipping_s = now_s
+            skip = now_s - self._skipping_s < s.max_skip_ms / 1000.0
+        if not skip:
+            self._skipping_s = None
+        return skip
+
+
+class GccRate(RateControl):
+    """The GCC baseline (`uma.control.GccController`): its target, its probes."""
+
+    def __init__(self, config: EngineConfig, feedback: FeedbackConfig) -> None:
+        super().__init__(config, feedback)
+        cfg = config.estimator
+        self.controller = GccController(
+            GccRateSettings(
+                initial_kbps=cfg.initial_kbps, min_kbps=cfg.min_kbps, max_kbps=cfg.max_kbps
+            )
+        )
+
+    def on_report(self, report: ReceiverReport, now_s: float) -> tuple[ProbeRequest | None, list]:
+        if report.delivery is None:
+            return None, []
+        decision = self.controller.on_report(report.delivery)
+        self._follow(report, decision.target_kbps, report.queue_delay_ms)
+        return decision.probe, []
+
+
+class WebrtcRate(RateControl):
+    """aiortc's receiver-side estimator over the report's packets, carried as a REMB."""
+
+    pads = True
+
+    def __init__(self, config: EngineConfig, feedback: FeedbackConfig) -> None:
+        super().__init__(config, feedback)
+        from uma.engine.webrtc import RembEstimator
+
+        self.remb = RembEstimator()
+        self.interval_s = feedback.interval_ms / 1000.0
+        self.stale_reports = config.stale_reports
+        self._report_s = 0.0
+        self._stale_s = 0.0
+
+    def on_report(self, report: ReceiverReport, now_s: float) -> tuple[ProbeRequest | None, list]:
+        for record in () if report.delivery is None else report.delivery.records:
+            self.remb.on_packet(
+                arrival_s=record.arrival_ms / 1000.0, sent_s=record.send_ms / 1000.0,
+                size_bits=record.size_bits,
+            )  # fmt: skip
+        estimate = self.remb.estimate_kbps
+        self._follow(report, self.state.estimate_kbps if estimate is None else estimate,
+                     report.queue_delay_ms)  # fmt: skip
+        self._report_s = now_s
+        return None, []
+
+    def on_silence(self, now_s: float) -> list:
+        """Reports missing for `stale_reports` intervals: one decrease per interval."""
+        if now_s - self._report_s <= self.stale_reports * self.interval_s:
+            return []
+        if now_s - self._stale_s < self.interval_s:
+            return []
+        self._stale_s = now_s
+        lowered = max(self.state.estimate_kbps * STALE_DECREASE, self.estimator.min_kbps)
+        self.state = replace(self.state, estimate_kbps=lowered)
+        return []
+
+
+RATE_CONTROLS: dict[str, Callable[[EngineConfig, FeedbackConfig], RateControl]] = {
+    "uma": UmaRate,
+    "gcc": GccRate,
+    "webrtc": WebrtcRate,
+}
+
+
+def make_rate(config: EngineConfig, feedback: FeedbackConfig) -> RateControl:
+    """The rate control `engine.estimator.kind` names."""
+    return RATE_CONTROLS[config.estimator.kind](config, feedback)
