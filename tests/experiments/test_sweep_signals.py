@@ -17,9 +17,11 @@ name: base
 seed: 1
 source: {kind: pattern, width: 96, height: 64, fps: 25}
 route:
-  - {technology: 3G, duration_s: 1.0}
+  - {technology: 3G, duration_s: 4.0}
 """
-EXPERIMENT = "name: grid\nbase: base.yaml\ngrid:\n  seed: [1, 2, 3, 4, 5, 6]\n"
+# Long enough (12 points of 4 s) that "mid-run" is mid-run on a fast, idle machine too; every
+# case interrupts it within about a second, so its length costs no test time.
+EXPERIMENT = "name: grid\nbase: base.yaml\ngrid:\n  seed: [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12]\n"
 
 
 def interrupt(tmp_path: Path, number: int, *, group: bool, when: str) -> tuple[int, str]:
