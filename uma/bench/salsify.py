@@ -238,6 +238,25 @@ def _verdict(flag: bool | None) -> str:
     return {True: "met", False: "NOT met", None: "n/a"}[flag]
 
 
+def _published_rows(result: dict[str, Any]) -> list[str]:
+    """The table's rows of what was published for the trace (or a line saying nothing was)."""
+    names = {
+        "salsify_1c": "Salsify-1c",
+        "webrtc": "WebRTC",
+        "skype": "Skype",
+        "facetime": "FaceTime",
+    }
+    rows = [
+        f"  {names.get(key, key) + ' (published)':<26}{row['delay_p95_ms']:>13,.0f}{'':>9}"
+        f"{row['ssim_db']:>9.1f}"
+        for key, row in result["published"].items()
+    ]
+    if not result["published"]:
+        source = result.get("published_file") or "no published-figures file"
+        rows.append(f"  nothing published for {result['trace_name']} ({source})")
+    return rows
+
+
 def format_table(result: dict[str, Any]) -> str:
     rows = [
         f"uma bench salsify: {result['scenario']}, {result['frames']} frames of {result['video']}",
@@ -250,20 +269,7 @@ def format_table(result: dict[str, Any]) -> str:
         f"{'freezes':>8}{'frozen s':>9}{'fps':>6}{'playout ms':>11}",
     ]
     rows += [_estimator_row(kind, row) for kind, row in result["estimators"].items()]
-    names = {
-        "salsify_1c": "Salsify-1c",
-        "webrtc": "WebRTC",
-        "skype": "Skype",
-        "facetime": "FaceTime",
-    }
-    for key, row in result["published"].items():
-        rows.append(
-            f"  {names.get(key, key) + ' (published)':<26}{row['delay_p95_ms']:>13,.0f}{'':>9}"
-            f"{row['ssim_db']:>9.1f}"
-        )
-    if not result["published"]:
-        source = result.get("published_file") or "no published-figures file"
-        rows.append(f"  nothing published for {result['trace_name']} ({source})")
+    rows += _published_rows(result)
     default = result.get("default_scenario")
     if default is not None:
         rows += ["", f"  default scenario {default['scenario']}:"]

@@ -61,6 +61,10 @@ def action_fapu(name: str) -> str:
     return _ACTION_FAPU.get(name, "MNS")
 
 
+# The pose parameters every set begins with, before the model's action units.
+POSE_NAMES = ("tx_px", "ty_px", "scale_px", "rx_rad", "ry_rad", "rz_rad")
+
+
 @dataclass(frozen=True, eq=False)
 class FaceUnits:
     """Per parameter, the size of one unit in the geometry's own units (px, rad, coefficient)."""
@@ -97,15 +101,7 @@ class FaceUnits:
         distances = _distances(model)
         scale = float(params[2])
         unit = _geometry_units(model, distances, scale)
-        names = (
-            "tx_px",
-            "ty_px",
-            "scale_px",
-            "rx_rad",
-            "ry_rad",
-            "rz_rad",
-            *model.action_unit_names,
-        )
+        names = (*POSE_NAMES, *model.action_unit_names)
         kinds = tuple(action_fapu(name) for name in model.action_unit_names)
         if body:
             from uma.mbc.layers import CAMERA_NAMES, TORSO_NAMES
