@@ -90,6 +90,13 @@ def test_a_report_each_interval_of_arrivals():
     assert sum(r.packets for r in reports) == 31
 
 
+def test_without_an_interval_only_flush_closes_a_report():
+    tracker = DeliveryTracker(DeliverySettings(interval_ms=None))
+    assert _feed(tracker, [(10.0 * k, 10.0 * k + 20.0, 1000) for k in range(35)]) == []
+    report = tracker.flush(400.0)
+    assert report.packets == 35 and report.received_bits == 35_000
+
+
 @pytest.mark.parametrize("field", ["interval_ms", "base_window_ms"])
 def test_settings_refuse_a_bad_value_naming_it(field):
     with pytest.raises(ValueError, match=field):

@@ -6,7 +6,6 @@ import pytest
 from uma.mbc import FaceUnits, PacketError, ParameterDecoder, ParameterEncoder, StreamConfig
 from uma.mbc.body import BodyTracker
 from uma.mbc.layers import N_BODY, N_TORSO, shift_yuv
-from uma.mbc.quant import Quantiser
 from uma.mbc.scene_render import SceneRenderer
 
 SIZE = (352, 288)
@@ -48,22 +47,19 @@ def test_a_shifted_scene_is_a_camera_motion_and_a_still_one_none(head) -> None:
     assert BodyTracker().measure(renderer, shifted).shape == (N_TORSO,)  # off: the torso alone
 
 
-def test_stream_round_trips_camera_motion_and_refuses_an_absurd_one(head) -> None:
-    units = _units(head)
-    config = StreamConfig()
-    encoder, decoder = ParameterEncoder(units, config), ParameterDecoder(units, config)
-    sent, packets = {}, []
-    for frame in range(10):
-        body = (1.0, -1.0, 0.01, 4.0 * np.sin(frame / 3), -2.5)
-        sent[frame] = np.concatenate([head.params_at(frame), body, (1.0, 0.0)])
-        packets += encoder.push(frame, sent[frame])
-    packets += encoder.flush()
+def test_stream_round_trips_camera_motion_and_refuses_an_absurd_one(
+    head, stream_round_trip
+) -> None:
+    units, config = _units(head), StreamConfig()
+    sent = {
+        frame: np.concatenate(
+            [head.params_at(frame), (1.0, -1.0, 0.01, 4.0 * np.sin(frame / 3), -2.5), (1.0, 0.0)]
+        )
+        for frame in range(10)
+    }
+    packets, got, half = stream_round_trip(units, sent)
     assert all(p.camera and p.body for p in packets)
-    steps = Quantiser(units.kinds, config.quantiser).steps(config.quantiser.global_code)
-    half = 0.5 * steps * units.unit + 1e-9
-    got = {}
-    for packet in packets:
-        got.update(decoder.decode(packet.to_bytes()).frames)
+    assert sorted(got) == list(range(10))
     for frame, values in got.items():
         assert np.all(np.abs(values - sent[frame]) <= half)
         assert units.body_of(values).shape == (N_BODY,)

@@ -46,7 +46,10 @@ def test_the_spare_rate_refreshes_the_receiver_and_is_reported(refreshed):
     assert metrics["refresh_decoded"] >= 2 and metrics["refresh_adopted"] >= 1
     assert metrics["refresh_lost"] == 0
     # Its bits are its own key, beside the parameters' (which stay the codec's own).
-    assert metrics["kbps_refresh"] > 2 * metrics["kbps_mbc"] > 0
+    log = refreshed.log
+    mbc_rows = np.array([str(c) == "mbc" for c in log["codec"]])
+    assert metrics["bits_sent"]["mbc"] == int(log["size_bits"][mbc_rows].sum()) > 0
+    assert metrics["kbps_refresh"] > metrics["kbps_mbc"]
     duration_s = refreshed.duration_s
     assert metrics["refresh_bits"] == pytest.approx(
         metrics["kbps_refresh"] * duration_s * 1000, rel=1e-3

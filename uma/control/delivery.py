@@ -5,7 +5,8 @@ different clocks: only differences of one-way delays are used), sizes in bits, r
 
 The receiver feeds every packet to a `DeliveryTracker` (`on_packet(seq, send_ms, arrival_ms,
 size_bits)`); each call returns None, or a frozen `DeliveryReport` once `interval_ms` of arrival
-time has passed since the previous report began (the feedback cadence). A report carries:
+time has passed since the previous report began (the feedback cadence; with `interval_ms`
+None only `flush` closes one, as the simulation's receiver does at each of its reports). A report carries:
 
 - **capacity from packet trains.** A packet that reached the bottleneck before the previous
   one had left it queues behind it, so its arrival gap is the link's time to carry it: a
@@ -48,16 +49,17 @@ class PacketRecord:
 class DeliverySettings:
     """How packets are folded into reports; validated on creation."""
 
-    interval_ms: float = 100.0
+    interval_ms: float | None = 100.0  # None: only `flush` closes a report
     grace_ms: float = 1.0
     base_window_ms: float = 60_000.0
 
     def __post_init__(self) -> None:
-        for name in ("interval_ms", "base_window_ms"):
-            if not getattr(self, name) > 0:
-                raise ValueError(
-                    f"DeliverySettings.{name}: expected > 0, got {getattr(self, name)}"
-                )
+        checked = {"base_window_ms": self.base_window_ms}
+        if self.interval_ms is not None:
+            checked["interval_ms"] = self.interval_ms
+        for name, value in checked.items():
+            if not value > 0:
+                raise ValueError(f"DeliverySettings.{name}: expected > 0, got {value}")
         if not self.grace_ms >= 0:
             raise ValueError(f"DeliverySettings.grace_ms: expected >= 0, got {self.grace_ms}")
 
@@ -125,7 +127,8 @@ class DeliveryTracker:
         self._records.append(record)
         self._delays.append(delay_ms)
         self._previous = record
-        if record.arrival_ms - self._start_ms >= self.settings.interval_ms:
+        interval_ms = self.settings.interval_ms
+        if interval_ms is not None and record.arrival_ms - self._start_ms >= interval_ms:
             return self.flush(record.arrival_ms)
         return None
 

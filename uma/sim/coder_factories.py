@@ -40,21 +40,19 @@ class FullFramePointEncoder:
     and frame rate, coded by the `uma.video` class its registry entry names.
 
     `span`: (fps, max_rate_kbps) of every point of its size (`Ladder.open_span`): an encoder
-    that can be retargeted (H.264's `max_rate_kbps`) opens so that `retarget` reaches each of
+    that can be retargeted (`retargets`: H.264, opened with `max_rate_kbps`) opens so that `retarget` reaches each of
     them without a keyframe; one that cannot opens at the point as before."""
 
     def __init__(
         self, point: OperatingPoint, *, source_size, source_fps, settings, context=None,
         span: tuple[float, float] | None = None,
     ) -> None:  # fmt: skip
-        import inspect
-
         self.width = min(point.width, source_size[0])
         self.height = min(point.height, source_size[1])
         self.source_fps = source_fps
         cls = video_class(point.codec, "video_encoder")
         fps = min(point.fps, source_fps)
-        if span is None or "max_rate_kbps" not in inspect.signature(cls).parameters:
+        if span is None or not cls.retargets:
             self.encoder = cls(self.width, self.height, fps, point.rate_kbps, **settings.kwargs())
             return
         span_fps = min(span[0], source_fps)

@@ -133,10 +133,10 @@ class EngineCoder:
     def span(self, index: int) -> tuple[float, float]:
         """(fps, max_rate_kbps) to open point `index`'s encoder with so that it reaches every
         point of its codec and size (as `uma.video.Ladder.open_span`)."""
+        from uma.video import open_span
+
         point = self.points[index]
-        same = [p for p in self.points if same_stream(p, point)]
-        fps = max(p.fps for p in same)
-        return fps, max(p.rate_kbps * fps / p.fps for p in same)
+        return open_span([p for p in self.points if same_stream(p, point)])
 
     def settings(self, codec: str):
         """The encoder settings `codec` is coded with: the run's ladder's for the run's

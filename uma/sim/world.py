@@ -179,10 +179,6 @@ def _engine(scenario: Scenario, points, plan, fps: float) -> UmaEngine:
     )  # fmt: skip
 
 
-# Longer than any run: a `DeliveryTracker` that never closes an interval on its own.
-REPORT_NEVER_MS = 1e9
-
-
 def _wire_receiver(world: World, loss_rng: np.random.Generator) -> None:
     """The receiver and the downlink that delivers to it; keyframe requests go back up
     through the world's feedback path."""
@@ -206,7 +202,7 @@ def _wire_receiver(world: World, loss_rng: np.random.Generator) -> None:
         log["capture_ms"][frame] / 1000.0, arrival_s
     )
     # The receiver's reports close the tracker's intervals (`flush`), never the tracker itself.
-    receiver.delivery = DeliveryTracker(DeliverySettings(interval_ms=REPORT_NEVER_MS))
+    receiver.delivery = DeliveryTracker(DeliverySettings(interval_ms=None))
     world.receiver = receiver
 
 

@@ -16,6 +16,7 @@ from uma.video.ladder import (
     Rung,
     default_ladder_path,
     load_ladder,
+    open_span,
     settings_class,
 )
 from uma.video.pyav_codec import Retarget
@@ -37,6 +38,7 @@ __all__ = [
     "AV1Decoder",
     "AV1Settings",
     "Ladder",
+    "open_span",
     "Rung",
     "EncoderSettings",
     "load_ladder",

@@ -87,6 +87,7 @@ class H264Encoder(PyavEncoder):
     """
 
     raw_muxer = "h264"  # an Annex B stream (`annexb=1`), for the ffmpeg command line
+    retargets = True
 
     def __init__(
         self,

@@ -12,7 +12,7 @@ the key path, e.g. `codecs/h264.yaml:9 (rungs[3].fps): expected a positive numbe
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -27,6 +27,7 @@ __all__ = [
     "Rung",
     "EncoderSettings",
     "Ladder",
+    "open_span",
     "load_ladder",
     "default_ladder_path",
     "LADDER_CODECS",
@@ -147,9 +148,15 @@ class Ladder:
         `H264Encoder.set_target`).
         """
         size = (rung.width, rung.height)
-        same = [r for r in self.rungs if (r.width, r.height) == size] or [rung]
-        fps = max(r.fps for r in same)
-        return fps, max(r.rate_kbps * fps / r.fps for r in same)
+        return open_span([r for r in self.rungs if (r.width, r.height) == size] or [rung])
+
+
+def open_span(same: Sequence) -> tuple[float, float]:
+    """(fps, max_rate_kbps) to open one encoder with so that `set_target` reaches each of
+    `same` (rungs or operating points of one stream: each with `fps` and `rate_kbps`): the
+    highest frame rate, and the highest rate a member asks at it (`Ladder.open_span`)."""
+    fps = max(r.fps for r in same)
+    return fps, max(r.rate_kbps * fps / r.fps for r in same)
 
 
 def _check_encoder(values: dict[str, Any], where: Callable[[str], str]) -> None:

@@ -136,6 +136,8 @@ class PyavEncoder:
     """
 
     raw_muxer = "ivf"
+    # Whether `set_target` moves the open encoder's rate (opened with `max_rate_kbps`).
+    retargets = False
 
     def __init__(
         self,
