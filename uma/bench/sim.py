@@ -61,7 +61,8 @@ def _prepare(config: SimBenchConfig) -> Scenario:
 
 
 class _ListSource:
-    """The source's first frames, read before timing."""
+    """The source's first frames (and a synthetic source's ground truth of each), read
+    before timing."""
 
     def __init__(self, frames: list, source) -> None:
         self._frames = frames
@@ -70,10 +71,20 @@ class _ListSource:
         self.description = getattr(source, "description", None)  # the talking head's, for MBC
         from uma.face.region import face_mode
 
-        # The run's face boxes, as the source itself would give them.
+        # The run's face boxes, as the source itself would give them. A synthetic source's
+        # ground truth (the talking head's pose and points) comes with each frame it draws:
+        # kept with the frames, read before timing, like them.
         self.face_mode = face_mode(source)
-        self.ground_truth = getattr(source, "ground_truth", None)
+        truth = getattr(source, "ground_truth", None)
+        self._truths = [truth(index) for index in range(len(frames))] if truth else []
+        self._source_truth = truth
+        self.ground_truth = self._ground_truth if truth else None
         self.clip_frames = getattr(source, "clip_frames", None)
+
+    def _ground_truth(self, index: int) -> dict:
+        if index < len(self._truths):
+            return self._truths[index]
+        return self._source_truth(index)
 
     def frames(self):
         return iter(self._frames)

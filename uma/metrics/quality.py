@@ -7,11 +7,12 @@ reports (Salsify), capped at `SSIM_DB_CAP` (100 dB).
 
 SSIM is scikit-image's `structural_similarity` with its defaults (7x7 uniform window, K1 0.01,
 K2 0.03, sample covariance N/(N-1), the map's (7-1)//2-pixel border left out of the mean), data
-range 255, computed here with OpenCV's box filters. On uint8 planes the window sums are exact
-integers (OpenCV sums into int32) and the covariances are formed in int32 before one float32
-division, so the value agrees with scikit-image's float64 computation to about 1e-7; other
-dtypes go through float64 filters. Filters write into per-thread buffers reused across calls
-(same shape), so the cost does not depend on how malloc serves large temporaries.
+range 255. On uint8 planes the window sums are exact integers and the covariances are formed
+in integers before one float32 division (one compiled pass without the GIL,
+`uma.metrics.ssim_kernel`), so the value agrees with scikit-image's float64 computation to about
+1e-7; other dtypes go through OpenCV's float64 filters. The map goes into a per-thread buffer
+reused across calls (same shape), so the cost does not depend on how malloc serves large
+temporaries.
 
 `frame_scores` scores a frame and its face box in one pass: the box's SSIM is the mean of the
 frame's SSIM map over the box shrunk by the window's 3-pixel border, which equals, value for
@@ -119,60 +120,17 @@ def _buffer(name: str, shape: tuple[int, int], dtype) -> np.ndarray:
 
 
 def _ssim_map_uint8(ref: np.ndarray, tst: np.ndarray) -> np.ndarray:
-    """The SSIM map of two uint8 planes, exact window sums; valid inside the `_BORDER` frame.
-
-    With S the window sums (products in uint16, sums in int32: at most 49 x 255^2), the map is
+    """The SSIM map of two uint8 planes, exact window sums; valid inside the `_BORDER` frame
+    only (the rest is not written). With S the window sums, the map is
     (2 SxSy + C1 N^2)(2 (N Sxy - SxSy) + C2 N(N-1)) / ((Sx^2 + Sy^2 + C1 N^2)(N (Sxx + Syy) -
-    Sx^2 - Sy^2 + C2 N(N-1))), scikit-image's formula multiplied through by N^3 (N-1).
-    Returns a per-thread buffer, overwritten by the next call.
+    Sx^2 - Sy^2 + C2 N(N-1))), scikit-image's formula multiplied through by N^3 (N-1), each
+    factor rounded once from its exact integer (`uma.metrics.ssim_kernel`, one compiled pass
+    without the GIL). Returns a per-thread buffer, overwritten by the next call.
     """
-    import cv2
+    from uma.metrics.ssim_kernel import ssim_map_inside
 
-    shape = ref.shape
-    ints = [_buffer(f"i{k}", shape, np.int32) for k in range(5)]
-    sx, sy, sxx, syy, sxy = ints
-    square = _buffer("u16", shape, np.uint16)
-
-    def window_sum(plane: np.ndarray, out: np.ndarray) -> None:
-        # the border mode only reaches the border the mean leaves out
-        cv2.boxFilter(
-            plane,
-            cv2.CV_32S,
-            (_WINDOW, _WINDOW),
-            dst=out,
-            normalize=False,
-            borderType=cv2.BORDER_REFLECT,
-        )
-
-    window_sum(ref, sx)
-    window_sum(tst, sy)
-    for a, b, out in ((ref, ref, sxx), (tst, tst, syy), (ref, tst, sxy)):
-        np.multiply(a, b, out=square, dtype=np.uint16)
-        window_sum(square, out)
-    cross = _buffer("i5", shape, np.int32)
-    np.multiply(sx, sy, out=cross)  # Sx Sy
-    np.multiply(sx, sx, out=sx)
-    np.multiply(sy, sy, out=sy)
-    np.add(sx, sy, out=sx)  # Sx^2 + Sy^2
-    np.multiply(sxy, _N, out=sxy)
-    np.subtract(sxy, cross, out=sxy)  # N^2 covariance x (N-1)/N
-    np.add(sxx, syy, out=sxx)
-    np.multiply(sxx, _N, out=sxx)
-    np.subtract(sxx, sx, out=sxx)  # N^2 (variance x + variance y) x (N-1)/N
-    cross *= 2
-    sxy *= 2
-    # each factor rounded once from its exact integer, so identical planes give exactly 1
-    c1, c2 = _C1 * _N * _N, _C2 * _N * (_N - 1)
-    num, term = _buffer("f0", shape, np.float32), _buffer("f1", shape, np.float32)
-    den = _buffer("f2", shape, np.float32)
-    np.add(cross, c1, out=num, casting="unsafe")
-    np.add(sxy, c2, out=term, casting="unsafe")
-    num *= term
-    np.add(sx, c1, out=den, casting="unsafe")
-    np.add(sxx, c2, out=term, casting="unsafe")
-    den *= term
-    num /= den
-    return num
+    out = _buffer("f0", ref.shape, np.float32)
+    return ssim_map_inside(ref, tst, _WINDOW, _C1 * _N * _N, _C2 * _N * (_N - 1), out)
 
 
 def _ssim_map_float(ref: np.ndarray, tst: np.ndarray) -> np.ndarray:

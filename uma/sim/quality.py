@@ -8,7 +8,8 @@ metrics over the source frame's face box only (`uma.face.region`); NaN without a
 The frame and its face box are scored in one pass (`uma.metrics.quality.frame_scores`: one
 SSIM map for both). OpenCV's filters release the GIL, so scoring can run on a small thread
 pool beside the simulation; the scores land in the frame log when `finish()` is called.
-Results do not depend on the pool: each score is a pure function of its two planes.
+Results do not depend on the pool or the batching: each score is a pure function of its two
+planes.
 """
 
 from __future__ import annotations
@@ -23,8 +24,11 @@ from uma.config.scenario import MetricsConfig
 
 __all__ = ["QualityMeter"]
 
-# Jobs waiting beyond this many hold their frames in memory; the simulation waits instead.
+# Instants waiting beyond this many hold their frames in memory; the simulation waits instead.
 MAX_PENDING = 64
+# Instants handed to a scoring thread at once: each hand-over wakes a thread, which on a busy
+# machine takes the core from the simulation's thread for a while; fewer, larger jobs.
+BATCH = 8
 
 
 class QualityMeter:
@@ -38,7 +42,8 @@ class QualityMeter:
         self._cached_luma = None
         self.seconds = 0.0  # wall time inside scoring calls, summed over threads
         self._pool = ThreadPoolExecutor(config.workers) if config.workers > 0 else None
-        self._pending: deque[tuple[int, Future]] = deque()
+        self._batch: list[tuple] = []  # instants to score, handed to a thread BATCH at a time
+        self._pending: deque[tuple[int, Future]] = deque()  # (instants, their batch's job)
         self.results: dict[int, tuple[float, float, float, float]] = {}
 
     def shown_luma(self, shown: int, picture: np.ndarray | None) -> np.ndarray:
@@ -81,18 +86,31 @@ class QualityMeter:
             self.seconds += spent
             self.results[index] = tuple(scores)
             return
-        self._pending.append((index, self._pool.submit(self._score, reference, test, box)))
-        while len(self._pending) > MAX_PENDING or (self._pending and self._pending[0][1].done()):
-            self._collect_one()
+        self._batch.append((index, reference, test, box))
+        if len(self._batch) >= BATCH:
+            self._submit_batch()
 
-    def _collect_one(self) -> None:
-        index, future = self._pending.popleft()
-        *scores, spent = future.result()
-        self.seconds += spent
-        self.results[index] = tuple(scores)
+    def _score_batch(self, batch: list) -> list[tuple]:
+        return [(index, self._score(ref, test, box)) for index, ref, test, box in batch]
+
+    def _submit_batch(self) -> None:
+        batch, self._batch = self._batch, []
+        self._pending.append((len(batch), self._pool.submit(self._score_batch, batch)))
+        waiting = sum(count for count, _ in self._pending)
+        while waiting > MAX_PENDING or (self._pending and self._pending[0][1].done()):
+            waiting -= self._collect_one()
+
+    def _collect_one(self) -> int:
+        count, future = self._pending.popleft()
+        for index, (*scores, spent) in future.result():
+            self.seconds += spent
+            self.results[index] = tuple(scores)
+        return count
 
     def finish(self) -> dict[int, tuple[float, float, float, float]]:
         """Wait for every score; returns {instant: (psnr_db, ssim, psnr_face_db, ssim_face)}."""
+        if self._batch:
+            self._submit_batch()
         while self._pending:
             self._collect_one()
         if self._pool is not None:
