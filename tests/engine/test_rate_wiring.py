@@ -68,14 +68,17 @@ def run(engine: UmaEngine, link: Link, seconds: float, *, technology=lambda t: "
     """Drive the engine over `link` (reports every 100 ms, 20 ms back); per-frame estimates,
     the probes sent and the frames skipped."""
     out = {"estimate": [], "probes": 0, "skipped": 0}
-    for f in range(int(seconds * 25)):
-        now_s = f / 25.0
-        if f % 25 % 5 == 2:  # a report every 100 ms, 20 ms on the way
+    for tick in range(int(seconds * 50)):  # 20 ms ticks: a frame every two
+        now_s = tick / 50.0
+        if tick % 5 == 1:  # a report every 100 ms, 20 ms on the way
             report = link.report(now_s - 0.02, technology(now_s))
             actions = engine.on_report(report, now_s)
             probe = [a for a in actions if isinstance(a, SendPacket)]
             out["probes"] += bool(probe)
             link.send(probe, now_s)
+        if tick % 2:
+            continue
+        f = tick // 2
         decision = engine.on_frame(f, now_s)
         out["estimate"].append(engine.estimate_kbps)
         out["skipped"] += decision.reason == "skip"
