@@ -163,16 +163,16 @@ def _report(now_s, *, bits=20000, packets=2, highest_seq=0, delivery=None):
 
 
 def test_silent_feedback_lowers_the_estimate_once_per_silence_interval():
-    """No report for 150 ms (the controller's `silence_ms`): the estimate x0.25, once each."""
+    """No report for 250 ms (the controller's `silence_ms`): the estimate x0.25, once each."""
     engine = make_engine()
     train = delivered(0, 10, send_ms=0.0, gap_ms=20.0)  # 400 kbit/s
     engine.on_report(_report(0.1, delivery=train), 0.1)
     before = engine.estimate_kbps
-    engine.on_frame(3, 0.22)  # 120 ms without a report: not yet silent
+    engine.on_frame(3, 0.3)  # 200 ms without a report: not yet silent
     assert engine.estimate_kbps == before
-    engine.on_frame(9, 0.26)
+    engine.on_frame(9, 0.36)
     assert engine.estimate_kbps == pytest.approx(before * 0.25, rel=0.01)
-    engine.on_frame(10, 0.3)  # once per interval
+    engine.on_frame(10, 0.4)  # once per interval
     assert engine.estimate_kbps == pytest.approx(before * 0.25, rel=0.01)
     assert [e.kind for e in engine.events if e.kind == "silence"] == ["silence"]
 

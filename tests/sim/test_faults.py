@@ -95,7 +95,7 @@ def test_outage_longer_than_the_run(tmp_path, clean):
 
 
 def test_reordering(tmp_path, clean):
-    result, metrics = run(tmp_path, "faults:\n  reorder: {probability: 0.1, delay_ms: 300}\n")
+    result, metrics = run(tmp_path, "faults:\n  reorder: {probability: 0.1, delay_ms: 60}\n")
     check_complete(tmp_path, result, metrics, clean[1])
     assert metrics["packets"]["packets_reordered"] > 5
     assert metrics["frames_decoded"] < clean[1]["frames_decoded"]

@@ -19,12 +19,15 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
   application-limited (received below `alr_fraction` of the target) or the queue is short (a
   low target fills its own small frames, which make no trains), a probe of padding packets
   sent back to back, whose spacing measures the link, sized to queue about `probe_ms`;
-- **silence**: no report for `silence_ms` (1.5 report intervals: a handover's gap or an
-  outage) cuts the capacity to `silence_factor` of itself or of what arrived over the last
-  `received_tau_ms`, whichever is less (an application-limited stream has sent no more than
-  that into the gap), once per `silence_ms`; when the first report with packets after it shows
-  they met no queue and none was lost, the silence was a lost report and the cut is undone
-  (never after a handover: a new path's first packets define its base delay, so meet none);
+- **pause**: no report for `pause_ms` (1.5 report intervals): `paused` says the sender should
+  code nothing new until one comes (the skip rule's caller asks), so a handover's gap or an
+  outage gets little of the stream, and a lost report costs a frame or two, not a rate;
+- **silence**: no report for `silence_ms` (an outage, a handover's gap) cuts the capacity to
+  `silence_factor` of itself or of what arrived over the last `received_tau_ms`, whichever is
+  less (an application-limited stream sends no more than that), once per `silence_ms`; when
+  the first report with packets after it shows they met no queue and none was lost, the
+  silence was a lost report and the cut is undone (never after a handover: a new path's first
+  packets define its base delay, so meet none);
 - **handover**: the new technology's prior (`priors_kbps`) can only lower the capacity estimate,
   so a trace with no labelled handovers never sees it and a wrong prior costs one
   measurement's time, never a standing queue;
@@ -69,7 +72,8 @@ class UmaSettings:
     probe_weight: float = 0.1
     probe_min_bits: int = 100 * 8
     packet_bits: int = 1200 * 8
-    silence_ms: float = 150.0
+    silence_ms: float = 250.0
+    pause_ms: float = 150.0
     received_tau_ms: float = 500.0
     skip_budget_ms: float = 300.0
     max_skip_ms: float = 1000.0
@@ -115,6 +119,8 @@ class UmaController:
         self._last_train_ms = float("-inf")
         self._last_probe_ms = float("-inf")
         self._last_report_ms: float | None = None
+        self._report_ms: float | None = None  # the last report's end (`_last_report_ms`
+        # also moves at each silence)
         self._probe_pending = False
         self.received_kbps: float | None = None  # what arrived, smoothed over `received_tau_ms`
         self._before_silence: float | None = None  # the capacity the silence cut from
@@ -130,6 +136,7 @@ class UmaController:
         s = self.settings
         now_ms = report.end_ms
         self._last_report_ms = now_ms
+        self._report_ms = now_ms
         self._received(report)
         self._undo_spurious_silence(report)
         if report.capacity_kbps is not None:
@@ -164,6 +171,11 @@ class UmaController:
         self._before_silence = None
         if not report.lost and min(report.queue_delay_ms) < self.settings.queue_low_ms:
             self.capacity_kbps = max(self.capacity_kbps, before)
+
+    def paused(self, now_ms: float) -> bool:
+        """No report for `pause_ms`: the sender sends nothing new until one comes (a lost
+        report costs a frame or two; a handover's gap or an outage gets none of the stream)."""
+        return self._report_ms is not None and now_ms - self._report_ms >= self.settings.pause_ms
 
     def _received(self, report: DeliveryReport) -> None:
         span_ms = report.end_ms - report.start_ms
