@@ -124,10 +124,69 @@ def test_silence_cuts_the_estimate_once_per_interval():
     controller = UmaController()
     _loop(controller, lambda t: 1000.0, seconds=5)
     last = controller._last_report_ms
-    before = controller.capacity_kbps
-    assert controller.on_silence(last + 100.0).reason == ""
+    before = min(controller.capacity_kbps, controller.received_kbps)  # the stream's headroom
+    assert controller.on_silence(last + 200.0).reason == ""
     assert controller.on_silence(last + 250.0).reason == "silence"
     assert controller.capacity_kbps == pytest.approx(before * 0.25)
+    assert controller.on_silence(last + 400.0).reason == ""  # once per `silence_ms`
+    assert controller.on_silence(last + 500.0).reason == "silence"
+
+
+def test_the_sender_pauses_after_one_and_a_half_report_intervals_without_a_report():
+    controller = UmaController()
+    assert not controller.paused(1e6)  # no report yet: nothing to miss
+    controller.on_report(_report(0.0, 100.0))
+    assert not controller.paused(249.0)
+    assert controller.paused(250.0)  # 150 ms after the report's end
+    controller.on_silence(350.0)  # the silence does not reset the pause
+    assert controller.paused(400.0)
+    controller.on_report(_report(100.0, 420.0))
+    assert not controller.paused(420.0)
+
+
+def _report(start_ms, end_ms, *, bits=40_000, queue_ms=(2.0,), lost=0):
+    """A report of `len(queue_ms)` packets (their queueing delays) and `bits` over its span."""
+    from uma.control.delivery import DeliveryReport
+
+    return DeliveryReport(
+        start_ms=start_ms, end_ms=end_ms, packets=len(queue_ms), received_bits=bits,
+        lost=lost, train_bits=0, train_ms=0.0, queue_delay_ms=tuple(queue_ms), records=(),
+    )  # fmt: skip
+
+
+def test_an_application_limited_stream_is_cut_from_what_arrived():
+    """Capacity 2,000 kbit/s measured, 400 kbit/s arriving: a silence cuts from the 400."""
+    controller = UmaController(UmaSettings(initial_kbps=2000.0))
+    for k in range(20):  # 40,000 bits per 100 ms: 400 kbit/s
+        controller.on_report(_report(100.0 * k, 100.0 * (k + 1)))
+    assert controller.received_kbps == pytest.approx(400.0)
+    decision = controller.on_silence(2000.0 + 250.0)
+    assert controller.capacity_kbps == pytest.approx(100.0)  # 400 x 0.25
+    assert decision.target_kbps == pytest.approx(85.0)
+
+
+@pytest.mark.parametrize(
+    "queue_ms, lost, restored",
+    [
+        ((2.0, 3.0), 0, True),
+        ((2.0, 400.0), 0, True),
+        ((250.0, 400.0), 0, False),
+        ((2.0,), 1, False),
+    ],
+)
+def test_a_silence_the_next_report_shows_spurious_is_undone(queue_ms, lost, restored):
+    """A lost report (the next one's packets met no queue, none lost) is not an outage: the
+    cut is undone. Packets that queued through the silence, or a loss, keep it."""
+    controller = UmaController(UmaSettings(initial_kbps=400.0))
+    for k in range(5):
+        controller.on_report(_report(100.0 * k, 100.0 * (k + 1)))
+    before = controller.capacity_kbps
+    controller.on_silence(750.0)
+    assert controller.capacity_kbps == pytest.approx(before * 0.25)
+    controller.on_report(_report(650.0, 700.0, bits=0, queue_ms=()))  # nothing arrived: no word
+    assert controller.capacity_kbps == pytest.approx(before * 0.25)
+    controller.on_report(_report(700.0, 800.0, queue_ms=queue_ms, lost=lost))
+    assert (controller.capacity_kbps == pytest.approx(before)) is restored
 
 
 def test_skip_rule():

@@ -68,14 +68,17 @@ def run(engine: UmaEngine, link: Link, seconds: float, *, technology=lambda t: "
     """Drive the engine over `link` (reports every 100 ms, 20 ms back); per-frame estimates,
     the probes sent and the frames skipped."""
     out = {"estimate": [], "probes": 0, "skipped": 0}
-    for f in range(int(seconds * 25)):
-        now_s = f / 25.0
-        if f % 25 % 5 == 2:  # a report every 100 ms, 20 ms on the way
+    for tick in range(int(seconds * 50)):  # 20 ms ticks: a frame every two
+        now_s = tick / 50.0
+        if tick % 5 == 1:  # a report every 100 ms, 20 ms on the way
             report = link.report(now_s - 0.02, technology(now_s))
             actions = engine.on_report(report, now_s)
             probe = [a for a in actions if isinstance(a, SendPacket)]
             out["probes"] += bool(probe)
             link.send(probe, now_s)
+        if tick % 2:
+            continue
+        f = tick // 2
         decision = engine.on_frame(f, now_s)
         out["estimate"].append(engine.estimate_kbps)
         out["skipped"] += decision.reason == "skip"
@@ -144,3 +147,18 @@ def test_gcc_is_a_kind_of_its_own_and_probes_at_start():
     out = run(engine, Link(lambda t: 800.0), 10.0)
     assert out["probes"] >= 2  # GCC's two start-up clusters
     assert 100.0 <= sorted(out["estimate"][-50:])[25] <= 1000.0
+
+
+def test_no_report_for_one_and_a_half_intervals_pauses_the_stream_until_one_comes():
+    """A handover's gap or an outage: after 150 ms without a report no frame is coded (the
+    estimate untouched), and the next report lets frames go again."""
+    engine = make_engine()
+    link = Link(lambda t: 1000.0)
+    engine.on_report(link.report(0.08), 0.1)
+    assert engine.on_frame(5, 0.2).send  # 100 ms: a report may be on its way
+    before = engine.estimate_kbps
+    paused = engine.on_frame(7, 0.28)  # 180 ms
+    assert not paused.send and paused.reason == "skip"
+    assert engine.estimate_kbps == before
+    engine.on_report(link.report(0.28), 0.3)
+    assert engine.on_frame(8, 0.32).send

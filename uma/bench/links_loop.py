@@ -6,7 +6,8 @@ instant (25 frames/s), one frame at its controller's current rate, capped at the
 40-byte headers all stamped with one send time, plus any padding probe the controller asked
 for. A drop-tail FIFO (`queue_bytes`) serves them at the trace's capacity (integrated exactly
 over the trace's steps, so an outage holds the queue), `delay_ms` each way. uma's sender skips a frame that would queue past
-`UmaSettings.skip_budget_ms` behind the bits not yet reported (`uma.control.should_skip`). The
+`UmaSettings.skip_budget_ms` behind the bits not yet reported (`uma.control.should_skip`), or
+while its controller is `paused` (no report for `pause_ms`), as the engine's does. The
 receiver feeds every arrival to the controller's feedback: `DeliveryTracker` reports for `uma` and `gcc`,
 aiortc's `RembEstimator` for `webrtc`; the sender applies what comes back one `delay_ms` later.
 `oracle` sends `headroom` x the true capacity with no feedback at all: a reference.
@@ -87,6 +88,7 @@ class _Feedback:
         from uma.control.gcc_rate import GccRateSettings
 
         self.name = name
+        self.delay_ms = settings.delay_ms  # the feedback's way back: the controller's clock
         self.tracker = DeliveryTracker()
         self.acked_bits = 0.0  # what the reports that reached the sender accounted for
         self.last_sent_ms = 0.0
@@ -134,7 +136,7 @@ class _Feedback:
         settings = self.controller.settings
         skip = should_skip(
             frame_bits, outstanding, self.controller.capacity_kbps, settings.skip_budget_ms
-        )
+        ) or self.controller.paused(now_ms - self.delay_ms)
         if skip and now_ms - self.last_sent_ms < settings.max_skip_ms:
             return True
         self.last_sent_ms = now_ms

@@ -19,6 +19,15 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
   application-limited (received below `alr_fraction` of the target) or the queue is short (a
   low target fills its own small frames, which make no trains), a probe of padding packets
   sent back to back, whose spacing measures the link, sized to queue about `probe_ms`;
+- **pause**: no report for `pause_ms` (1.5 report intervals): `paused` says the sender should
+  code nothing new until one comes (the skip rule's caller asks), so a handover's gap or an
+  outage gets little of the stream, and a lost report costs a frame or two, not a rate;
+- **silence**: no report for `silence_ms` (an outage, a handover's gap) cuts the capacity to
+  `silence_factor` of itself or of what arrived over the last `received_tau_ms`, whichever is
+  less (an application-limited stream sends no more than that), once per `silence_ms`; when
+  the first report with packets after it shows they met no queue and none was lost, the
+  silence was a lost report and the cut is undone (never after a handover: a new path's first
+  packets define its base delay, so meet none);
 - **handover**: the new technology's prior (`priors_kbps`) can only lower the capacity estimate,
   so a trace with no labelled handovers never sees it and a wrong prior costs one
   measurement's time, never a standing queue;
@@ -64,6 +73,8 @@ class UmaSettings:
     probe_min_bits: int = 100 * 8
     packet_bits: int = 1200 * 8
     silence_ms: float = 250.0
+    pause_ms: float = 150.0
+    received_tau_ms: float = 500.0
     skip_budget_ms: float = 300.0
     max_skip_ms: float = 1000.0
     silence_factor: float = 0.25
@@ -80,7 +91,13 @@ class UmaSettings:
                 raise ValueError(
                     f"UmaSettings.{name}: expected in (0, 1], got {getattr(self, name)}"
                 )
-        for name in ("capacity_tau_ms", "drain_ms", "probe_interval_ms", "silence_ms"):
+        for name in (
+            "capacity_tau_ms",
+            "drain_ms",
+            "probe_interval_ms",
+            "silence_ms",
+            "received_tau_ms",
+        ):
             if not getattr(self, name) > 0:
                 raise ValueError(f"UmaSettings.{name}: expected > 0, got {getattr(self, name)}")
         if self.probe_packets < 2:
@@ -102,7 +119,11 @@ class UmaController:
         self._last_train_ms = float("-inf")
         self._last_probe_ms = float("-inf")
         self._last_report_ms: float | None = None
+        self._report_ms: float | None = None  # the last report's end (`_last_report_ms`
+        # also moves at each silence)
         self._probe_pending = False
+        self.received_kbps: float | None = None  # what arrived, smoothed over `received_tau_ms`
+        self._before_silence: float | None = None  # the capacity the silence cut from
 
     def _reset_trend(self) -> None:
         self.groups = InterArrival()
@@ -115,6 +136,9 @@ class UmaController:
         s = self.settings
         now_ms = report.end_ms
         self._last_report_ms = now_ms
+        self._report_ms = now_ms
+        self._received(report)
+        self._undo_spurious_silence(report)
         if report.capacity_kbps is not None:
             weight = 1.0 - math.exp(-report.train_ms / s.capacity_tau_ms)
             if self._probe_pending:
@@ -137,12 +161,42 @@ class UmaController:
         self.target_kbps = min(max(target, s.min_kbps), s.max_kbps)
         return RateDecision(self.target_kbps, self._probe(report, now_ms), reason)
 
+    def _undo_spurious_silence(self, report: DeliveryReport) -> None:
+        """The first report after a silence: if its packets met no queue and none was lost,
+        the silence was a lost or late report, not an outage, and the cut is undone (as TCP's
+        Eifel response undoes a spurious timeout, RFC 4015)."""
+        before = self._before_silence
+        if before is None or not report.queue_delay_ms:
+            return  # a report with no packet says nothing either way: wait for one that does
+        self._before_silence = None
+        if not report.lost and min(report.queue_delay_ms) < self.settings.queue_low_ms:
+            self.capacity_kbps = max(self.capacity_kbps, before)
+
+    def paused(self, now_ms: float) -> bool:
+        """No report for `pause_ms`: the sender sends nothing new until one comes (a lost
+        report costs a frame or two; a handover's gap or an outage gets none of the stream)."""
+        return self._report_ms is not None and now_ms - self._report_ms >= self.settings.pause_ms
+
+    def _received(self, report: DeliveryReport) -> None:
+        span_ms = report.end_ms - report.start_ms
+        if self.received_kbps is None:
+            self.received_kbps = report.received_kbps
+        elif span_ms > 0:
+            weight = 1.0 - math.exp(-span_ms / self.settings.received_tau_ms)
+            self.received_kbps += weight * (report.received_kbps - self.received_kbps)
+
     def on_silence(self, now_ms: float) -> RateDecision:
-        """No report for `silence_ms` (an outage): the estimate x `silence_factor`, once each."""
+        """No report for `silence_ms` (an outage): x `silence_factor`, once each, from the
+        capacity or, when less came (an application-limited stream), from what arrived."""
         s = self.settings
         last = self._last_report_ms
         if last is not None and now_ms - last >= s.silence_ms:
-            self.capacity_kbps = max(self.capacity_kbps * s.silence_factor, s.min_kbps)
+            if self._before_silence is None:
+                self._before_silence = self.capacity_kbps
+            base = self.capacity_kbps
+            if self.received_kbps is not None:
+                base = min(base, max(self.received_kbps, s.min_kbps))
+            self.capacity_kbps = max(base * s.silence_factor, s.min_kbps)
             self.target_kbps = max(self.capacity_kbps * s.headroom, s.min_kbps)
             self._last_report_ms = now_ms
             return RateDecision(self.target_kbps, None, "silence")
@@ -153,6 +207,7 @@ class UmaController:
         s = self.settings
         prior = s.priors_kbps.get(technology)
         self._reset_trend()
+        self._before_silence = None  # the silence was the handover's gap: no undoing it
         reason = "handover"
         if prior is not None and prior < self.capacity_kbps:
             self.capacity_kbps = prior

@@ -12,7 +12,8 @@ encoder sends at its target; uma's ladder sends at most a rung's rate).
 
 - `uma`: `uma.control.UmaController` on the report's delivery (trains, queue, trend, loss),
   probes when application-limited, `on_silence` per report interval without a report, the
-  technology's prior on a handover, the skip rule.
+  technology's prior on a handover, the skip rule, and no frame coded while the controller is
+  `paused` (no report for its `pause_ms`; still never more than `max_skip_ms` in a row).
 - `gcc`: `uma.control.GccController` (the published GCC), its probes, no skip.
 - `webrtc`: aiortc's receiver-side estimator fed the report's packets (a REMB, as before the
   controllers: earlier results stay comparable), padding to its estimate, a decrease by
@@ -137,10 +138,13 @@ class UmaRate(RateControl):
 
     def skip(self, frame_bits: float, queued_bits: float, now_s: float) -> bool:
         """Salsify's rule on the controller's capacity and the queue it last saw (the pacer's
-        bits plus the bottleneck's), never for more than `max_skip_ms` in a row."""
+        bits plus the bottleneck's), or no report for the controller's `pause_ms`; never for
+        more than `max_skip_ms` in a row."""
         c, s = self.controller, self.controller.settings
         ahead_bits = queued_bits + c.queue_ms * c.capacity_kbps
         skip = should_skip(frame_bits, ahead_bits, c.capacity_kbps, s.skip_budget_ms)
+        if self._report_ms is not None:
+            skip = skip or c.paused(self._report_ms + (now_s - self._report_s) * 1000.0)
         if skip:
             if self._skipping_s is None:
                 self._skipping_s = now_s
