@@ -22,6 +22,7 @@ def test_band_grows_with_the_move_up_to_its_cap():
     assert outline_band_px(float("nan")) == 0
     assert 0 < outline_band_px(4.0) < outline_band_px(10.0) <= OUTLINE_MAX_PX
     assert outline_band_px(1000.0) == OUTLINE_MAX_PX
+    assert outline_band_px(1000.0, 50.0) == 3  # a small head: 0.06 of its width
 
 
 def test_a_still_head_is_left_as_drawn():

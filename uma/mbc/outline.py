@@ -15,19 +15,28 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["soften_outline", "outline_band_px", "OUTLINE_OF_MOVE", "OUTLINE_MAX_PX"]
+__all__ = [
+    "soften_outline",
+    "outline_band_px",
+    "OUTLINE_OF_MOVE",
+    "OUTLINE_MAX_PX",
+    "OUTLINE_MAX_OF_WIDTH",
+]
 
 OUTLINE_OF_MOVE = 0.45  # the band's half-width, as a share of the head's move (px per px)
 OUTLINE_MAX_PX = 8  # the widest band's half-width
+OUTLINE_MAX_OF_WIDTH = 0.06  # and at most this share of the drawn head's (and halo's) width
 OUTLINE_SIGMA_OF_BAND = 0.5  # the blur's sigma, as a share of the band's half-width
 _EDGE_SIGMA_PX = 1.0  # the band's own edge fades over this
 
 
-def outline_band_px(moved_px: float) -> int:
-    """The band's half-width (px) for a head moved `moved_px` from the reference; 0: none."""
+def outline_band_px(moved_px: float, width_px: float = np.inf) -> int:
+    """The band's half-width (px) for a head `width_px` wide (with its halo) moved
+    `moved_px` from the reference; 0: none."""
     if not np.isfinite(moved_px) or moved_px <= 0.0:
         return 0
-    return int(round(min(OUTLINE_OF_MOVE * moved_px, OUTLINE_MAX_PX)))
+    cap = min(OUTLINE_MAX_PX, OUTLINE_MAX_OF_WIDTH * width_px)
+    return int(round(min(OUTLINE_OF_MOVE * moved_px, cap)))
 
 
 def _box(mask: np.ndarray, margin: int) -> tuple[int, int, int, int] | None:
@@ -51,9 +60,12 @@ def soften_outline(out: np.ndarray, person: np.ndarray, face: np.ndarray, moved_
     bool) excepted; chroma alike at half resolution."""
     import cv2
 
-    band_px = outline_band_px(moved_px)
     height = person.shape[0]
-    if band_px < 1 or out.shape[0] != height * 3 // 2:
+    points = cv2.findNonZero(person.view(np.uint8))
+    if points is None or out.shape[0] != height * 3 // 2:
+        return
+    band_px = outline_band_px(moved_px, cv2.boundingRect(points)[2])
+    if band_px < 1:
         return
     sigma = max(OUTLINE_SIGMA_OF_BAND * band_px, 0.8)
     box = _box(person.astype(np.uint8), band_px + int(np.ceil(3 * sigma)) + 4)
