@@ -6,8 +6,8 @@ The receiver draws the head, its halo and the plate around them from one old pic
 a rigid pose; the further the head has moved from that picture, the less the outline it draws
 (hair, the headrest behind it, what the head uncovers) matches the one the camera sees. Where
 a pixel can be one of several things, the picture that errs least is their average: a band
-about the drawn head and halo (outside the face's own pixels), as wide as a share of the
-head's move, is blended toward its own blur. docs/mbc.md ("Issue 27, session mbcq") has the
+about the edge of the drawn head and halo (twice as deep inside as outside, never the face's
+own pixels), as wide as a share of the head's move, is blended toward its own blur. docs/mbc.md ("Issue 27, session mbcq") has the
 error's split by region that chose this and the settings' measurements.
 """
 
@@ -26,6 +26,8 @@ __all__ = [
 OUTLINE_OF_MOVE = 0.45  # the band's half-width, as a share of the head's move (px per px)
 OUTLINE_MAX_PX = 8  # the widest band's half-width
 OUTLINE_MAX_OF_WIDTH = 0.06  # and at most this share of the drawn head's (and halo's) width
+# The band reaches this many half-widths inside the head and halo (their rim, never the face).
+OUTLINE_INNER_OF_BAND = 2.0
 OUTLINE_SIGMA_OF_BAND = 0.5  # the blur's sigma, as a share of the band's half-width
 _EDGE_SIGMA_PX = 1.0  # the band's own edge fades over this
 
@@ -74,7 +76,9 @@ def soften_outline(out: np.ndarray, person: np.ndarray, face: np.ndarray, moved_
     x0, y0, x1, y1 = box
     inside = person[y0:y1, x0:x1].astype(np.uint8)
     kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * band_px + 1,) * 2)
-    band = cv2.dilate(inside, kernel) & (1 - cv2.erode(inside, kernel))
+    inner_px = int(round(OUTLINE_INNER_OF_BAND * band_px))
+    inner = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * inner_px + 1,) * 2)
+    band = cv2.dilate(inside, kernel) & (1 - cv2.erode(inside, inner))
     weight = cv2.GaussianBlur(band.astype(np.float32), (0, 0), _EDGE_SIGMA_PX)
     weight[face[y0:y1, x0:x1]] = 0.0
     luma = out[y0:y1, x0:x1]
