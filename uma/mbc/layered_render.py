@@ -23,6 +23,7 @@ from uma.mbc.layers import (
     rigid_fit,
     shift_yuv,
 )
+from uma.mbc.outline import soften_outline
 
 __all__ = ["compose_layers", "chroma_matrix", "mask_box"]
 
@@ -220,6 +221,8 @@ def compose_layers(renderer, params: np.ndarray, body: np.ndarray | None):
         _draw_head(renderer, out, head[y0:y1, x0:x1].view(bool), (map_x, map_y), box)
     if moved > 0 and around is not None:
         _bleed(out, around, around_box, person.view(bool), min(moved / FEATHER_FULL_PX, 1.0))
+    if renderer.soft_outline:
+        soften_outline(out, person.view(bool), face, moved)
     return out, face
 
 

@@ -95,6 +95,9 @@ class SceneRenderer:
             raise SceneError(f"far ring: expected more than 1 head-ring radius, got {far}")
         self.size = (width, height)
         self.description = description
+        # The tight ring is the sender's choice where the pose is off at the outline: there
+        # the outline is softened as the head moves (`uma.mbc.outline`).
+        self.soft_outline = ring < HEAD_RING_OUTLINES
         self.scene = SceneMesh.build(
             description.model,
             description.params,
