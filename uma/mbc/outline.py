@@ -41,15 +41,13 @@ def outline_band_px(moved_px: float, width_px: float = np.inf) -> int:
     return int(round(min(OUTLINE_OF_MOVE * moved_px, cap)))
 
 
-def _box(mask: np.ndarray, margin: int) -> tuple[int, int, int, int] | None:
-    """(x0, y0, x1, y1) of `mask`'s pixels widened by `margin`, even, inside the picture."""
-    import cv2
-
-    points = cv2.findNonZero(mask.view(np.uint8))
-    if points is None:
-        return None
-    x, y, w, h = cv2.boundingRect(points)
-    height, width = mask.shape
+def _box(
+    rect: tuple[int, int, int, int], shape: tuple[int, int], margin: int
+) -> tuple[int, int, int, int]:
+    """(x0, y0, x1, y1) of the bounding `rect` (x, y, w, h) widened by `margin`, even, inside a
+    picture of `shape` (H, W)."""
+    x, y, w, h = rect
+    height, width = shape
     x0, y0 = max(x - margin, 0) // 2 * 2, max(y - margin, 0) // 2 * 2
     x1 = min(-(-(x + w + margin) // 2) * 2, width)
     y1 = min(-(-(y + h + margin) // 2) * 2, height)
@@ -66,14 +64,12 @@ def soften_outline(out: np.ndarray, person: np.ndarray, face: np.ndarray, moved_
     points = cv2.findNonZero(person.view(np.uint8))
     if points is None or out.shape[0] != height * 3 // 2:
         return
-    band_px = outline_band_px(moved_px, cv2.boundingRect(points)[2])
+    rect = cv2.boundingRect(points)
+    band_px = outline_band_px(moved_px, rect[2])
     if band_px < 1:
         return
     sigma = max(OUTLINE_SIGMA_OF_BAND * band_px, 0.8)
-    box = _box(person.astype(np.uint8), band_px + int(np.ceil(3 * sigma)) + 4)
-    if box is None:
-        return
-    x0, y0, x1, y1 = box
+    x0, y0, x1, y1 = _box(rect, person.shape, band_px + int(np.ceil(3 * sigma)) + 4)
     inside = person[y0:y1, x0:x1].astype(np.uint8)
     # Distances to the edge from either side (cheaper than morphology with wide kernels).
     outside_px = cv2.distanceTransform(1 - inside, cv2.DIST_L2, 3)
