@@ -67,6 +67,7 @@ def test_bench_init_json_keys(capsys):
             assert key in stats and key in stats["large_pose"]
 
 
+@pytest.mark.slow  # one and two worker processes over twelve points: about 8 s
 def test_bench_sweep_json_keys(capsys, tmp_path):
     scenario = tmp_path / "s.yaml"
     scenario.write_text(

@@ -7,7 +7,7 @@ import re
 import time
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from uma.config import load_scenario
@@ -49,8 +49,10 @@ def test_a_few_anchors_still_work(tmp_path):
     assert data["route"] == [{"technology": "WLAN", "duration_s": 1}] * 2
 
 
-@settings(deadline=None, max_examples=60)  # file I/O on a loaded machine
+@settings(deadline=None, max_examples=20)  # file I/O on a loaded machine
 @given(depth=st.integers(1, 3 * MAX_YAML_DEPTH), kind=st.sampled_from(["list", "map"]))
+@example(depth=MAX_YAML_DEPTH - 1, kind="list").via("the deepest accepted")
+@example(depth=MAX_YAML_DEPTH, kind="map").via("the shallowest refused")
 def test_nesting_is_read_up_to_its_bound_and_refused_beyond(tmp_path_factory, depth, kind):
     path = tmp_path_factory.mktemp("deep") / "deep.yaml"
     text = "[" * depth + "]" * depth if kind == "list" else "{a: " * depth + "1" + "}" * depth

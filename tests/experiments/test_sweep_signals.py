@@ -55,11 +55,12 @@ def interrupt(tmp_path: Path, number: int, *, group: bool, when: str) -> tuple[i
     "number, group, when",
     [
         (signal.SIGINT, False, "start-up"),
-        (signal.SIGINT, True, "spawning"),
-        (signal.SIGINT, False, "mid-run"),
-        (signal.SIGINT, True, "mid-run"),
-        (signal.SIGTERM, False, "spawning"),
+        (signal.SIGINT, True, "mid-run"),  # Ctrl-C in a terminal
         (signal.SIGTERM, False, "mid-run"),
+        # Each case spawns a sweep (about 3 s): the other moments run with `-m slow`.
+        pytest.param(signal.SIGINT, True, "spawning", marks=pytest.mark.slow),
+        pytest.param(signal.SIGINT, False, "mid-run", marks=pytest.mark.slow),
+        pytest.param(signal.SIGTERM, False, "spawning", marks=pytest.mark.slow),
     ],
 )
 def test_an_interrupted_sweep_is_one_line(tmp_path, number, group, when):
