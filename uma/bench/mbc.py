@@ -32,10 +32,11 @@ from uma.bench.mbc_clips import ClipSpec, default_clips, file_clip, talking_head
 from uma.bench.mbc_refresh import DEFAULT_REFRESH
 from uma.bench.mbc_stages import Clock, decode, encode, rates, stages, tracking
 from uma.bench.mbc_table import format_table, summarise
+from uma.codecs import full_frame_names, spec
 
 __all__ = [
     "ClipSpec",
-    "run_mbc_bench",
+    "run_model_bench",
     "format_table",
     "default_clips",
     "file_clip",
@@ -65,13 +66,18 @@ BASE_DISPLAYS = (
 DISPLAYS = BASE_DISPLAYS + tuple(DEFAULT_REFRESH)
 REGIONS = ("face", "frame", "model")
 SCALED_FPS = 25.0
-FULL_FRAME_CODECS = ("h264", "av1", "vp8")  # names in `uma.codecs`
 RING_CHOICE_FRAMES = 25  # the first second: the sender's look at the call before it settles
 MODEL_OWN = "model's own rendering"
 # Whether the stream carries the camera's motion (`uma.mbc.camera`): off, held at zero on every
 # shipped clip and 0.02-0.04 kbit/s dearer (docs/mbc.md, session mbc4).
 CAMERA_MOTION = False
 LARGEST_MOTION = -1  # `run_clip(keep_frame=)`: keep the frame of the largest head motion
+
+
+def _full_frame_codecs() -> list[str]:
+    """The registry's full-frame codecs, the uplink's (the one every figure is held against)
+    first, then by name."""
+    return sorted(full_frame_names(), key=lambda name: (not spec(name).uplink, name))
 
 
 def _luma(frame: np.ndarray) -> np.ndarray:
@@ -140,7 +146,7 @@ def _full_frame_displays(clip: ClipSpec) -> dict:
         f"{codec}_{rung_name}{'_delayed' if late else ''}": codec_display(
             clip.frames, clip.fps, rung, codec, delayed=late
         )
-        for codec in FULL_FRAME_CODECS
+        for codec in _full_frame_codecs()
         for rung_name, rung in (("lowest", 0), ("second", 1))
         for late in (False, True)
     }
@@ -226,10 +232,10 @@ def run_clip(
     displays = _full_frame_displays(clip)
     # The refresh spends the rung's rate minus the plain stream's, both at the clip's own rate.
     refresh = DEFAULT_REFRESH if refresh is None else refresh
-    mbc_clip_kbps = sum(p.size_bytes for p in coded.packets) * 8 / (len(lumas) / clip.fps) / 1000
+    model_clip_kbps = sum(p.size_bytes for p in coded.packets) * 8 / (len(lumas) / clip.fps) / 1000
     refreshed = {
         name: refresh_display(
-            clip, results, units, stream_config, mbc_clip_kbps, spec, head_ring=ring
+            clip, results, units, stream_config, model_clip_kbps, spec, head_ring=ring
         )
         for name, spec in refresh.items()
     }
@@ -254,7 +260,7 @@ def _scored(rate_kbps: float, sums, displays, refreshed) -> dict:
     means = {name: region_sums.means(display_kbps[name]) for name, region_sums in sums.items()}
     out = {
         **{f"{c}_{r}": {"rung": displays[f"{c}_{r}"][2]}
-           for c in FULL_FRAME_CODECS for r in ("lowest", "second")},
+           for c in _full_frame_codecs() for r in ("lowest", "second")},
         "refresh": {name: refreshed[name][2] for name in refreshed},
         **{region: {d: means[d][region] for d in means} for region in REGIONS},
     }  # fmt: skip
@@ -322,7 +328,7 @@ def _render_decoded(index, values, share, units, coded, shown, renderers, clock)
     shown["description_face"], _ = mixed.render(params, coded.mixed_lights[index], body)
 
 
-def run_mbc_bench(
+def run_model_bench(
     clips: list[ClipSpec], *, seed: int = 0, progress=None, picture: Path | None = None
 ) -> dict[str, Any]:
     """Every clip's scores; with `picture`, the side-by-side PNG of each clip at its largest

@@ -273,13 +273,13 @@ def refresh_display(
     results,
     face_units,
     stream_config,
-    mbc_kbps: float,
+    model_kbps: float,
     spec: RefreshSpec,
     *,
     head_ring: float | None = None,
 ) -> tuple[list[np.ndarray], float, dict]:
     """Every frame's display (YUV 4:2:0), the total rate (kbit/s) and what the refresh did;
-    `results` the tracker's per frame, `mbc_kbps` the plain stream's payload at the clip's
+    `results` the tracker's per frame, `model_kbps` the plain stream's payload at the clip's
     rate, `head_ring` the receiver's (`SceneRenderer`). With nothing left of the rung's rate
     it is the plain MBC (no refresh unit)."""
     from uma.errors import ConfigError
@@ -291,7 +291,7 @@ def refresh_display(
         )
     frames = clip.frames
     size = (frames[0].shape[1], frames[0].shape[0] * 2 // 3)
-    budget_kbps = load_ladder().rungs[spec.rung_index].rate_kbps - mbc_kbps
+    budget_kbps = load_ladder().rungs[spec.rung_index].rate_kbps - model_kbps
     coder, corners = None, {}
     if budget_kbps > 1.0:  # libx264 takes whole kbit/s
         coder, corners = _coder(clip, results, spec, budget_kbps, size)
