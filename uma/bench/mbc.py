@@ -66,7 +66,6 @@ BASE_DISPLAYS = (
 DISPLAYS = BASE_DISPLAYS + tuple(DEFAULT_REFRESH)
 REGIONS = ("face", "frame", "model")
 SCALED_FPS = 25.0
-RING_CHOICE_FRAMES = 25  # the first second: the sender's look at the call before it settles
 MODEL_OWN = "model's own rendering"
 # Whether the stream carries the camera's motion (`uma.mbc.camera`): off, held at zero on every
 # shipped clip and 0.02-0.04 kbit/s dearer (docs/mbc.md, session mbc4).
@@ -112,26 +111,13 @@ def _largest_motion(results) -> int:
     return max(tracked[1:], key=lambda item: float(np.hypot(*(item[1][:2] - first[:2]))))[0]
 
 
-def _choose_ring(clip: ClipSpec, results) -> float:
-    """The head ring the sender picks on the call's first `RING_CHOICE_FRAMES` frames (from
-    frame 0 at its tracked pose, as the receiver renders), used for the whole clip."""
-    from uma.mbc.light import choose_head_ring
-    from uma.mbc.scene_render import HEAD_RING_OUTLINES
+def _renderer(clip: ClipSpec, reference: str, first, size, profile):
+    """The receiver's renderer as the codec's `profile` (the `engine.mbc` section) describes
+    it, as the simulation's: from the last full picture (frame 0, at the pose tracked on it)
+    or from the description's own picture."""
+    from uma.mbc.profile import profile_renderer
 
-    tracked = [i for i in range(1, min(RING_CHOICE_FRAMES + 1, len(results))) if results[i]]
-    if not results[0] or not tracked:
-        return HEAD_RING_OUTLINES
-    pictures = [clip.frames[i] for i in tracked]
-    poses = [results[i].params for i in tracked]
-    return choose_head_ring(clip.description, clip.frames[0], results[0].params, pictures, poses)
-
-
-def _renderer(clip: ClipSpec, reference: str, first, size, head_ring: float | None = None):
-    """The receiver's renderer: from the last full picture (frame 0, at the pose tracked on
-    it) or from the description's own picture."""
-    from uma.mbc.scene_render import SceneRenderer
-
-    renderer = SceneRenderer(clip.description, size, head_ring_outlines=head_ring)
+    renderer = profile_renderer(clip.description, size, profile)
     if reference == "picture" and first:
         renderer.set_reference(clip.frames[0], first.params)
     return renderer
@@ -171,17 +157,17 @@ def _as_decoded(first, units, stream_config):
     return replace(first, params=units.split(encoder.decoded)[0])
 
 
-def _renderers(clip: ClipSpec, results, reference: str, ring: float):
+def _renderers(clip: ClipSpec, results, reference: str, profile):
     """The encoder's mirror, the same stream's rendering from the other reference, the
     simulation's choice (the scene from the picture, the face from the description), and the
     receiver."""
     size = (clip.frames[0].shape[1], clip.frames[0].shape[0] * 2 // 3)
-    mirror = _renderer(clip, reference, results[0], size, ring)
+    mirror = _renderer(clip, reference, results[0], size, profile)
     other_kind = "description" if reference == "picture" else "picture"
-    other = _renderer(clip, other_kind, results[0], size, ring)
-    mixed = _renderer(clip, "picture", results[0], size, ring)
+    other = _renderer(clip, other_kind, results[0], size, profile)
+    mixed = _renderer(clip, "picture", results[0], size, profile)
     mixed.set_face_source(True)
-    return mirror, other, mixed, _renderer(clip, reference, results[0], size, ring)
+    return mirror, other, mixed, _renderer(clip, reference, results[0], size, profile)
 
 
 def _check_tracked(clip: ClipSpec, results) -> None:
@@ -206,11 +192,14 @@ def run_clip(
     kept: dict | None = None,
     refresh: dict | None = None,
     camera: bool = CAMERA_MOTION,
+    profile=None,
 ) -> dict:
     """Code one clip and score it; see the module docstring. `refresh` names the
     `mbc_refresh_*` displays (`uma.bench.mbc_refresh.RefreshSpec` by name; default
-    `DEFAULT_REFRESH`); `camera`: the stream carries the camera's motion."""
+    `DEFAULT_REFRESH`); `camera`: the stream carries the camera's motion; `profile`: the
+    `engine.mbc` section whose renderer the receiver uses (None: its defaults, as a run's)."""
     from uma.bench.mbc_refresh import refresh_display
+    from uma.config.codecs import MbcConfig
     from uma.mbc.stream import StreamConfig
     from uma.mbc.units import FaceUnits
 
@@ -225,8 +214,8 @@ def run_clip(
     units = FaceUnits.of(clip.description.model, clip.description.params, light=True, body=True,
                          camera=camera)  # fmt: skip
     results[0] = _as_decoded(results[0], units, stream_config)
-    ring = _choose_ring(clip, results)
-    *renderers, receiver = _renderers(clip, results, reference, ring)
+    profile = MbcConfig() if profile is None else profile
+    *renderers, receiver = _renderers(clip, results, reference, profile)
     coded = encode(lumas, results, units, stream_config, renderers, clock)
     decoded, shares = decode(units, stream_config, coded.packets, clock)
     displays = _full_frame_displays(clip)
@@ -235,14 +224,14 @@ def run_clip(
     model_clip_kbps = sum(p.size_bytes for p in coded.packets) * 8 / (len(lumas) / clip.fps) / 1000
     refreshed = {
         name: refresh_display(
-            clip, results, units, stream_config, model_clip_kbps, spec, head_ring=ring
+            clip, results, units, stream_config, model_clip_kbps, spec, profile=profile
         )
         for name, spec in refresh.items()
     }
     scored = _score(clip, results, units, coded, decoded, shares, (receiver, *renderers[1:]),
                     displays, refreshed, clock, keep_frame, kept)  # fmt: skip
     out = {"frames": len(lumas), "kept_frame": keep_frame, "reference": reference,
-           "head_ring_outlines": ring, "fps": round(clip.fps, 3)}  # fmt: skip
+           "head_ring_outlines": profile.head_ring_outlines, "fps": round(clip.fps, 3)}  # fmt: skip
     out.update(rates(lumas, coded.packets, stream_config, scored))
     out.update(tracking(results, clock, scored["mde"]))
     out.update(stages(clock, refreshed))

@@ -1,0 +1,54 @@
+"""One rendering for the bench and the simulation: both build the receiver's renderer from the
+`engine.mbc` profile (`uma.mbc.profile`), the outline's softening included."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from uma.config.codecs import MbcConfig
+from uma.face import TalkingHeadSource
+from uma.mbc.profile import profile_renderer
+
+SIZE = (176, 144)
+
+
+@pytest.fixture(scope="module")
+def description():
+    return TalkingHeadSource(*SIZE, seed=0).description
+
+
+def _moved(description) -> np.ndarray:
+    params = np.array(description.params, dtype=np.float64)
+    params[0] += 6.0  # the head 6 px right of the reference: the outline band is 3 px wide
+    return params
+
+
+def test_the_profile_sets_the_ring_and_the_softening(description):
+    soft = profile_renderer(description, SIZE, MbcConfig(soften_outline=True))
+    hard = profile_renderer(description, SIZE, MbcConfig(soften_outline=False))
+    assert soft.soft_outline and not hard.soft_outline
+    assert np.array_equal(soft.scene.head_ring, hard.scene.head_ring)
+    params = _moved(description)
+    assert not np.array_equal(soft.render(params)[0], hard.render(params)[0])
+    wide = profile_renderer(description, SIZE, MbcConfig(head_ring_outlines=1.8))
+    assert not np.array_equal(wide.scene.head_ring, hard.scene.head_ring)
+
+
+@pytest.mark.parametrize("soften", [False, True])
+def test_the_bench_draws_what_the_simulation_draws(description, soften):
+    from uma.bench.mbc import _renderer
+    from uma.bench.mbc_clips import ClipSpec
+    from uma.sim.mbc_codecs import scene_renderer
+
+    profile = MbcConfig(soften_outline=soften)
+    clip = ClipSpec("head", [np.zeros((SIZE[1] * 3 // 2, SIZE[0]), np.uint8)], 25.0, description)
+    bench = _renderer(clip, "description", None, SIZE, profile)
+    world = scene_renderer(description, SIZE, profile)
+    params = _moved(description)
+    assert np.array_equal(bench.render(params)[0], world.render(params)[0])
+    # Without a section the world renders as the section's defaults, as the bench does.
+    default = _renderer(clip, "description", None, SIZE, MbcConfig())
+    assert np.array_equal(
+        default.render(params)[0], scene_renderer(description, SIZE).render(params)[0]
+    )
