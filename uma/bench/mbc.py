@@ -215,6 +215,8 @@ def run_clip(
                          camera=camera)  # fmt: skip
     results[0] = _as_decoded(results[0], units, stream_config)
     profile = MbcConfig() if profile is None else profile
+    # The ring the clip's description carries (its sender's choice), else the profile's.
+    ring = clip.description.head_ring_outlines or profile.head_ring_outlines
     *renderers, receiver = _renderers(clip, results, reference, profile)
     coded = encode(lumas, results, units, stream_config, renderers, clock)
     decoded, shares = decode(units, stream_config, coded.packets, clock)
@@ -231,7 +233,7 @@ def run_clip(
     scored = _score(clip, results, units, coded, decoded, shares, (receiver, *renderers[1:]),
                     displays, refreshed, clock, keep_frame, kept)  # fmt: skip
     out = {"frames": len(lumas), "kept_frame": keep_frame, "reference": reference,
-           "head_ring_outlines": profile.head_ring_outlines, "fps": round(clip.fps, 3)}  # fmt: skip
+           "head_ring_outlines": ring, "fps": round(clip.fps, 3)}  # fmt: skip
     out.update(rates(lumas, coded.packets, stream_config, scored))
     out.update(tracking(results, clock, scored["mde"]))
     out.update(stages(clock, refreshed))

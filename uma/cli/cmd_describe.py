@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import argparse
 
+from uma.cli.bench_mbc import _size
+
 __all__ = ["register"]
 
 HELP = """\
@@ -107,6 +109,11 @@ def _describe(args: argparse.Namespace) -> int:
     result = describe(image, points, model=model)
     if not result:
         raise FaceError(f"{args.points}: {result.reason}")
+    clip = _clip_frames(args, points_file, image_path)
+    if clip:  # the sender's head ring for the receiver, from the clip's first second
+        from uma.mbc.profile import with_sender_ring
+
+        result = with_sender_ring(result, clip)
     out = Path(args.out)
     description_path = out / f"{image_path.stem}.face"
     size_bytes = result.save(description_path)
@@ -155,12 +162,37 @@ def _picture(args: argparse.Namespace, points_file):
     return Path(str(source).removeprefix("skimage:")), picture_of(points_file, frame=args.frame)
 
 
+def _clip_frames(args: argparse.Namespace, points_file, image_path) -> list:
+    """The clip's YUV 4:2:0 pictures from the described frame on (`RING_FRAMES` + 1 of them),
+    or [] for a still image."""
+    from pathlib import Path
+
+    from uma.face.clip import VIDEO_SUFFIXES
+    from uma.mbc.profile import RING_FRAMES
+    from uma.video import VideoFileSource
+    from uma.video.sources import RawYuvSource
+
+    path = Path(image_path)
+    frame = args.frame if args.frame is not None else (points_file.frame or 0)
+    if path.suffix.lower() == ".yuv":
+        source = RawYuvSource(path, *_size(args.size), 25.0)
+    elif path.suffix.lower() in VIDEO_SUFFIXES and path.is_file():
+        source = VideoFileSource(path, max_frames=frame + RING_FRAMES + 1)
+    else:
+        return []
+    pictures = []
+    for picture in source.frames():
+        if len(pictures) > frame + RING_FRAMES:
+            break
+        pictures.append(picture)
+    return pictures[frame:]
+
+
 def _yuv_picture(args: argparse.Namespace, points_file):
     """Frame N (--frame, else the points file's, else 0) of a raw YUV 4:2:0 clip of --size,
     as BGR; a missing size or a frame past the clip's end is a `FaceError` naming it."""
     import cv2
 
-    from uma.cli.bench_mbc import _size
     from uma.errors import FaceError
     from uma.video.sources import RawYuvSource
 
