@@ -123,10 +123,12 @@ class MbcConfig(Section):
     rendering by it; `light_ms`: its modelled compute per frame (the encoder renders the face
     and fits the light). `far_ring_head_radii`, `head_ring_outlines`: the renderer's scene
     mesh (`uma.mbc.scene_render`): the far ring, fixed in the picture, in head-ring radii from
-    the face's centre, and the head ring (moves with the head) in face-outline radii;
-    `soften_outline`: blend a band about the drawn head's outline toward its blur as the head
-    moves from the reference (`uma.mbc.outline`). `uma bench mbc` renders with these
-    (`uma.mbc.profile`), docs/mbc.md (session mbc5) has the measurements that chose them.
+    the face's centre, and the head ring (moves with the head) in face-outline radii, unless
+    the description carries its sender's choice (`uma.mbc.profile.with_sender_ring`);
+    `soften_outline`: where that choice is the tighter ring (the pose is off at the outline),
+    blend a band about the drawn head's outline toward its blur as the head moves from the
+    reference (`uma.mbc.outline`). `uma bench mbc` renders with these (`uma.mbc.profile`);
+    docs/mbc.md (session mbc5) has the measurements that chose them.
     `refresh`: the model-aided refresh (`RefreshConfig`).
     """
 
