@@ -19,6 +19,7 @@ def test_describe_reads_raw_yuv_with_a_face_cut_by_the_edge(shared_data, tmp_pat
     assert "1.2" in out and "cuts" in err  # fitted to 1.22 px rms; no detected face, warned
     description = load_description(tmp_path / "foreman_part_qcif.face")
     check_description(description, where="foreman")  # the codec takes it (86 % inside)
+    assert description.head_ring_outlines == 1.05  # the sender's ring, from the first second
 
 
 def test_raw_yuv_without_its_size_is_one_line(tmp_path, capsys):
