@@ -64,7 +64,8 @@ def run_three_ways(
     import tempfile
 
     from uma.codecs import Role, metric_key, model_names, names, spec, uplink_name
-    from uma.face.clip import describe_clip, load_points
+    from uma.face.clip import load_points
+    from uma.mbc.profile import describe_clip_with_ring
     from uma.paths import codecs_dir
     from uma.sim import run_scenario
     from uma.sim.summary import run_metrics
@@ -78,7 +79,8 @@ def run_three_ways(
     with tempfile.TemporaryDirectory() as tmp:
         face_file = Path(tmp) / f"{name}.face"
         if model:
-            describe_clip(load_points(codecs_dir() / "face" / f"{name}.yaml")).save(face_file)
+            points = load_points(codecs_dir() / "face" / f"{name}.yaml")
+            describe_clip_with_ring(points).save(face_file)  # as `uma describe` writes it
         region, model_codec = spec(names(Role.REGION)[0]), spec(model_names()[0])
         engines = {
             uplink_name(): {},
