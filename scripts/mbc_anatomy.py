@@ -80,6 +80,7 @@ def run(clip, png_dir: Path | None, worst: int, seed: int = 0) -> dict:
     from uma.bench import mbc
     from uma.bench.mbc_scores import codec_display, face_box
     from uma.bench.mbc_stages import Clock, decode, encode
+    from uma.config.codecs import MbcConfig
     from uma.mbc.stream import StreamConfig
     from uma.mbc.units import FaceUnits
 
@@ -90,8 +91,7 @@ def run(clip, png_dir: Path | None, worst: int, seed: int = 0) -> dict:
     units = FaceUnits.of(clip.description.model, clip.description.params, light=True, body=True,
                          camera=mbc.CAMERA_MOTION)  # fmt: skip
     results[0] = mbc._as_decoded(results[0], units, config)
-    ring = mbc._choose_ring(clip, results)
-    *renderers, receiver = mbc._renderers(clip, results, "picture", ring)
+    *renderers, receiver = mbc._renderers(clip, results, "picture", MbcConfig())
     coded = encode(lumas, results, units, config, renderers, clock)
     decoded, _ = decode(units, config, coded.packets, clock)
     h264 = codec_display(clip.frames, clip.fps, 0, "h264")[0]

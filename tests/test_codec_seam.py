@@ -21,19 +21,12 @@ ROOT = Path(uma.__file__).parent
 # The simulation's codec modules are one codec's own code (the model codec's coders, the
 # region codec's, the refresh's) and the context the codecs share: they may name it.
 CODEC_MODULES = {"mbc_codecs.py", "face_region.py", "refresh.py", "context.py"}
-# Benchmarks that still name codecs: the model codec's benches (`mbc*.py`, `face_rung*.py`),
-# which bench that one codec itself against H.264 (the MBC engineer's rooms, issue 25). Each is
-# to read the registry instead; the list may only shrink (each entry must still name a codec).
-BENCH_KNOWN = {
-    "face_rung.py", "face_rung_run.py", "mbc.py", "mbc_refresh.py", "mbc_scores.py",
-    "mbc_table.py",
-}  # fmt: skip
 SCOPE = (
     sorted((ROOT / "engine").rglob("*.py"))
     + [path for path in sorted((ROOT / "sim").rglob("*.py")) if path.name not in CODEC_MODULES]
     + sorted((ROOT / "metrics").rglob("*.py"))
     + sorted((ROOT / "report").rglob("*.py"))
-    + [path for path in sorted((ROOT / "bench").rglob("*.py")) if path.name not in BENCH_KNOWN]
+    + sorted((ROOT / "bench").rglob("*.py"))
 )
 # Registered codecs, and the full-frame codecs the project adds next.
 NAMES = tuple(sorted(set(REGISTRY) | {"vp8", "av1"}, key=len, reverse=True))
@@ -108,13 +101,6 @@ def f(av1_rate=0): return kbps_h264
     assert not any("to_mbc_below_kbps" in f or "Docstrings" in f for f in found)
     # Event kinds and metric keys that only contain a name are not codec names themselves.
     assert codec_names_in('kind = "mbc_init_start"; key = "kbps_h264_face"') == []
-
-
-def test_the_known_exceptions_still_name_codecs():
-    """An exception that no longer names a codec leaves the list (so the list stays true)."""
-    for name in sorted(BENCH_KNOWN):
-        path = ROOT / "bench" / name
-        assert path.exists() and codec_names_in(path.read_text(encoding="utf-8"), name), name
 
 
 def test_engine_world_metrics_report_and_bench_name_no_codec():

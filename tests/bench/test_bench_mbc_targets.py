@@ -13,9 +13,9 @@ pytestmark = pytest.mark.slow
 
 @pytest.fixture(scope="module")
 def result():
-    from uma.bench.mbc import default_clips, run_mbc_bench
+    from uma.bench.mbc import default_clips, run_model_bench
 
-    return run_mbc_bench(default_clips(150, seed=0), seed=0)
+    return run_model_bench(default_clips(150, seed=0), seed=0)
 
 
 ISSUE_11_CLIPS = ("talking-head", "akiyo", "carphone")

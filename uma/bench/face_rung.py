@@ -121,6 +121,7 @@ def code_clip(
     smoothing=0.5,
 ) -> dict[str, Any]:
     """Code `pictures` at one face-region setting and score the display."""
+    from uma.codecs import Role, names
     from uma.config.scenario import FaceRegionConfig
     from uma.engine.points import OperatingPoint
     from uma.sim.context import CodecContext
@@ -133,7 +134,8 @@ def code_clip(
     )
     height_px = pictures[0].shape[0] * 2 // 3
     size = (pictures[0].shape[1], height_px)
-    point = OperatingPoint("h264-face", rate_kbps, rung_fps, width, height)
+    region_name = names(Role.REGION)[0]
+    point = OperatingPoint(region_name, rate_kbps, rung_fps, width, height)
     encoder = FaceRegionEncoder(
         point,
         source_size=size,
@@ -152,7 +154,7 @@ def code_clip(
             else:
                 bits += 8 * len(out.data)
                 unit = EncodedUnit(
-                    index, index, "h264-face", 0, width, height, out.keyframe, out.data
+                    index, index, region_name, 0, width, height, out.keyframe, out.data
                 )
                 last = decoder.decode(unit).get(index, last)
         shown.append(last)

@@ -56,14 +56,16 @@ def run_three_ways(
     wlan_s: float = 4.0,
     gsm_s: float = 16.0,
     rungs: list[str] | None = None,
-    mbc: bool = True,
+    model: bool = True,
     max_backlog_ms: float | None = None,
     policy: str = "oracle",
 ) -> dict[str, Any]:
     """The whole simulation with the clip as source, WLAN then GSM, three engines."""
     import tempfile
 
-    from uma.face.clip import describe_clip, load_points
+    from uma.codecs import Role, metric_key, model_names, names, spec, uplink_name
+    from uma.face.clip import load_points
+    from uma.mbc.profile import describe_clip_with_ring
     from uma.paths import codecs_dir
     from uma.sim import run_scenario
     from uma.sim.summary import run_metrics
@@ -76,18 +78,22 @@ def run_three_ways(
     }
     with tempfile.TemporaryDirectory() as tmp:
         face_file = Path(tmp) / f"{name}.face"
-        if mbc:
-            describe_clip(load_points(codecs_dir() / "face" / f"{name}.yaml")).save(face_file)
+        if model:
+            points = load_points(codecs_dir() / "face" / f"{name}.yaml")
+            describe_clip_with_ring(points).save(face_file)  # as `uma describe` writes it
+        region, model_codec = spec(names(Role.REGION)[0]), spec(model_names()[0])
         engines = {
-            "h264": {},
-            "h264_face": {"face_region": face_config(rungs).model_dump(mode="json")},
-            "mbc": {
+            uplink_name(): {},
+            metric_key(region.name): {
+                region.config_section: face_config(rungs).model_dump(mode="json")
+            },
+            model_codec.name: {
                 "switching": {"policy": "threshold", "min_dwell_ms": 1000.0},
-                "mbc": {"description": str(face_file)},
+                model_codec.config_section: {"description": str(face_file)},
             },
         }
-        if not mbc:
-            del engines["mbc"]
+        if not model:
+            del engines[model_codec.name]
         for label, engine in engines.items():
             scenario = _scenario(name, label, path, (wlan_s, gsm_s), policy, max_backlog_ms, engine)
             out[label] = _gsm_figures(run_metrics(run_scenario(scenario)))

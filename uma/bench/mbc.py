@@ -32,10 +32,11 @@ from uma.bench.mbc_clips import ClipSpec, default_clips, file_clip, talking_head
 from uma.bench.mbc_refresh import DEFAULT_REFRESH
 from uma.bench.mbc_stages import Clock, decode, encode, rates, stages, tracking
 from uma.bench.mbc_table import format_table, summarise
+from uma.codecs import full_frame_names, spec
 
 __all__ = [
     "ClipSpec",
-    "run_mbc_bench",
+    "run_model_bench",
     "format_table",
     "default_clips",
     "file_clip",
@@ -65,13 +66,17 @@ BASE_DISPLAYS = (
 DISPLAYS = BASE_DISPLAYS + tuple(DEFAULT_REFRESH)
 REGIONS = ("face", "frame", "model")
 SCALED_FPS = 25.0
-FULL_FRAME_CODECS = ("h264", "av1", "vp8")  # names in `uma.codecs`
-RING_CHOICE_FRAMES = 25  # the first second: the sender's look at the call before it settles
 MODEL_OWN = "model's own rendering"
 # Whether the stream carries the camera's motion (`uma.mbc.camera`): off, held at zero on every
 # shipped clip and 0.02-0.04 kbit/s dearer (docs/mbc.md, session mbc4).
 CAMERA_MOTION = False
 LARGEST_MOTION = -1  # `run_clip(keep_frame=)`: keep the frame of the largest head motion
+
+
+def _full_frame_codecs() -> list[str]:
+    """The registry's full-frame codecs, the uplink's (the one every figure is held against)
+    first, then by name."""
+    return sorted(full_frame_names(), key=lambda name: (not spec(name).uplink, name))
 
 
 def _luma(frame: np.ndarray) -> np.ndarray:
@@ -106,26 +111,13 @@ def _largest_motion(results) -> int:
     return max(tracked[1:], key=lambda item: float(np.hypot(*(item[1][:2] - first[:2]))))[0]
 
 
-def _choose_ring(clip: ClipSpec, results) -> float:
-    """The head ring the sender picks on the call's first `RING_CHOICE_FRAMES` frames (from
-    frame 0 at its tracked pose, as the receiver renders), used for the whole clip."""
-    from uma.mbc.light import choose_head_ring
-    from uma.mbc.scene_render import HEAD_RING_OUTLINES
+def _renderer(clip: ClipSpec, reference: str, first, size, profile):
+    """The receiver's renderer as the codec's `profile` (the `engine.mbc` section) describes
+    it, as the simulation's: from the last full picture (frame 0, at the pose tracked on it)
+    or from the description's own picture."""
+    from uma.mbc.profile import profile_renderer
 
-    tracked = [i for i in range(1, min(RING_CHOICE_FRAMES + 1, len(results))) if results[i]]
-    if not results[0] or not tracked:
-        return HEAD_RING_OUTLINES
-    pictures = [clip.frames[i] for i in tracked]
-    poses = [results[i].params for i in tracked]
-    return choose_head_ring(clip.description, clip.frames[0], results[0].params, pictures, poses)
-
-
-def _renderer(clip: ClipSpec, reference: str, first, size, head_ring: float | None = None):
-    """The receiver's renderer: from the last full picture (frame 0, at the pose tracked on
-    it) or from the description's own picture."""
-    from uma.mbc.scene_render import SceneRenderer
-
-    renderer = SceneRenderer(clip.description, size, head_ring_outlines=head_ring)
+    renderer = profile_renderer(clip.description, size, profile)
     if reference == "picture" and first:
         renderer.set_reference(clip.frames[0], first.params)
     return renderer
@@ -140,7 +132,7 @@ def _full_frame_displays(clip: ClipSpec) -> dict:
         f"{codec}_{rung_name}{'_delayed' if late else ''}": codec_display(
             clip.frames, clip.fps, rung, codec, delayed=late
         )
-        for codec in FULL_FRAME_CODECS
+        for codec in _full_frame_codecs()
         for rung_name, rung in (("lowest", 0), ("second", 1))
         for late in (False, True)
     }
@@ -165,17 +157,17 @@ def _as_decoded(first, units, stream_config):
     return replace(first, params=units.split(encoder.decoded)[0])
 
 
-def _renderers(clip: ClipSpec, results, reference: str, ring: float):
+def _renderers(clip: ClipSpec, results, reference: str, profile):
     """The encoder's mirror, the same stream's rendering from the other reference, the
     simulation's choice (the scene from the picture, the face from the description), and the
     receiver."""
     size = (clip.frames[0].shape[1], clip.frames[0].shape[0] * 2 // 3)
-    mirror = _renderer(clip, reference, results[0], size, ring)
+    mirror = _renderer(clip, reference, results[0], size, profile)
     other_kind = "description" if reference == "picture" else "picture"
-    other = _renderer(clip, other_kind, results[0], size, ring)
-    mixed = _renderer(clip, "picture", results[0], size, ring)
+    other = _renderer(clip, other_kind, results[0], size, profile)
+    mixed = _renderer(clip, "picture", results[0], size, profile)
     mixed.set_face_source(True)
-    return mirror, other, mixed, _renderer(clip, reference, results[0], size, ring)
+    return mirror, other, mixed, _renderer(clip, reference, results[0], size, profile)
 
 
 def _check_tracked(clip: ClipSpec, results) -> None:
@@ -200,11 +192,14 @@ def run_clip(
     kept: dict | None = None,
     refresh: dict | None = None,
     camera: bool = CAMERA_MOTION,
+    profile=None,
 ) -> dict:
     """Code one clip and score it; see the module docstring. `refresh` names the
     `mbc_refresh_*` displays (`uma.bench.mbc_refresh.RefreshSpec` by name; default
-    `DEFAULT_REFRESH`); `camera`: the stream carries the camera's motion."""
+    `DEFAULT_REFRESH`); `camera`: the stream carries the camera's motion; `profile`: the
+    `engine.mbc` section whose renderer the receiver uses (None: its defaults, as a run's)."""
     from uma.bench.mbc_refresh import refresh_display
+    from uma.config.codecs import MbcConfig
     from uma.mbc.stream import StreamConfig
     from uma.mbc.units import FaceUnits
 
@@ -219,17 +214,19 @@ def run_clip(
     units = FaceUnits.of(clip.description.model, clip.description.params, light=True, body=True,
                          camera=camera)  # fmt: skip
     results[0] = _as_decoded(results[0], units, stream_config)
-    ring = _choose_ring(clip, results)
-    *renderers, receiver = _renderers(clip, results, reference, ring)
+    profile = MbcConfig() if profile is None else profile
+    # The ring the clip's description carries (its sender's choice), else the profile's.
+    ring = clip.description.head_ring_outlines or profile.head_ring_outlines
+    *renderers, receiver = _renderers(clip, results, reference, profile)
     coded = encode(lumas, results, units, stream_config, renderers, clock)
     decoded, shares = decode(units, stream_config, coded.packets, clock)
     displays = _full_frame_displays(clip)
     # The refresh spends the rung's rate minus the plain stream's, both at the clip's own rate.
     refresh = DEFAULT_REFRESH if refresh is None else refresh
-    mbc_clip_kbps = sum(p.size_bytes for p in coded.packets) * 8 / (len(lumas) / clip.fps) / 1000
+    model_clip_kbps = sum(p.size_bytes for p in coded.packets) * 8 / (len(lumas) / clip.fps) / 1000
     refreshed = {
         name: refresh_display(
-            clip, results, units, stream_config, mbc_clip_kbps, spec, head_ring=ring
+            clip, results, units, stream_config, model_clip_kbps, spec, profile=profile
         )
         for name, spec in refresh.items()
     }
@@ -254,7 +251,7 @@ def _scored(rate_kbps: float, sums, displays, refreshed) -> dict:
     means = {name: region_sums.means(display_kbps[name]) for name, region_sums in sums.items()}
     out = {
         **{f"{c}_{r}": {"rung": displays[f"{c}_{r}"][2]}
-           for c in FULL_FRAME_CODECS for r in ("lowest", "second")},
+           for c in _full_frame_codecs() for r in ("lowest", "second")},
         "refresh": {name: refreshed[name][2] for name in refreshed},
         **{region: {d: means[d][region] for d in means} for region in REGIONS},
     }  # fmt: skip
@@ -322,7 +319,7 @@ def _render_decoded(index, values, share, units, coded, shown, renderers, clock)
     shown["description_face"], _ = mixed.render(params, coded.mixed_lights[index], body)
 
 
-def run_mbc_bench(
+def run_model_bench(
     clips: list[ClipSpec], *, seed: int = 0, progress=None, picture: Path | None = None
 ) -> dict[str, Any]:
     """Every clip's scores; with `picture`, the side-by-side PNG of each clip at its largest

@@ -6,7 +6,7 @@ Units: pixels, frames per second. Pictures are YUV 4:2:0 (H * 3 // 2, W) uint8.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -49,6 +49,7 @@ def foreman_clip(frames: int):
 
     from uma.face.describe import describe
     from uma.face.points import read_points
+    from uma.mbc.profile import with_sender_ring
     from uma.paths import codecs_dir, shared_data_dir
     from uma.video.sources import RawYuvSource
 
@@ -60,7 +61,8 @@ def foreman_clip(frames: int):
     description = describe(cv2.cvtColor(first, cv2.COLOR_YUV2BGR_I420), points)
     if not description:
         return None
-    return yuv_clip(path, FOREMAN_SIZE, 25.0, description, frames, name="foreman")
+    clip = yuv_clip(path, FOREMAN_SIZE, 25.0, description, frames, name="foreman")
+    return replace(clip, description=with_sender_ring(description, clip.frames))
 
 
 @dataclass(frozen=True, eq=False)
@@ -105,7 +107,8 @@ def default_clips(frames: int, *, seed: int = 0, start: int = 0) -> list[ClipSpe
     """The talking head, then akiyo and carphone with the shipped clicked points and foreman
     from raw YUV (its 48 frames; skipped when ../shared/data is absent, or from `start` on),
     `frames` frames from frame `start` (tuning uses 150)."""
-    from uma.face.clip import describe_clip, load_points
+    from uma.face.clip import load_points
+    from uma.mbc.profile import describe_clip_with_ring
     from uma.paths import codecs_dir
 
     clips = [talking_head_clip(frames, seed=seed, start=start)]
@@ -115,7 +118,8 @@ def default_clips(frames: int, *, seed: int = 0, start: int = 0) -> list[ClipSpe
         video = Path(points.video) if points.video is not None else None
         if video is None or not video.is_file():
             continue
-        clips.append(file_clip(video, describe_clip(points), frames, name=name, start=start))
+        description = describe_clip_with_ring(points, seed=seed)
+        clips.append(file_clip(video, description, frames, name=name, start=start))
     if not start:
         foreman = foreman_clip(frames)
         if foreman is not None:

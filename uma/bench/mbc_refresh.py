@@ -107,11 +107,12 @@ def _coder(clip, results, spec, budget_kbps, size):
     return RefreshCoder(size, coded, spec.refresh_fps, budget_kbps, settings, box), corners
 
 
-def _renderer(clip, results, spec, size, head_ring):
-    """The receiver's renderer (and the encoder's mirror of it) before any refresh."""
-    from uma.mbc.scene_render import SceneRenderer
+def _renderer(clip, results, spec, size, profile):
+    """The receiver's renderer (and the encoder's mirror of it) before any refresh, as the
+    codec's `profile` (the `engine.mbc` section) describes it."""
+    from uma.mbc.profile import profile_renderer
 
-    out = SceneRenderer(clip.description, size, head_ring_outlines=head_ring)
+    out = profile_renderer(clip.description, size, profile)
     if results[0]:
         out.set_reference(clip.frames[0], results[0].params)
     out.set_face_source(spec.description_face)
@@ -273,33 +274,35 @@ def refresh_display(
     results,
     face_units,
     stream_config,
-    mbc_kbps: float,
+    model_kbps: float,
     spec: RefreshSpec,
     *,
-    head_ring: float | None = None,
+    profile=None,
 ) -> tuple[list[np.ndarray], float, dict]:
     """Every frame's display (YUV 4:2:0), the total rate (kbit/s) and what the refresh did;
-    `results` the tracker's per frame, `mbc_kbps` the plain stream's payload at the clip's
-    rate, `head_ring` the receiver's (`SceneRenderer`). With nothing left of the rung's rate
+    `results` the tracker's per frame, `model_kbps` the plain stream's payload at the clip's
+    rate, `profile` the `engine.mbc` section the receiver renders as (None: its defaults). With nothing left of the rung's rate
     it is the plain MBC (no refresh unit)."""
+    from uma.config.codecs import MbcConfig
     from uma.errors import ConfigError
     from uma.video import load_ladder
 
+    profile = MbcConfig() if profile is None else profile
     if spec.region not in ("frame", "face", "residual"):
         raise ConfigError(
             f"refresh region: expected 'frame', 'face' or 'residual', got {spec.region!r}"
         )
     frames = clip.frames
     size = (frames[0].shape[1], frames[0].shape[0] * 2 // 3)
-    budget_kbps = load_ladder().rungs[spec.rung_index].rate_kbps - mbc_kbps
+    budget_kbps = load_ladder().rungs[spec.rung_index].rate_kbps - model_kbps
     coder, corners = None, {}
     if budget_kbps > 1.0:  # libx264 takes whole kbit/s
         coder, corners = _coder(clip, results, spec, budget_kbps, size)
-    ahead = _renderer(clip, results, spec, size, head_ring) if spec.region == "residual" else None
+    ahead = _renderer(clip, results, spec, size, profile) if spec.region == "residual" else None
     sender = _Sender(clip, face_units, spec, coder, corners, budget_kbps, ahead)
-    mirror = _renderer(clip, results, spec, size, head_ring)
+    mirror = _renderer(clip, results, spec, size, profile)
     packets, decoded, switches = _engine(clip, results, face_units, stream_config, sender, mirror)
-    receiver = _renderer(clip, results, spec, size, head_ring)
+    receiver = _renderer(clip, results, spec, size, profile)
     shown, switch_s, switch_cpu_s = _receive(
         receiver, face_units, frames[0], len(frames), decoded, switches, sender.pictures
     )

@@ -16,16 +16,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["RegionSums", "h264_display", "codec_display", "face_box", "REGIONS"]
+__all__ = ["RegionSums", "codec_display", "face_box", "REGIONS"]
 
 REGIONS = ("face", "frame", "model")
-
-
-def h264_display(
-    frames: list[np.ndarray], fps: float, rung_index: int, *, delayed: bool = False
-) -> tuple[list[np.ndarray], float, str]:
-    """H.264's display at a rung of its ladder (`codec_display`)."""
-    return codec_display(frames, fps, rung_index, "h264", delayed=delayed)
 
 
 def codec_display(

@@ -1,4 +1,4 @@
-"""`uma bench mbc`'s readable table (the JSON is `uma.bench.mbc.run_mbc_bench`'s)."""
+"""`uma bench mbc`'s readable table (the JSON is `uma.bench.mbc.run_model_bench`'s)."""
 
 from __future__ import annotations
 
@@ -6,13 +6,19 @@ from typing import Any
 
 import numpy as np
 
+from uma.codecs import model_names, spec
+
 __all__ = ["format_table", "summarise"]
 
 REGIONS = ("face", "frame", "model")
 
 
 def format_table(result: dict[str, Any]) -> str:
-    lines = ["uma bench mbc: model-based codec, payload and wire rates at 25 frames/s", ""]
+    model = spec(model_names()[0])
+    lines = [
+        f"uma bench {model.name}: {model.label} codec, payload and wire rates at 25 frames/s",
+        "",
+    ]
     head = (
         f"  {'clip':<14}{'frames':>7}{'size':>9}{'kbit/s':>8}{'wire':>7}{'loss dB':>8}"
         f"{'reinits':>8}{'track ms':>9}{'light ms':>9}{'body ms':>8}{'init ms':>8}"

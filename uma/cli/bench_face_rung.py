@@ -74,7 +74,7 @@ def handle(args: argparse.Namespace) -> int:
         result["run"] = run_three_ways(
             args.run,
             rungs=args.rung,
-            mbc=not args.no_mbc,
+            model=not args.no_mbc,
             max_backlog_ms=args.max_backlog_ms,
             policy=args.policy,
             gsm_s=args.gsm_s,

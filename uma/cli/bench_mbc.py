@@ -49,7 +49,7 @@ def handle(args: argparse.Namespace) -> int:
     import sys
     from pathlib import Path
 
-    from uma.bench.mbc import default_clips, file_clip, format_table, run_mbc_bench
+    from uma.bench.mbc import default_clips, file_clip, format_table, run_model_bench
     from uma.cli.cmd_bench import emit
     from uma.errors import ConfigError
 
@@ -81,7 +81,7 @@ def handle(args: argparse.Namespace) -> int:
     picture = Path(args.picture) if args.picture else None
     if picture is not None and not picture.parent.is_dir():
         raise ConfigError(f"--picture: expected a file in an existing folder, got {picture}")
-    result = run_mbc_bench(clips, seed=args.seed, progress=progress, picture=picture)
+    result = run_model_bench(clips, seed=args.seed, progress=progress, picture=picture)
     emit(result, format_table(result), as_json=args.json)
     return 0
 

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import argparse
 
+from uma.cli.bench_mbc import _size
+
 __all__ = ["register"]
 
 HELP = """\
@@ -48,6 +50,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="K",
         help="with a dlib .xml naming several faces in the image: which (0-based; default the largest)",
     )
+    parser.add_argument(
+        "--size", metavar="WxH", help="a raw YUV 4:2:0 clip's (.yuv) frame size, e.g. 176x144"
+    )
     parser.add_argument("--model", metavar="FILE", help="face model (.yaml or Candide-3 .wfm)")
     parser.add_argument("--out", metavar="DIR", default=".", help="output folder (default .)")
     parser.set_defaults(func=handle)
@@ -82,7 +87,7 @@ def _describe(args: argparse.Namespace) -> int:
 
     from uma.errors import FaceError
     from uma.face import describe, load_model
-    from uma.face.detect import Box, detect_faces, locate_points
+    from uma.face.detect import Box, detect_faces, edge_cut_box, locate_points
     from uma.face.points import load_points
 
     points_file = load_points(args.points, image=args.image, face=args.face)
@@ -90,9 +95,12 @@ def _describe(args: argparse.Namespace) -> int:
     image_path, image = _picture(args, points_file)
     model = load_model(args.model) if args.model else None
     gray = cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
-    faces = detect_faces(gray)
+    faces, cut = detect_faces(gray), None
     if not faces:
-        raise FaceError(f"{image_path}: {faces.reason}")
+        cut = edge_cut_box(points, gray.shape)
+        if cut is None:
+            raise FaceError(f"{image_path}: {faces.reason}")
+        faces = [cut]
     annotated = Box(*points_file.box) if points_file.box is not None else None
     placed = locate_points(gray, points, frontal=faces, annotated=annotated)
     if not placed:
@@ -101,6 +109,11 @@ def _describe(args: argparse.Namespace) -> int:
     result = describe(image, points, model=model)
     if not result:
         raise FaceError(f"{args.points}: {result.reason}")
+    clip = _clip_frames(args, points_file, image_path)
+    if clip:  # the sender's head ring for the receiver, from the clip's first second
+        from uma.mbc.profile import with_sender_ring
+
+        result = with_sender_ring(result, clip)
     out = Path(args.out)
     description_path = out / f"{image_path.stem}.face"
     size_bytes = result.save(description_path)
@@ -114,6 +127,9 @@ def _describe(args: argparse.Namespace) -> int:
     print(
         f"{png_path}: fitted wireframe (green), clicked points (red), detected face (blue){scale}"
     )
+    if cut is not None:
+        print(f"uma: warning: {image_path}: no face detected; the points lie at the picture's "
+              "edge (a face it cuts): their own box is drawn", file=sys.stderr)  # fmt: skip
     if warning is not None:
         print(f"uma: warning: {args.points}: {warning}", file=sys.stderr)
     return 0
@@ -127,6 +143,8 @@ def _picture(args: argparse.Namespace, points_file):
     from uma.errors import FaceError
     from uma.face.clip import picture_of, read_picture
 
+    if args.image is not None and Path(args.image).suffix.lower() == ".yuv":
+        return Path(args.image), _yuv_picture(args, points_file)
     if args.image is not None:
         image_path = Path(args.image)
         # The file's frame: is of its video:, or of the one the command line names (no video:).
@@ -142,6 +160,49 @@ def _picture(args: argparse.Namespace, points_file):
     if source is None:
         raise FaceError(f"{args.points}: names no picture: give IMAGE or VIDEO")
     return Path(str(source).removeprefix("skimage:")), picture_of(points_file, frame=args.frame)
+
+
+def _clip_frames(args: argparse.Namespace, points_file, image_path) -> list:
+    """The clip's YUV 4:2:0 pictures from the described frame on (`RING_FRAMES` + 1 of them),
+    or [] for a still image."""
+    from pathlib import Path
+
+    from uma.face.clip import VIDEO_SUFFIXES
+    from uma.mbc.profile import RING_FRAMES
+    from uma.video import VideoFileSource
+    from uma.video.sources import RawYuvSource
+
+    path = Path(image_path)
+    frame = args.frame if args.frame is not None else (points_file.frame or 0)
+    if path.suffix.lower() == ".yuv":
+        source = RawYuvSource(path, *_size(args.size), 25.0)
+    elif path.suffix.lower() in VIDEO_SUFFIXES and path.is_file():
+        source = VideoFileSource(path, max_frames=frame + RING_FRAMES + 1)
+    else:
+        return []
+    pictures = []
+    for picture in source.frames():
+        if len(pictures) > frame + RING_FRAMES:
+            break
+        pictures.append(picture)
+    return pictures[frame:]
+
+
+def _yuv_picture(args: argparse.Namespace, points_file):
+    """Frame N (--frame, else the points file's, else 0) of a raw YUV 4:2:0 clip of --size,
+    as BGR; a missing size or a frame past the clip's end is a `FaceError` naming it."""
+    import cv2
+
+    from uma.errors import FaceError
+    from uma.video.sources import RawYuvSource
+
+    if args.size is None:
+        raise FaceError(f"{args.image}: a raw YUV clip: expected --size WxH (e.g. 176x144)")
+    frame = args.frame if args.frame is not None else (points_file.frame or 0)
+    for index, picture in enumerate(RawYuvSource(args.image, *_size(args.size), 25.0).frames()):
+        if index == frame:
+            return cv2.cvtColor(picture, cv2.COLOR_YUV2BGR_I420)
+    raise FaceError(f"{args.image}: --frame {frame}: past the clip's end ({index + 1} frames)")
 
 
 def _draw_fit(image, result, points, box, png_path):

@@ -123,7 +123,12 @@ class MbcConfig(Section):
     rendering by it; `light_ms`: its modelled compute per frame (the encoder renders the face
     and fits the light). `far_ring_head_radii`, `head_ring_outlines`: the renderer's scene
     mesh (`uma.mbc.scene_render`): the far ring, fixed in the picture, in head-ring radii from
-    the face's centre, and the head ring (moves with the head) in face-outline radii.
+    the face's centre, and the head ring (moves with the head) in face-outline radii, unless
+    the description carries its sender's choice (`uma.mbc.profile.with_sender_ring`);
+    `soften_outline`: where that choice is the tighter ring (the pose is off at the outline),
+    blend a band about the drawn head's outline toward its blur as the head moves from the
+    reference (`uma.mbc.outline`). `uma bench mbc` renders with these (`uma.mbc.profile`);
+    docs/mbc.md (session mbc5) has the measurements that chose them.
     `refresh`: the model-aided refresh (`RefreshConfig`).
     """
 
@@ -148,6 +153,7 @@ class MbcConfig(Section):
     light_ms: NonNeg = 1.5
     far_ring_head_radii: RingSize = 1.6
     head_ring_outlines: RingSize = 1.4
+    soften_outline: Bool = True
     refresh: RefreshConfig = Field(default_factory=RefreshConfig)
 
 

@@ -4,7 +4,8 @@ Units: pixels; frame indices are 0-based decoded pictures.
 
 `describe_clip("codecs/face/akiyo.yaml")` is what `uma describe --points codecs/face/akiyo.yaml`
 does without the command line: decode the frame the file names, fit the model to its points,
-and return the content description (texture cut from that frame).
+and return the content description (texture cut from that frame); for a video `uma describe`
+adds the sender's head ring (`uma.mbc.profile.describe_clip_with_ring`).
 """
 
 from __future__ import annotations

@@ -42,6 +42,9 @@ class ContentDescription:
     points: dict[str, tuple[float, float]]
     fit_rms_px: float
     origin_px: tuple[float, float] = (0.0, 0.0)  # where the texture's top-left sat in the image
+    # The head ring (face-outline radii) the sender chose for the receiver from the clip's first
+    # second (`uma.mbc.profile.with_sender_ring`); None: the codec profile's.
+    head_ring_outlines: float | None = None
 
     def __bool__(self) -> bool:
         return True
@@ -85,6 +88,8 @@ class ContentDescription:
             "fit_rms_px": self.fit_rms_px,
             "origin_px": list(self.origin_px),
         }
+        if self.head_ring_outlines is not None:  # older files (and the sizes sent) unchanged
+            meta["head_ring_outlines"] = float(self.head_ring_outlines)
         return write_npz(
             meta=np.frombuffer(json.dumps(meta, sort_keys=True).encode(), dtype=np.uint8),
             vertices=self.model.vertices.astype(np.float32),

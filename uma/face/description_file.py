@@ -66,6 +66,7 @@ def load_description(path: str | Path) -> ContentDescription:
         points=meta["points"],
         fit_rms_px=meta["fit_rms_px"],
         origin_px=meta["origin_px"],
+        head_ring_outlines=meta["head_ring_outlines"],
     )
 
 
@@ -159,6 +160,14 @@ def _meta(array: np.ndarray, where: str) -> dict[str, Any]:
     if not (np.isfinite(rms) and rms >= 0):
         raise FaceError(f"{where}.fit_rms_px: expected a finite number >= 0, got {rms}")
     origin = _pair(meta.get("origin_px", [0.0, 0.0]), f"{where}.origin_px")
+    ring = meta.get("head_ring_outlines")
+    if ring is not None and not (
+        isinstance(ring, int | float) and not isinstance(ring, bool) and 1 < ring <= 8
+    ):
+        raise FaceError(
+            f"{where}.head_ring_outlines: expected a number above 1 and at most 8 (face-outline "
+            f"radii), got {_short(ring)}"
+        )
     return {
         "name": name,
         "action_unit_names": names,
@@ -166,6 +175,7 @@ def _meta(array: np.ndarray, where: str) -> dict[str, Any]:
         "points": points,
         "fit_rms_px": float(rms),
         "origin_px": origin,
+        "head_ring_outlines": None if ring is None else float(ring),
     }
 
 

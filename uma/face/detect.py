@@ -19,6 +19,7 @@ __all__ = [
     "detect_any_faces",
     "face_of_points",
     "locate_points",
+    "edge_cut_box",
 ]
 
 # A point lies on a detected face when it falls inside the box grown by this share of the
@@ -30,6 +31,9 @@ MIN_SHARE_ON_FACE = 0.5
 # Clicked points span 0.6-0.9 of the cascade's box width on those faces.
 SPAN_RANGE = (0.3, 1.5)
 TYPICAL_SPAN = 0.75
+# Points this near the picture's edge (in their own span) belong to a face the edge cuts: the
+# cascade finds no face there (foreman's forehead lies above the picture).
+EDGE_CUT_OF_SPAN = 0.25
 
 
 @dataclass(frozen=True)
@@ -196,3 +200,21 @@ def locate_points(
     if wider and (not placed or wider[1] is None):
         return wider
     return placed
+
+
+def edge_cut_box(points: dict[str, tuple[float, float]], shape: tuple[int, ...]) -> Box | None:
+    """The face box the clicked `points` imply (their span `TYPICAL_SPAN` of its width, square,
+    about their centre) when they lie within `EDGE_CUT_OF_SPAN` of their span of an edge of a
+    picture of `shape` (H, W, ...): a face the edge cuts, which no cascade finds; else None."""
+    xy = np.array(list(points.values()), dtype=np.float64).reshape(-1, 2)
+    if xy.shape[0] < 3:
+        return None
+    height, width = shape[:2]
+    span_px = float(max(np.ptp(xy[:, 0]), np.ptp(xy[:, 1])))
+    near_px = EDGE_CUT_OF_SPAN * span_px
+    low, high = xy.min(axis=0), xy.max(axis=0)
+    if span_px <= 0 or min(low[0], low[1], width - 1 - high[0], height - 1 - high[1]) > near_px:
+        return None
+    side = int(round(span_px / TYPICAL_SPAN))
+    cx, cy = (low + high) / 2.0
+    return Box(int(round(cx - side / 2)), int(round(cy - side / 2)), side, side)

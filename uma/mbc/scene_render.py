@@ -71,7 +71,9 @@ class SceneRenderer:
 
     `talking_head_scene` places the rings as `uma.face.scene` does by default (the talking
     head's own scene: its far ring 1.5 frame diagonals away) instead of the receiver's;
-    `head_ring_outlines` sizes the receiver's head ring (default `HEAD_RING_OUTLINES`).
+    `head_ring_outlines` sizes the receiver's head ring (default `HEAD_RING_OUTLINES`);
+    `soften_outline`: soften the drawn outline as the head moves (`uma.mbc.outline`). The
+    receiver's settings come from the codec's profile (`uma.mbc.profile`).
     """
 
     def __init__(
@@ -83,6 +85,7 @@ class SceneRenderer:
         head_ring_outlines: float | None = None,
         far_ring_head_radii: float | None = None,
         layered: bool | None = None,
+        soften_outline: bool = False,
     ):
         width, height = (int(v) for v in size)
         if width < 2 or height < 2 or width % 2 or height % 2:
@@ -95,9 +98,7 @@ class SceneRenderer:
             raise SceneError(f"far ring: expected more than 1 head-ring radius, got {far}")
         self.size = (width, height)
         self.description = description
-        # The tight ring is the sender's choice where the pose is off at the outline: there
-        # the outline is softened as the head moves (`uma.mbc.outline`).
-        self.soft_outline = ring < HEAD_RING_OUTLINES
+        self.soft_outline = bool(soften_outline)
         self.scene = SceneMesh.build(
             description.model,
             description.params,

@@ -33,16 +33,16 @@ def _luma(picture: np.ndarray) -> np.ndarray:
 
 
 def scene_renderer(description, size: tuple[int, int], mbc=None, *, layered: bool = True):
-    """The receiver's `uma.mbc.SceneRenderer` for `description` at `size`, its rings as the
-    `engine.mbc` section `mbc` sizes them (None: the renderer's own); layered or stretched."""
-    from uma.mbc import SceneRenderer
+    """The receiver's `uma.mbc.SceneRenderer` for `description` at `size`, as the `engine.mbc`
+    section `mbc` describes it (`uma.mbc.profile`, as `uma bench mbc` renders; None: the
+    section's defaults); layered or stretched."""
+    from uma.mbc.profile import profile_renderer
 
     if mbc is None:
-        return SceneRenderer(description, size, layered=layered)
-    return SceneRenderer(
-        description, size, head_ring_outlines=mbc.head_ring_outlines,
-        far_ring_head_radii=mbc.far_ring_head_radii, layered=layered,
-    )  # fmt: skip
+        from uma.config.codecs import MbcConfig
+
+        mbc = MbcConfig()
+    return profile_renderer(description, size, mbc, layered=layered)
 
 
 def face_units(context):

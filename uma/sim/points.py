@@ -72,9 +72,9 @@ def model_description(scenario: Scenario, source) -> tuple[object | None, str]:
     path = getattr(scenario.engine, section).description
     if path is not None:
         if path.lower().endswith((".yaml", ".yml", ".json")):  # a points file naming its picture
-            from uma.face.clip import describe_clip
+            from uma.mbc.profile import describe_clip_with_ring  # with its sender's head ring
 
-            return describe_clip(path), ""
+            return describe_clip_with_ring(path), ""
         from uma.face import load_description
 
         return load_description(path), ""
