@@ -52,6 +52,7 @@ def test_the_timed_part_compiles_and_loads_no_kernel():
     assert result["codecs"] == ["h264", "mbc"]
     # The timed run and replay used the tracker's, the renderer's and SSIM's kernels ...
     for kernel in ("uma.fit.kernels.scores", "uma.face.raster_kernels.fill_triangles",
+                   "uma.mbc.layered_kernels.blend", "uma.mbc.layered_kernels.affine_maps",
                    "uma.metrics.ssim_kernel.ssim_map_inside"):  # fmt: skip
         assert kernel in loaded
     # ... all loaded by the warm-up, whose time is reported apart.

@@ -97,12 +97,17 @@ def encode(lumas, results, units, stream_config, renderers, clock: Clock) -> Cod
 
 
 def _warm(mirror, luma, params, camera) -> None:
-    """Untimed: the light and body motion measured once on a throwaway tracker."""
+    """Untimed: the light and body motion measured once (on a throwaway tracker), and the
+    scene drawn with the head and torso moved (their edges blend)."""
     from uma.mbc.body import BodyTracker
+    from uma.mbc.layers import NO_BODY_MOTION
     from uma.mbc.light import measure_light
 
     measure_light(mirror, luma, params)
     BodyTracker(camera=camera).measure(mirror, luma)
+    moved, body = np.array(params, dtype=np.float64), NO_BODY_MOTION.copy()
+    moved[0], body[0] = moved[0] + 3.0, 2.0
+    mirror.render(moved, None, body if getattr(mirror, "layered", False) else None)
 
 
 def decode(units, stream_config, packets, clock: Clock):

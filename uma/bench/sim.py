@@ -205,6 +205,7 @@ def _warm_kernels(scenario: Scenario, source: _ListSource) -> None:
     if description is None:
         return
     from uma.mbc import BodyTracker, FaceTracker
+    from uma.mbc.layers import NO_BODY_MOTION
     from uma.mbc.light import measure_light
     from uma.sim.mbc_codecs import scene_renderer
 
@@ -216,6 +217,9 @@ def _warm_kernels(scenario: Scenario, source: _ListSource) -> None:
     renderer = scene_renderer(description, (width, height))
     renderer.set_reference(frame, result.params)
     renderer.render(result.params)
+    moved, body = result.params.copy(), NO_BODY_MOTION.copy()
+    moved[0], body[0] = moved[0] + 3.0, 2.0  # a moved head and torso: their edges blend
+    renderer.render(moved, None, body)
     measure_light(renderer, luma, result.params)
     BodyTracker().measure(renderer, luma)
 
