@@ -16,7 +16,13 @@ from numba import njit
 __all__ = ["affine_maps", "blend"]
 
 
-@njit(cache=True)
+# One signature each, compiled (or loaded from the cache) on import: boxes of the picture are
+# C-contiguous or strided as they fall, and would each compile their own layout.
+@njit(
+    "void(int32[:, :], float32[:, :], int64, float32[:, :], float32[:, :], float32[:, :],"
+    " float32[:, :])",
+    cache=True,
+)
 def affine_maps(labels, table, empty, xs, ys, map_x, map_y):
     """Into `map_x`, `map_y` (H, W) float32: where each pixel reads, `table[t]` (6,) float32
     being the affine map (x, y) of its triangle t = `labels` (H, W) (row `empty` where the
@@ -33,7 +39,7 @@ def affine_maps(labels, table, empty, xs, ys, map_x, map_y):
             map_y[i, j] = table[t, 3] * x + table[t, 4] * y + table[t, 5]
 
 
-@njit(cache=True)
+@njit("void(uint8[:, :], uint8[:, :], float32[:, :])", cache=True)
 def blend(top, toward, weight):
     """`top` (uint8, in place) moved toward `toward` by `weight` (float32; 0: unchanged):
     rint(a + w (b - a)) clipped to 0-255, in float32."""
