@@ -70,3 +70,38 @@ def test_a_wrong_fill_is_seen():
     assert np.array_equal(ours, _opencv_labels(points, triangles, (32, 32), [0]))
     ours[10, int(rng.integers(0, 32))] = 5
     assert not np.array_equal(ours, _opencv_labels(points, triangles, (32, 32), [0]))
+
+
+def _numpy_barycentric_affine(points, triangles):
+    """`barycentric_affine` as numpy computed it before it was compiled."""
+    a, b, c = (points[triangles[:, k]] for k in range(3))
+    v0, v1 = b - a, c - a
+    det = v0[:, 0] * v1[:, 1] - v0[:, 1] * v1[:, 0]
+    det = np.where(np.abs(det) < 1e-12, 1e-12, det)
+    l1 = np.column_stack(
+        [v1[:, 1] / det, -v1[:, 0] / det, (a[:, 1] * v1[:, 0] - a[:, 0] * v1[:, 1]) / det]
+    )
+    l2 = np.column_stack(
+        [-v0[:, 1] / det, v0[:, 0] / det, (a[:, 0] * v0[:, 1] - a[:, 1] * v0[:, 0]) / det]
+    )
+    l0 = np.array([0.0, 0.0, 1.0]) - l1 - l2
+    return np.stack([l0, l1, l2], axis=1)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_barycentric_affine_equals_its_numpy_form_to_the_bit(seed):
+    from uma.face.render import barycentric_affine
+
+    rng = np.random.default_rng(seed)
+    points = rng.uniform(-50, 400, (60, 2))
+    points[5] = points[4]  # degenerate triangles (det 0) among them
+    points[7] = points[4] + (1e-9, 0)
+    triangles = rng.integers(0, 60, (200, 3)).astype(np.int32)
+    triangles[0] = (4, 5, 6)
+    triangles[1] = (4, 7, 6)
+    got = barycentric_affine(points, triangles)
+    want = _numpy_barycentric_affine(points, triangles)
+    assert got.tobytes() == want.tobytes()
+    assert barycentric_affine(points.astype(np.float32), triangles.astype(np.int64)).tobytes() == (
+        _numpy_barycentric_affine(points.astype(np.float32).astype(np.float64), triangles).tobytes()
+    )

@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["fill_triangles"]
+__all__ = ["fill_triangles", "barycentric_rows"]
 
 _SHIFT = 16  # OpenCV's XY_SHIFT: edges in 16.16 fixed point
 _ONE = 1 << _SHIFT
@@ -129,3 +129,24 @@ def fill_triangles(labels, polygons, order, start):
             for x in range(max(first, 0), min(last, width - 1) + 1):
                 labels[y, x] = t
     return order.shape[0]
+
+
+@njit(cache=True)
+def barycentric_rows(points, triangles, out):
+    """Into `out` (T, 3, 3): `uma.face.render.barycentric_affine`'s rows, with its numpy
+    form's operations in its order (float64, no fused multiply-add), so the same to the bit."""
+    for t in range(triangles.shape[0]):
+        i, j, m = triangles[t, 0], triangles[t, 1], triangles[t, 2]
+        ax, ay = points[i, 0], points[i, 1]
+        v0x, v0y = points[j, 0] - ax, points[j, 1] - ay
+        v1x, v1y = points[m, 0] - ax, points[m, 1] - ay
+        det = v0x * v1y - v0y * v1x
+        if abs(det) < 1e-12:
+            det = 1e-12
+        l1x, l1y, l1c = v1y / det, -v1x / det, (ay * v1x - ax * v1y) / det
+        l2x, l2y, l2c = -v0y / det, v0x / det, (ax * v0y - ay * v0x) / det
+        out[t, 0, 0] = (0.0 - l1x) - l2x
+        out[t, 0, 1] = (0.0 - l1y) - l2y
+        out[t, 0, 2] = (1.0 - l1c) - l2c
+        out[t, 1, 0], out[t, 1, 1], out[t, 1, 2] = l1x, l1y, l1c
+        out[t, 2, 0], out[t, 2, 1], out[t, 2, 2] = l2x, l2y, l2c

@@ -94,20 +94,14 @@ def barycentric_affine(points_px: np.ndarray, triangles: np.ndarray) -> np.ndarr
     A vertex value v (N, C) interpolates over triangle t as `(A[t].T @ v[triangles[t]]).T`, an
     affine function of the pixel position; degenerate triangles get finite, meaningless rows.
     """
+    from uma.face.raster_kernels import barycentric_rows
+
     points = np.asarray(points_px, dtype=np.float64)
-    a, b, c = (points[triangles[:, k]] for k in range(3))
-    v0, v1 = b - a, c - a
-    det = v0[:, 0] * v1[:, 1] - v0[:, 1] * v1[:, 0]
-    det = np.where(np.abs(det) < 1e-12, 1e-12, det)
-    # l1 = ((p - a) x v1) / det and l2 = (v0 x (p - a)) / det, written as c_x x + c_y y + c_0.
-    l1 = np.column_stack(
-        [v1[:, 1] / det, -v1[:, 0] / det, (a[:, 1] * v1[:, 0] - a[:, 0] * v1[:, 1]) / det]
-    )
-    l2 = np.column_stack(
-        [-v0[:, 1] / det, v0[:, 0] / det, (a[:, 0] * v0[:, 1] - a[:, 1] * v0[:, 0]) / det]
-    )
-    l0 = np.array([0.0, 0.0, 1.0]) - l1 - l2
-    return np.stack([l0, l1, l2], axis=1)
+    out = np.empty((len(triangles), 3, 3), np.float64)
+    # Compiled: per triangle, l1 = ((p - a) x v1) / det and l2 = (v0 x (p - a)) / det as
+    # c_x x + c_y y + c_0 (v0 = b - a, v1 = c - a), and l0 = 1 - l1 - l2.
+    barycentric_rows(points, np.asarray(triangles), out)
+    return out
 
 
 def _barycentric(

@@ -109,12 +109,11 @@ class FitTemplate:
 
 def batch_visible(model: FaceModel, points: np.ndarray) -> np.ndarray:
     """Front-facing triangles for projected points (B, N, 2) -> (B, T) bool."""
-    tri = model.triangles
-    a, b, c = points[:, tri[:, 0]], points[:, tri[:, 1]], points[:, tri[:, 2]]
-    cross = (b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1]) - (b[..., 1] - a[..., 1]) * (
-        c[..., 0] - a[..., 0]
-    )
-    return cross < 0
+    from uma.fit.kernels import front_facing
+
+    out = np.empty((points.shape[0], len(model.triangles)), bool)
+    front_facing(points, model.triangles, out)  # compiled: (b - a) x (c - a) < 0, per triangle
+    return out
 
 
 @dataclass(frozen=True, eq=False)

@@ -14,7 +14,14 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["project_batch", "scores", "sample_at", "warp_jacobian", "MIN_PIXELS"]
+__all__ = [
+    "project_batch",
+    "scores",
+    "sample_at",
+    "warp_jacobian",
+    "front_facing",
+    "MIN_PIXELS",
+]
 
 MIN_PIXELS = 16  # a candidate seeing fewer template pixels scores -1
 MIN_PATCH_PIXELS = 4  # smaller patches are left out of the illumination-compensated score
@@ -257,3 +264,18 @@ def warp_jacobian(grad_x, grad_y, corners, bary, points, d_points, gain):
             dy = wi * d_points[p, i, 1] + wj * d_points[p, j, 1] + wm * d_points[p, m, 1]
             out[k, p] = gx * dx + gy * dy
     return out
+
+
+@njit(cache=True)
+def front_facing(points, triangles, out):
+    """Into `out` (B, T) bool: whether each candidate's triangle faces the camera, as
+    `uma.fit.cost.batch_visible`'s numpy form computes it (the cross product in the points'
+    own type, in its order; no fast-math, no fused multiply-add: the same to the bit)."""
+    for b in range(points.shape[0]):
+        for t in range(triangles.shape[0]):
+            i, j, m = triangles[t, 0], triangles[t, 1], triangles[t, 2]
+            ax, ay = points[b, i, 0], points[b, i, 1]
+            cross = (points[b, j, 0] - ax) * (points[b, m, 1] - ay) - (points[b, j, 1] - ay) * (
+                points[b, m, 0] - ax
+            )
+            out[b, t] = cross < 0

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from uma.mbc.layered_kernels import affine_maps, blend
 from uma.mbc.layers import (
     N_BODY,
     N_TORSO,
@@ -73,12 +74,12 @@ def _head(renderer, params: np.ndarray, target: np.ndarray, box):
     # (T, 2, 3): the reference's (x, y) as an affine function of the picture's (x, y, 1).
     coeffs = np.matmul(renderer._reference_points[scene.triangles].transpose(0, 2, 1), affine)
     still = np.array([[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]])
-    table = np.concatenate([coeffs, still]).reshape(-1, 6).T.astype(np.float32)
-    flat = np.where(labels < 0, len(coeffs), labels).ravel()
-    c = [np.take(row, flat).reshape(labels.shape) for row in table]
+    table = np.concatenate([coeffs, still]).reshape(-1, 6).astype(np.float32)
     xs, ys = renderer._x[y0:y1, x0:x1], renderer._y[y0:y1, x0:x1]
-    map_x = c[0] * xs + c[1] * ys + c[2]
-    map_y = c[3] * xs + c[4] * ys + c[5]
+    map_x = np.empty(labels.shape, np.float32)
+    map_y = np.empty(labels.shape, np.float32)
+    # Label -1 (outside the head) reads the last row: the picture where it is.
+    affine_maps(labels, table, len(coeffs), xs, ys, map_x, map_y)
     return labels, map_x, map_y
 
 
@@ -260,16 +261,8 @@ def _bleed(out: np.ndarray, around: np.ndarray, box, mask: np.ndarray, strength:
 
 def _blend(top: np.ndarray, toward: np.ndarray, weight: np.ndarray) -> None:
     """`top` (uint8, in place) moved toward `toward` by `weight` (0: unchanged), rounded;
-    only the pixels whose weight is not 0 are computed."""
-    import cv2
-
-    points = cv2.findNonZero((weight != 0).view(np.uint8))  # faster than np.nonzero here
-    if points is None:
-        return
-    where = (points[:, 0, 1], points[:, 0, 0])
-    a = top[where].astype(np.float32)
-    b = toward[where].astype(np.float32)
-    top[where] = np.clip(np.rint(a + weight[where] * (b - a)), 0, 255)
+    only the pixels whose weight is not 0 are computed (compiled: `layered_kernels.blend`)."""
+    blend(top, toward, weight)
 
 
 def _head_moved_px(renderer, target: np.ndarray) -> float:

@@ -1,0 +1,52 @@
+"""`uma.mbc.layered_kernels` gives the numpy forms it replaces to the bit."""
+
+import numpy as np
+import pytest
+
+from uma.mbc.layered_kernels import affine_maps, blend
+
+
+def _numpy_maps(labels, table, empty, xs, ys):
+    rows = table.T
+    flat = np.where(labels < 0, empty, labels).ravel()
+    c = [np.take(row, flat).reshape(labels.shape) for row in rows]
+    return c[0] * xs + c[1] * ys + c[2], c[3] * xs + c[4] * ys + c[5]
+
+
+def _numpy_blend(top, toward, weight):
+    where = np.nonzero(weight != 0)
+    a = top[where].astype(np.float32)
+    b = toward[where].astype(np.float32)
+    top[where] = np.clip(np.rint(a + weight[where] * (b - a)), 0, 255)
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_affine_maps_equal_the_numpy_gathers(seed):
+    rng = np.random.default_rng(seed)
+    height, width, n_tri = 60, 44, 30
+    ys, xs = np.mgrid[0:100, 0:80].astype(np.float32)
+    xs, ys = xs[7 : 7 + height, 11 : 11 + width], ys[7 : 7 + height, 11 : 11 + width]
+    labels = rng.integers(-1, n_tri, (height, width)).astype(np.int32)
+    table = rng.normal(0, 3, (n_tri + 1, 6)).astype(np.float32) * [1, 1, 40, 1, 1, 40]
+    table = table.astype(np.float32)
+    map_x, map_y = np.empty((height, width), np.float32), np.empty((height, width), np.float32)
+    affine_maps(labels, table, n_tri, xs, ys, map_x, map_y)
+    want_x, want_y = _numpy_maps(labels, table, n_tri, xs, ys)
+    assert map_x.dtype == want_x.dtype == np.float32
+    assert map_x.tobytes() == want_x.tobytes() and map_y.tobytes() == want_y.tobytes()
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_blend_equals_the_numpy_form_on_strided_views(seed):
+    rng = np.random.default_rng(seed)
+    picture = rng.integers(0, 256, (80, 90), dtype=np.uint8)
+    toward = rng.integers(0, 256, (80, 90), dtype=np.uint8)
+    weight = (0.9 * rng.random((80, 90))).astype(np.float32)
+    weight[rng.random((80, 90)) < 0.4] = 0.0
+    weight[0, :5] = (0.5, 1.0, -0.0, 1e-8, 0.49999997)
+    got, want = picture.copy(), picture.copy()
+    # The views the renderer blends: a box of the picture, chroma's every other pixel.
+    blend(got[10:70:2, 5:85], toward[10:70:2, 5:85], weight[::2, :80][:30])
+    _numpy_blend(want[10:70:2, 5:85], toward[10:70:2, 5:85], weight[::2, :80][:30])
+    assert got.tobytes() == want.tobytes()
+    assert not np.array_equal(got, picture)

@@ -1,0 +1,58 @@
+"""Compiled per-pixel steps of the layered rendering (`uma.mbc.layered_render`; numba).
+
+Units: pixels; maps float32; pictures uint8.
+
+Each kernel does the numpy expression it replaces with the same operations in the same
+order and type (float32, no fused multiply-add: numba's default keeps IEEE rounding), so
+the pictures are the same to the bit (`tests/mbc/test_layered_kernels.py` holds them to the
+numpy forms); one pass over the pixels instead of a temporary array per operation.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+__all__ = ["affine_maps", "blend"]
+
+
+# One signature each, compiled (or loaded from the cache) on import: boxes of the picture are
+# C-contiguous or strided as they fall, and would each compile their own layout.
+@njit(
+    "void(int32[:, :], float32[:, :], int64, float32[:, :], float32[:, :], float32[:, :],"
+    " float32[:, :])",
+    cache=True,
+)
+def affine_maps(labels, table, empty, xs, ys, map_x, map_y):
+    """Into `map_x`, `map_y` (H, W) float32: where each pixel reads, `table[t]` (6,) float32
+    being the affine map (x, y) of its triangle t = `labels` (H, W) (row `empty` where the
+    label is negative) at the pixel's (`xs`, `ys`): c0 x + c1 y + c2, c3 x + c4 y + c5."""
+    height, width = labels.shape
+    for i in range(height):
+        for j in range(width):
+            t = labels[i, j]
+            if t < 0:
+                t = empty
+            x = xs[i, j]
+            y = ys[i, j]
+            map_x[i, j] = table[t, 0] * x + table[t, 1] * y + table[t, 2]
+            map_y[i, j] = table[t, 3] * x + table[t, 4] * y + table[t, 5]
+
+
+@njit("void(uint8[:, :], uint8[:, :], float32[:, :])", cache=True)
+def blend(top, toward, weight):
+    """`top` (uint8, in place) moved toward `toward` by `weight` (float32; 0: unchanged):
+    rint(a + w (b - a)) clipped to 0-255, in float32."""
+    height, width = top.shape
+    for i in range(height):
+        for j in range(width):
+            w = weight[i, j]
+            if w != 0:
+                a = np.float32(top[i, j])
+                b = np.float32(toward[i, j])
+                value = np.rint(a + w * (b - a))
+                if value < 0:
+                    value = np.float32(0)
+                elif value > 255:
+                    value = np.float32(255)
+                top[i, j] = np.uint8(value)
