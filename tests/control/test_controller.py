@@ -203,3 +203,43 @@ def test_skip_rule():
 def test_settings_refuse_bad_values_naming_them(field, value):
     with pytest.raises(ValueError, match=field):
         UmaSettings(**{field: value})
+
+
+@pytest.mark.parametrize("capacity_kbps", [9.6, 40.0, 100.0, 1000.0])
+def test_a_probe_queues_about_fifty_ms_even_on_a_slow_link(capacity_kbps):
+    """A probe is a train (two packets at least) of about `probe_ms` at the capacity: on GSM's
+    9.6 kbit/s five 100-byte packets would have held the link for 0.4 s."""
+    controller = UmaController(UmaSettings(initial_kbps=capacity_kbps, min_kbps=1.0))
+    probe = controller.on_report(_report(0.0, 100.0, bits=0, queue_ms=())).probe
+    assert probe is not None
+    assert 2 <= probe.packets <= 5
+    queue_ms = probe.packets * probe.packet_bits / capacity_kbps
+    # the floor: two packets of 60 bytes (40 of headers) on the slowest link
+    assert queue_ms <= max(50.0 * 1.01, 2 * 480 / capacity_kbps)
+    if capacity_kbps >= 100.0:
+        assert probe.packets == 5 and queue_ms == pytest.approx(50.0, rel=0.05)
+
+
+def test_the_pause_follows_the_reports_spacing_and_widens_when_they_come_irregularly():
+    """Reports every 100 ms: the sender pauses once 110 ms pass without one (the spacing and a
+    10 ms margin), not at 150; a lost report widens the margin (RFC 6298's deviation), which
+    narrows again as reports come regularly; never more than `pause_ms`."""
+    controller = UmaController()
+    assert controller.pause_after_ms == 150.0  # nothing known of the spacing yet
+    end = 0.0
+    for _ in range(30):
+        end += 100.0
+        controller.on_report(_report(end - 100.0, end))
+    assert controller.pause_after_ms == pytest.approx(110.0, abs=0.5)
+    assert not controller.paused(end + 109.0) and controller.paused(end + 111.0)
+    end += 200.0  # one report lost
+    controller.on_report(_report(end - 100.0, end))
+    assert controller.pause_after_ms == 150.0
+    for _ in range(8):
+        end += 100.0
+        controller.on_report(_report(end - 100.0, end))
+    assert 110.0 < controller.pause_after_ms < 145.0
+    for _ in range(30):
+        end += 300.0  # a link that drops two reports in three
+        controller.on_report(_report(end - 100.0, end))
+    assert controller.pause_after_ms == 150.0

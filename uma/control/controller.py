@@ -19,9 +19,12 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
   application-limited (received below `alr_fraction` of the target) or the queue is short (a
   low target fills its own small frames, which make no trains), a probe of padding packets
   sent back to back, whose spacing measures the link, sized to queue about `probe_ms`;
-- **pause**: no report for `pause_ms` (1.5 report intervals): `paused` says the sender should
+- **pause**: no report for the reports' usual spacing and a margin (their smoothed spacing
+  plus four times its mean deviation, at least `pause_margin_ms`, as TCP times a
+  retransmission, RFC 6298), never more than `pause_ms`: `paused` says the sender should
   code nothing new until one comes (the skip rule's caller asks), so a handover's gap or an
   outage gets little of the stream, and a lost report costs a frame or two, not a rate;
+  reports that come irregularly (a bursty link drops them) widen the margin themselves;
 - **silence**: no report for `silence_ms` (an outage, a handover's gap) cuts the capacity to
   `silence_factor` of itself or of what arrived over the last `received_tau_ms`, whichever is
   less (an application-limited stream sends no more than that), once per `silence_ms`; when
@@ -70,10 +73,11 @@ class UmaSettings:
     probe_packets: int = 5
     probe_ms: float = 50.0
     probe_weight: float = 0.1
-    probe_min_bits: int = 100 * 8
+    probe_min_bits: int = 60 * 8  # 40 bytes of headers and a little padding
     packet_bits: int = 1200 * 8
     silence_ms: float = 250.0
     pause_ms: float = 150.0
+    pause_margin_ms: float = 10.0
     received_tau_ms: float = 500.0
     skip_budget_ms: float = 300.0
     max_skip_ms: float = 1000.0
@@ -122,6 +126,8 @@ class UmaController:
         self._report_ms: float | None = None  # the last report's end (`_last_report_ms`
         # also moves at each silence)
         self._probe_pending = False
+        self._gap_ms: float | None = None  # the reports' smoothed spacing (receiver's clock)
+        self._gap_dev_ms = 0.0  # and its mean deviation
         self.received_kbps: float | None = None  # what arrived, smoothed over `received_tau_ms`
         self._before_silence: float | None = None  # the capacity the silence cut from
 
@@ -135,6 +141,7 @@ class UmaController:
         """One feedback report in; the target (and a probe when the link is unmeasured) out."""
         s = self.settings
         now_ms = report.end_ms
+        self._spacing(now_ms)
         self._last_report_ms = now_ms
         self._report_ms = now_ms
         self._received(report)
@@ -172,10 +179,32 @@ class UmaController:
         if not report.lost and min(report.queue_delay_ms) < self.settings.queue_low_ms:
             self.capacity_kbps = max(self.capacity_kbps, before)
 
+    def _spacing(self, now_ms: float) -> None:
+        """The reports' spacing, smoothed as RFC 6298 smooths round trips (1/8, 1/4)."""
+        if self._report_ms is None:
+            return
+        gap_ms = now_ms - self._report_ms
+        if self._gap_ms is None:
+            self._gap_ms, self._gap_dev_ms = gap_ms, gap_ms / 2.0
+            return
+        self._gap_dev_ms += 0.25 * (abs(self._gap_ms - gap_ms) - self._gap_dev_ms)
+        self._gap_ms += 0.125 * (gap_ms - self._gap_ms)
+
+    @property
+    def pause_after_ms(self) -> float:
+        """How long without a report pauses the sender: the usual spacing and a margin, at
+        most `pause_ms`."""
+        s = self.settings
+        if self._gap_ms is None:
+            return s.pause_ms
+        margin_ms = max(4.0 * self._gap_dev_ms, s.pause_margin_ms)
+        return min(self._gap_ms + margin_ms, s.pause_ms)
+
     def paused(self, now_ms: float) -> bool:
-        """No report for `pause_ms`: the sender sends nothing new until one comes (a lost
-        report costs a frame or two; a handover's gap or an outage gets none of the stream)."""
-        return self._report_ms is not None and now_ms - self._report_ms >= self.settings.pause_ms
+        """No report for `pause_after_ms`: the sender sends nothing new until one comes (a
+        lost report costs a frame or two; a handover's gap or an outage gets none of the
+        stream)."""
+        return self._report_ms is not None and now_ms - self._report_ms >= self.pause_after_ms
 
     def _received(self, report: DeliveryReport) -> None:
         span_ms = report.end_ms - report.start_ms
@@ -238,7 +267,9 @@ class UmaController:
             return None
         self._last_probe_ms = now_ms
         self._probe_pending = True
-        # small packets on a slow link, so that a probe queues about `probe_ms` there
-        bits = self.capacity_kbps * s.probe_ms / s.probe_packets
-        bits = int(min(max(bits, s.probe_min_bits), s.packet_bits))
-        return ProbeRequest(2.0 * self.capacity_kbps, s.probe_packets, bits)
+        # Small and few packets on a slow link, so that a probe queues about `probe_ms` there
+        # (a train needs two): five 100-byte packets would hold GSM's 9.6 kbit/s for 0.4 s.
+        total_bits = self.capacity_kbps * s.probe_ms
+        packets = int(min(max(total_bits // s.probe_min_bits, 2), s.probe_packets))
+        bits = int(min(max(total_bits / packets, s.probe_min_bits), s.packet_bits))
+        return ProbeRequest(2.0 * self.capacity_kbps, packets, bits)

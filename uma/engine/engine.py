@@ -126,7 +126,13 @@ class UmaEngine:
     def on_sent(self, unit: OutgoingUnit | None, now_s: float) -> list:
         """The frame's coded unit leaves (None: none), then the refresh's packets due."""
         actions = [] if unit is None else self.sender.unit(unit, now_s, self.estimator)
-        return self._keep(actions + self.sender.refresh_due(now_s, self.estimator))
+        return self._keep(actions + self._refresh_due(now_s))
+
+    def _refresh_due(self, now_s: float) -> list:
+        """The refresh's packets due now; none while the rate control is paused (no report
+        for a while: its bits would go into a handover's gap)."""
+        held = not self.oracle and self.rate.paused(now_s)
+        return self.sender.refresh_due(now_s, self.estimator, held=held)
 
     def on_pace(self, now_s: float, *, capacity_kbps: float | None = None) -> PaceDecision:
         """What the pacer lets out now; `capacity_kbps`: the true rate (the oracle's pace)."""
@@ -206,7 +212,7 @@ class UmaEngine:
         adopted = self.refresh.take_adopted() if decision.send and self.refresh else None
         actions += [] if adopted is None else [AdoptRefresh(adopted)]
         if not decision.send or not decoded:
-            actions += self.sender.refresh_due(now_s, self.estimator)
+            actions += self._refresh_due(now_s)
         return replace(decision, actions=tuple(self._keep(actions)))
 
     def _send_or_hold(self, decision, now_s, capacity_kbps, budget_kbps, switched: bool):

@@ -13,7 +13,8 @@ encoder sends at its target; uma's ladder sends at most a rung's rate).
 - `uma`: `uma.control.UmaController` on the report's delivery (trains, queue, trend, loss),
   probes when application-limited, `on_silence` per report interval without a report, the
   technology's prior on a handover, the skip rule, and no frame coded while the controller is
-  `paused` (no report for its `pause_ms`; still never more than `max_skip_ms` in a row).
+  `paused` (no report for its `pause_after_ms`; still never more than `max_skip_ms` in a row);
+  while paused no refresh packet leaves either.
 - `gcc`: `uma.control.GccController` (the published GCC), its probes, no skip.
 - `webrtc`: aiortc's receiver-side estimator fed the report's packets (a REMB, as before the
   controllers: earlier results stay comparable), padding to its estimate, a decrease by
@@ -67,6 +68,11 @@ class RateControl:
         return []
 
     def skip(self, frame_bits: float, queued_bits: float, now_s: float) -> bool:
+        return False
+
+    def paused(self, now_s: float) -> bool:
+        """Whether the sender should send nothing new it may hold back (the feedback has
+        gone quiet)."""
         return False
 
     def skips_frame(self, point: OperatingPoint, queued_bits: int, now_s: float) -> bool:
@@ -136,15 +142,21 @@ class UmaRate(RateControl):
         self.state = replace(self.state, estimate_kbps=decision.target_kbps)
         return [EngineEvent(now_s, "silence", f"estimate {decision.target_kbps:.1f} kbps")]
 
+    def paused(self, now_s: float) -> bool:
+        """The controller's `paused` on its clock (the receiver's), from when the last report
+        arrived here."""
+        if self._report_ms is None:
+            return False
+        return self.controller.paused(self._report_ms + (now_s - self._report_s) * 1000.0)
+
     def skip(self, frame_bits: float, queued_bits: float, now_s: float) -> bool:
         """Salsify's rule on the controller's capacity and the queue it last saw (the pacer's
-        bits plus the bottleneck's), or no report for the controller's `pause_ms`; never for
+        bits plus the bottleneck's), or no report for the controller's `pause_after_ms`; never for
         more than `max_skip_ms` in a row."""
         c, s = self.controller, self.controller.settings
         ahead_bits = queued_bits + c.queue_ms * c.capacity_kbps
         skip = should_skip(frame_bits, ahead_bits, c.capacity_kbps, s.skip_budget_ms)
-        if self._report_ms is not None:
-            skip = skip or c.paused(self._report_ms + (now_s - self._report_s) * 1000.0)
+        skip = skip or self.paused(now_s)
         if skip:
             if self._skipping_s is None:
                 self._skipping_s = now_s
