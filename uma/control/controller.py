@@ -122,9 +122,8 @@ class UmaController:
         self._reset_trend()
         self._last_train_ms = float("-inf")
         self._last_probe_ms = float("-inf")
-        self._last_report_ms: float | None = None
-        self._report_ms: float | None = None  # the last report's end (`_last_report_ms`
-        # also moves at each silence)
+        self._quiet_since_ms: float | None = None  # the last report's end
+        self._silences = 0  # the cuts since it (`on_silence`)
         self._probe_pending = False
         self._gap_ms: float | None = None  # the reports' smoothed spacing (receiver's clock)
         self._gap_dev_ms = 0.0  # and its mean deviation
@@ -142,8 +141,7 @@ class UmaController:
         s = self.settings
         now_ms = report.end_ms
         self._spacing(now_ms)
-        self._last_report_ms = now_ms
-        self._report_ms = now_ms
+        self._quiet_since_ms, self._silences = now_ms, 0
         self._received(report)
         self._undo_spurious_silence(report)
         if report.capacity_kbps is not None:
@@ -181,9 +179,9 @@ class UmaController:
 
     def _spacing(self, now_ms: float) -> None:
         """The reports' spacing, smoothed as RFC 6298 smooths round trips (1/8, 1/4)."""
-        if self._report_ms is None:
+        if self._quiet_since_ms is None:
             return
-        gap_ms = now_ms - self._report_ms
+        gap_ms = now_ms - self._quiet_since_ms
         if self._gap_ms is None:
             self._gap_ms, self._gap_dev_ms = gap_ms, gap_ms / 2.0
             return
@@ -204,7 +202,12 @@ class UmaController:
         """No report for `pause_after_ms`: the sender sends nothing new until one comes (a
         lost report costs a frame or two; a handover's gap or an outage gets none of the
         stream)."""
-        return self._report_ms is not None and now_ms - self._report_ms >= self.pause_after_ms
+        quiet_ms = self.quiet_ms(now_ms)
+        return quiet_ms is not None and quiet_ms >= self.pause_after_ms
+
+    def quiet_ms(self, now_ms: float) -> float | None:
+        """How long no report has come (None: none yet)."""
+        return None if self._quiet_since_ms is None else now_ms - self._quiet_since_ms
 
     def _received(self, report: DeliveryReport) -> None:
         span_ms = report.end_ms - report.start_ms
@@ -215,11 +218,12 @@ class UmaController:
             self.received_kbps += weight * (report.received_kbps - self.received_kbps)
 
     def on_silence(self, now_ms: float) -> RateDecision:
-        """No report for `silence_ms` (an outage): x `silence_factor`, once each, from the
-        capacity or, when less came (an application-limited stream), from what arrived."""
+        """No report for `silence_ms` (an outage): x `silence_factor`, once per `silence_ms`
+        of quiet, from the capacity or, when less came (an application-limited stream), from
+        what arrived."""
         s = self.settings
-        last = self._last_report_ms
-        if last is not None and now_ms - last >= s.silence_ms:
+        quiet_ms = self.quiet_ms(now_ms)
+        if quiet_ms is not None and quiet_ms >= (self._silences + 1) * s.silence_ms:
             if self._before_silence is None:
                 self._before_silence = self.capacity_kbps
             base = self.capacity_kbps
@@ -227,7 +231,7 @@ class UmaController:
                 base = min(base, max(self.received_kbps, s.min_kbps))
             self.capacity_kbps = max(base * s.silence_factor, s.min_kbps)
             self.target_kbps = max(self.capacity_kbps * s.headroom, s.min_kbps)
-            self._last_report_ms = now_ms
+            self._silences += 1
             return RateDecision(self.target_kbps, None, "silence")
         return RateDecision(self.target_kbps, None, "")
 
