@@ -163,8 +163,13 @@ class UmaController:
             target = min(target, self.loss.update(report.loss_fraction, now_ms, target))
             if target < self.loss.bound_kbps * 1.0001 and report.loss_fraction > 0.1:
                 reason = "loss"
-        self.target_kbps = min(max(target, s.min_kbps), s.max_kbps)
+        self.target_kbps = self._bounded(target)
         return RateDecision(self.target_kbps, self._probe(report, now_ms), reason)
+
+    def _bounded(self, target_kbps: float) -> float:
+        """`target_kbps` within [min_kbps, max_kbps]: the one place the target is bounded
+        (the engine follows it as it is)."""
+        return min(max(target_kbps, self.settings.min_kbps), self.settings.max_kbps)
 
     def _undo_spurious_silence(self, report: DeliveryReport) -> None:
         """The first report after a silence: if its packets met no queue and none was lost,
@@ -230,7 +235,7 @@ class UmaController:
             if self.received_kbps is not None:
                 base = min(base, max(self.received_kbps, s.min_kbps))
             self.capacity_kbps = max(base * s.silence_factor, s.min_kbps)
-            self.target_kbps = max(self.capacity_kbps * s.headroom, s.min_kbps)
+            self.target_kbps = self._bounded(self.capacity_kbps * s.headroom)
             self._silences += 1
             return RateDecision(self.target_kbps, None, "silence")
         return RateDecision(self.target_kbps, None, "")
@@ -245,7 +250,7 @@ class UmaController:
         if prior is not None and prior < self.capacity_kbps:
             self.capacity_kbps = prior
             reason = "handover prior"
-        self.target_kbps = min(max(self.capacity_kbps * s.headroom, s.min_kbps), s.max_kbps)
+        self.target_kbps = self._bounded(self.capacity_kbps * s.headroom)
         self._last_train_ms = float("-inf")  # measure the new link soon
         return RateDecision(self.target_kbps, None, reason)
 

@@ -83,12 +83,12 @@ class RateControl:
         return self.skip(point.rate_kbps * 1000.0 / point.fps, queued_bits, now_s)
 
     def _follow(self, report: ReceiverReport, estimate_kbps: float, queue_ms: float | None):
-        """`state` after `report` with `estimate_kbps` (bounded) and its queueing delay."""
-        cfg = self.estimator
+        """`state` after `report` with `estimate_kbps` (the kind's own, already within
+        [min_kbps, max_kbps]: each controller bounds its target) and its queueing delay."""
         window, received_kbps, loss = windowed_received(self.state, report, RECEIVED_WINDOW_S)
         self.state = replace(
             self.state,
-            estimate_kbps=min(max(estimate_kbps, cfg.min_kbps), cfg.max_kbps),
+            estimate_kbps=estimate_kbps,
             queue_delay_ms=self.state.queue_delay_ms if queue_ms is None else queue_ms,
             loss_fraction=loss,
             received_kbps=received_kbps,
@@ -208,8 +208,11 @@ class WebrtcRate(RateControl):
                 size_bits=record.size_bits,
             )  # fmt: skip
         estimate = self.remb.estimate_kbps
-        self._follow(report, self.state.estimate_kbps if estimate is None else estimate,
-                     report.queue_delay_ms)  # fmt: skip
+        if estimate is None:
+            estimate = self.state.estimate_kbps
+        else:  # aiortc's estimator knows no bounds: the REMB within the configured ones
+            estimate = min(max(estimate, self.estimator.min_kbps), self.estimator.max_kbps)
+        self._follow(report, estimate, report.queue_delay_ms)
         self._report_s = now_s
         return None, []
 
