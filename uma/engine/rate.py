@@ -59,6 +59,7 @@ class RateControl:
 
     def __init__(self, config: EngineConfig, feedback: FeedbackConfig) -> None:
         self.estimator = config.estimator
+        self.oracle = config.policy == "oracle"  # it reads the capacity: never paused
         self.state = EstimatorState(estimate_kbps=config.estimator.initial_kbps)
 
     def on_report(self, report: ReceiverReport, now_s: float) -> tuple[ProbeRequest | None, list]:
@@ -145,7 +146,7 @@ class UmaRate(RateControl):
     def paused(self, now_s: float) -> bool:
         """The controller's `paused` on its clock (the receiver's), from when the last report
         arrived here."""
-        if self._report_ms is None:
+        if self.oracle or self._report_ms is None:
             return False
         return self.controller.paused(self._report_ms + (now_s - self._report_s) * 1000.0)
 
