@@ -220,31 +220,6 @@ def test_a_probe_queues_about_fifty_ms_even_on_a_slow_link(capacity_kbps):
         assert probe.packets == 5 and queue_ms == pytest.approx(50.0, rel=0.05)
 
 
-def test_the_pause_follows_the_reports_spacing_and_widens_when_they_come_irregularly():
-    """Reports every 100 ms: the sender pauses once 110 ms pass without one (the spacing and a
-    10 ms margin), not at 150; a lost report widens the margin (RFC 6298's deviation), which
-    narrows again as reports come regularly; never more than `pause_ms`."""
-    controller = UmaController()
-    assert controller.pause_after_ms == 150.0  # nothing known of the spacing yet
-    end = 0.0
-    for _ in range(30):
-        end += 100.0
-        controller.on_report(_report(end - 100.0, end))
-    assert controller.pause_after_ms == pytest.approx(110.0, abs=0.5)
-    assert not controller.paused(end + 109.0) and controller.paused(end + 111.0)
-    end += 200.0  # one report lost
-    controller.on_report(_report(end - 100.0, end))
-    assert controller.pause_after_ms == 150.0
-    for _ in range(8):
-        end += 100.0
-        controller.on_report(_report(end - 100.0, end))
-    assert 110.0 < controller.pause_after_ms < 145.0
-    for _ in range(30):
-        end += 300.0  # a link that drops two reports in three
-        controller.on_report(_report(end - 100.0, end))
-    assert controller.pause_after_ms == 150.0
-
-
 def test_one_quiet_clock_times_the_pause_and_each_silence_and_a_report_restarts_it():
     """The pause and the silences count from the last report's end alone: cuts at 250, 500 and
     750 ms of quiet however late `on_silence` is asked within each, the pause all along; the

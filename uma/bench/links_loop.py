@@ -7,7 +7,7 @@ instant (25 frames/s), one frame at its controller's current rate, capped at the
 for. A drop-tail FIFO (`queue_bytes`) serves them at the trace's capacity (integrated exactly
 over the trace's steps, so an outage holds the queue), `delay_ms` each way. uma's sender skips a frame that would queue past
 `UmaSettings.skip_budget_ms` behind the bits not yet reported (`uma.control.should_skip`), or
-while its controller is `paused` (no report for `pause_after_ms`), as the engine's does. The
+while its controller is `paused` (no report for `pause_ms`), as the engine's does. The
 receiver feeds every arrival to the controller's feedback: `DeliveryTracker` reports for `uma` and `gcc`,
 aiortc's `RembEstimator` for `webrtc`; the sender applies what comes back one `delay_ms` later.
 `oracle` sends `headroom` x the true capacity with no feedback at all: a reference.

@@ -19,12 +19,9 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
   application-limited (received below `alr_fraction` of the target) or the queue is short (a
   low target fills its own small frames, which make no trains), a probe of padding packets
   sent back to back, whose spacing measures the link, sized to queue about `probe_ms`;
-- **pause**: no report for the reports' usual spacing and a margin (their smoothed spacing
-  plus four times its mean deviation, at least `pause_margin_ms`, as TCP times a
-  retransmission, RFC 6298), never more than `pause_ms`: `paused` says the sender should
+- **pause**: no report for `pause_ms` (1.5 report intervals): `paused` says the sender should
   code nothing new until one comes (the skip rule's caller asks), so a handover's gap or an
   outage gets little of the stream, and a lost report costs a frame or two, not a rate;
-  reports that come irregularly (a bursty link drops them) widen the margin themselves;
 - **silence**: no report for `silence_ms` (an outage, a handover's gap) cuts the capacity to
   `silence_factor` of itself or of what arrived over the last `received_tau_ms`, whichever is
   less (an application-limited stream sends no more than that), once per `silence_ms`; when
@@ -77,7 +74,6 @@ class UmaSettings:
     packet_bits: int = 1200 * 8
     silence_ms: float = 250.0
     pause_ms: float = 150.0
-    pause_margin_ms: float = 10.0
     received_tau_ms: float = 500.0
     skip_budget_ms: float = 300.0
     max_skip_ms: float = 1000.0
@@ -125,8 +121,6 @@ class UmaController:
         self._quiet_since_ms: float | None = None  # the last report's end
         self._silences = 0  # the cuts since it (`on_silence`)
         self._probe_pending = False
-        self._gap_ms: float | None = None  # the reports' smoothed spacing (receiver's clock)
-        self._gap_dev_ms = 0.0  # and its mean deviation
         self.received_kbps: float | None = None  # what arrived, smoothed over `received_tau_ms`
         self._before_silence: float | None = None  # the capacity the silence cut from
 
@@ -140,7 +134,6 @@ class UmaController:
         """One feedback report in; the target (and a probe when the link is unmeasured) out."""
         s = self.settings
         now_ms = report.end_ms
-        self._spacing(now_ms)
         self._quiet_since_ms, self._silences = now_ms, 0
         self._received(report)
         self._undo_spurious_silence(report)
@@ -182,33 +175,11 @@ class UmaController:
         if not report.lost and min(report.queue_delay_ms) < self.settings.queue_low_ms:
             self.capacity_kbps = max(self.capacity_kbps, before)
 
-    def _spacing(self, now_ms: float) -> None:
-        """The reports' spacing, smoothed as RFC 6298 smooths round trips (1/8, 1/4)."""
-        if self._quiet_since_ms is None:
-            return
-        gap_ms = now_ms - self._quiet_since_ms
-        if self._gap_ms is None:
-            self._gap_ms, self._gap_dev_ms = gap_ms, gap_ms / 2.0
-            return
-        self._gap_dev_ms += 0.25 * (abs(self._gap_ms - gap_ms) - self._gap_dev_ms)
-        self._gap_ms += 0.125 * (gap_ms - self._gap_ms)
-
-    @property
-    def pause_after_ms(self) -> float:
-        """How long without a report pauses the sender: the usual spacing and a margin, at
-        most `pause_ms`."""
-        s = self.settings
-        if self._gap_ms is None:
-            return s.pause_ms
-        margin_ms = max(4.0 * self._gap_dev_ms, s.pause_margin_ms)
-        return min(self._gap_ms + margin_ms, s.pause_ms)
-
     def paused(self, now_ms: float) -> bool:
-        """No report for `pause_after_ms`: the sender sends nothing new until one comes (a
-        lost report costs a frame or two; a handover's gap or an outage gets none of the
-        stream)."""
+        """No report for `pause_ms`: the sender sends nothing new until one comes (a lost
+        report costs a frame or two; a handover's gap or an outage gets none of the stream)."""
         quiet_ms = self.quiet_ms(now_ms)
-        return quiet_ms is not None and quiet_ms >= self.pause_after_ms
+        return quiet_ms is not None and quiet_ms >= self.settings.pause_ms
 
     def quiet_ms(self, now_ms: float) -> float | None:
         """How long no report has come (None: none yet)."""

@@ -13,7 +13,7 @@ encoder sends at its target; uma's ladder sends at most a rung's rate).
 - `uma`: `uma.control.UmaController` on the report's delivery (trains, queue, trend, loss),
   probes when application-limited, `on_silence` per report interval without a report, the
   technology's prior on a handover, the skip rule, and no frame coded while the controller is
-  `paused` (no report for its `pause_after_ms`; still never more than `max_skip_ms` in a row);
+  `paused` (no report for its `pause_ms`; still never more than `max_skip_ms` in a row);
   while paused no refresh packet leaves either.
 - `gcc`: `uma.control.GccController` (the published GCC), its probes, no skip.
 - `webrtc`: aiortc's receiver-side estimator fed the report's packets (a REMB, as before the
@@ -152,7 +152,7 @@ class UmaRate(RateControl):
 
     def skip(self, frame_bits: float, queued_bits: float, now_s: float) -> bool:
         """Salsify's rule on the controller's capacity and the queue it last saw (the pacer's
-        bits plus the bottleneck's), or no report for the controller's `pause_after_ms`; never for
+        bits plus the bottleneck's), or no report for the controller's `pause_ms`; never for
         more than `max_skip_ms` in a row."""
         c, s = self.controller, self.controller.settings
         ahead_bits = queued_bits + c.queue_ms * c.capacity_kbps
