@@ -123,7 +123,7 @@ def test_without_probes_the_same_stream_stays_low():
 def test_silence_cuts_the_estimate_once_per_interval():
     controller = UmaController()
     _loop(controller, lambda t: 1000.0, seconds=5)
-    last = controller._last_report_ms
+    last = controller._quiet_since_ms
     before = min(controller.capacity_kbps, controller.received_kbps)  # the stream's headroom
     assert controller.on_silence(last + 200.0).reason == ""
     assert controller.on_silence(last + 250.0).reason == "silence"
@@ -203,3 +203,35 @@ def test_skip_rule():
 def test_settings_refuse_bad_values_naming_them(field, value):
     with pytest.raises(ValueError, match=field):
         UmaSettings(**{field: value})
+
+
+@pytest.mark.parametrize("capacity_kbps", [9.6, 40.0, 100.0, 1000.0])
+def test_a_probe_queues_about_fifty_ms_even_on_a_slow_link(capacity_kbps):
+    """A probe is a train (two packets at least) of about `probe_ms` at the capacity: on GSM's
+    9.6 kbit/s five 100-byte packets would have held the link for 0.4 s."""
+    controller = UmaController(UmaSettings(initial_kbps=capacity_kbps, min_kbps=1.0))
+    probe = controller.on_report(_report(0.0, 100.0, bits=0, queue_ms=())).probe
+    assert probe is not None
+    assert 2 <= probe.packets <= 5
+    queue_ms = probe.packets * probe.packet_bits / capacity_kbps
+    # the floor: two packets of 60 bytes (40 of headers) on the slowest link
+    assert queue_ms <= max(50.0 * 1.01, 2 * 480 / capacity_kbps)
+    if capacity_kbps >= 100.0:
+        assert probe.packets == 5 and queue_ms == pytest.approx(50.0, rel=0.05)
+
+
+def test_one_quiet_clock_times_the_pause_and_each_silence_and_a_report_restarts_it():
+    """The pause and the silences count from the last report's end alone: cuts at 250, 500 and
+    750 ms of quiet however late `on_silence` is asked within each, the pause all along; the
+    next report ends both."""
+    controller = UmaController(UmaSettings(initial_kbps=400.0))
+    controller.on_report(_report(0.0, 100.0))
+    assert controller.quiet_ms(340.0) == pytest.approx(240.0)
+    reasons = [controller.on_silence(t).reason for t in (340.0, 390.0, 420.0, 600.0, 640.0)]
+    assert reasons == ["", "silence", "", "silence", ""]  # at 250 and 500 ms of quiet
+    assert controller.on_silence(850.0).reason == "silence"  # 750 ms
+    assert controller.paused(850.0)
+    controller.on_report(_report(100.0, 900.0, queue_ms=(300.0,)))
+    assert not controller.paused(900.0) and controller.quiet_ms(900.0) == 0.0
+    assert controller.on_silence(1100.0).reason == ""  # 200 ms of quiet: none yet
+    assert controller.on_silence(1150.0).reason == "silence"

@@ -162,3 +162,20 @@ def test_no_report_for_one_and_a_half_intervals_pauses_the_stream_until_one_come
     assert engine.estimate_kbps == before
     engine.on_report(link.report(0.28), 0.3)
     assert engine.on_frame(8, 0.32).send
+
+
+@pytest.mark.parametrize("kind", ["uma", "gcc", "webrtc"])
+def test_each_kind_bounds_its_own_target_and_the_engine_follows_it_as_it_is(kind):
+    """`engine.estimator.max_kbps` 200 on a 1,000 kbit/s link: every kind's estimate climbs to
+    the bound and never past it (the controllers bound their targets, aiortc's REMB is bounded
+    where the engine takes it; `RateControl._follow` bounds nothing twice)."""
+    config = EngineConfig(
+        estimator=EstimatorConfig(initial_kbps=100.0, max_kbps=200.0, kind=kind),
+        pacer=PacerConfig(enabled=False),
+    )
+    points = tuple(OperatingPoint("h264", r, 25.0, 176, 144, compute_ms=4.0) for r in RATES)
+    engine = UmaEngine(config, points=points, source_fps=25.0, feedback=FeedbackConfig())
+    out = run(engine, Link(lambda t: 1000.0), 15.0)
+    assert max(out["estimate"]) == pytest.approx(200.0)
+    if kind != "webrtc":
+        assert engine.estimate_kbps == engine.rate.controller.target_kbps

@@ -151,6 +151,18 @@ def test_packets_hold_while_the_queue_builds_not_on_a_slower_links_delay():
     assert held[:2] == [False, False] and any(held[2:])
 
 
+def test_while_held_no_refresh_packet_leaves_and_no_credit_is_saved():
+    """The feedback has gone quiet (a handover's gap may have begun): no refresh packet goes
+    out; when a report comes again the refresh goes on where it was, one packet, not a burst."""
+    plan, _, _ = planner()
+    frame(plan, 1)
+    plan.coded(packets(4320 * 4), 1 / FPS, intra=True)
+    assert plan.pace(1 / FPS, queue_delay_ms=0.0, held=True) == []
+    assert all(plan.pace(i / FPS, queue_delay_ms=0.0, held=True) == [] for i in range(2, 50))
+    assert len(plan.queue) == 4 and plan.state is RefreshState.SENDING
+    assert len(plan.pace(50 / FPS, queue_delay_ms=0.0)) == 1
+
+
 def test_leaving_the_model_codec_drops_a_half_sent_refresh_and_the_next_is_intra():
     plan, events, counts = planner()
     frame(plan, 0)

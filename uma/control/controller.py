@@ -70,7 +70,7 @@ class UmaSettings:
     probe_packets: int = 5
     probe_ms: float = 50.0
     probe_weight: float = 0.1
-    probe_min_bits: int = 100 * 8
+    probe_min_bits: int = 60 * 8  # 40 bytes of headers and a little padding
     packet_bits: int = 1200 * 8
     silence_ms: float = 250.0
     pause_ms: float = 150.0
@@ -118,9 +118,8 @@ class UmaController:
         self._reset_trend()
         self._last_train_ms = float("-inf")
         self._last_probe_ms = float("-inf")
-        self._last_report_ms: float | None = None
-        self._report_ms: float | None = None  # the last report's end (`_last_report_ms`
-        # also moves at each silence)
+        self._quiet_since_ms: float | None = None  # the last report's end
+        self._silences = 0  # the cuts since it (`on_silence`)
         self._probe_pending = False
         self.received_kbps: float | None = None  # what arrived, smoothed over `received_tau_ms`
         self._before_silence: float | None = None  # the capacity the silence cut from
@@ -135,8 +134,7 @@ class UmaController:
         """One feedback report in; the target (and a probe when the link is unmeasured) out."""
         s = self.settings
         now_ms = report.end_ms
-        self._last_report_ms = now_ms
-        self._report_ms = now_ms
+        self._quiet_since_ms, self._silences = now_ms, 0
         self._received(report)
         self._undo_spurious_silence(report)
         if report.capacity_kbps is not None:
@@ -158,8 +156,13 @@ class UmaController:
             target = min(target, self.loss.update(report.loss_fraction, now_ms, target))
             if target < self.loss.bound_kbps * 1.0001 and report.loss_fraction > 0.1:
                 reason = "loss"
-        self.target_kbps = min(max(target, s.min_kbps), s.max_kbps)
+        self.target_kbps = self._bounded(target)
         return RateDecision(self.target_kbps, self._probe(report, now_ms), reason)
+
+    def _bounded(self, target_kbps: float) -> float:
+        """`target_kbps` within [min_kbps, max_kbps]: the one place the target is bounded
+        (the engine follows it as it is)."""
+        return min(max(target_kbps, self.settings.min_kbps), self.settings.max_kbps)
 
     def _undo_spurious_silence(self, report: DeliveryReport) -> None:
         """The first report after a silence: if its packets met no queue and none was lost,
@@ -175,7 +178,12 @@ class UmaController:
     def paused(self, now_ms: float) -> bool:
         """No report for `pause_ms`: the sender sends nothing new until one comes (a lost
         report costs a frame or two; a handover's gap or an outage gets none of the stream)."""
-        return self._report_ms is not None and now_ms - self._report_ms >= self.settings.pause_ms
+        quiet_ms = self.quiet_ms(now_ms)
+        return quiet_ms is not None and quiet_ms >= self.settings.pause_ms
+
+    def quiet_ms(self, now_ms: float) -> float | None:
+        """How long no report has come (None: none yet)."""
+        return None if self._quiet_since_ms is None else now_ms - self._quiet_since_ms
 
     def _received(self, report: DeliveryReport) -> None:
         span_ms = report.end_ms - report.start_ms
@@ -186,19 +194,20 @@ class UmaController:
             self.received_kbps += weight * (report.received_kbps - self.received_kbps)
 
     def on_silence(self, now_ms: float) -> RateDecision:
-        """No report for `silence_ms` (an outage): x `silence_factor`, once each, from the
-        capacity or, when less came (an application-limited stream), from what arrived."""
+        """No report for `silence_ms` (an outage): x `silence_factor`, once per `silence_ms`
+        of quiet, from the capacity or, when less came (an application-limited stream), from
+        what arrived."""
         s = self.settings
-        last = self._last_report_ms
-        if last is not None and now_ms - last >= s.silence_ms:
+        quiet_ms = self.quiet_ms(now_ms)
+        if quiet_ms is not None and quiet_ms >= (self._silences + 1) * s.silence_ms:
             if self._before_silence is None:
                 self._before_silence = self.capacity_kbps
             base = self.capacity_kbps
             if self.received_kbps is not None:
                 base = min(base, max(self.received_kbps, s.min_kbps))
             self.capacity_kbps = max(base * s.silence_factor, s.min_kbps)
-            self.target_kbps = max(self.capacity_kbps * s.headroom, s.min_kbps)
-            self._last_report_ms = now_ms
+            self.target_kbps = self._bounded(self.capacity_kbps * s.headroom)
+            self._silences += 1
             return RateDecision(self.target_kbps, None, "silence")
         return RateDecision(self.target_kbps, None, "")
 
@@ -212,7 +221,7 @@ class UmaController:
         if prior is not None and prior < self.capacity_kbps:
             self.capacity_kbps = prior
             reason = "handover prior"
-        self.target_kbps = min(max(self.capacity_kbps * s.headroom, s.min_kbps), s.max_kbps)
+        self.target_kbps = self._bounded(self.capacity_kbps * s.headroom)
         self._last_train_ms = float("-inf")  # measure the new link soon
         return RateDecision(self.target_kbps, None, reason)
 
@@ -238,7 +247,9 @@ class UmaController:
             return None
         self._last_probe_ms = now_ms
         self._probe_pending = True
-        # small packets on a slow link, so that a probe queues about `probe_ms` there
-        bits = self.capacity_kbps * s.probe_ms / s.probe_packets
-        bits = int(min(max(bits, s.probe_min_bits), s.packet_bits))
-        return ProbeRequest(2.0 * self.capacity_kbps, s.probe_packets, bits)
+        # Small and few packets on a slow link, so that a probe queues about `probe_ms` there
+        # (a train needs two): five 100-byte packets would hold GSM's 9.6 kbit/s for 0.4 s.
+        total_bits = self.capacity_kbps * s.probe_ms
+        packets = int(min(max(total_bits // s.probe_min_bits, 2), s.probe_packets))
+        bits = int(min(max(total_bits / packets, s.probe_min_bits), s.packet_bits))
+        return ProbeRequest(2.0 * self.capacity_kbps, packets, bits)

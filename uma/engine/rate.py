@@ -13,7 +13,8 @@ encoder sends at its target; uma's ladder sends at most a rung's rate).
 - `uma`: `uma.control.UmaController` on the report's delivery (trains, queue, trend, loss),
   probes when application-limited, `on_silence` per report interval without a report, the
   technology's prior on a handover, the skip rule, and no frame coded while the controller is
-  `paused` (no report for its `pause_ms`; still never more than `max_skip_ms` in a row).
+  `paused` (no report for its `pause_ms`; still never more than `max_skip_ms` in a row);
+  while paused no refresh packet leaves either.
 - `gcc`: `uma.control.GccController` (the published GCC), its probes, no skip.
 - `webrtc`: aiortc's receiver-side estimator fed the report's packets (a REMB, as before the
   controllers: earlier results stay comparable), padding to its estimate, a decrease by
@@ -58,6 +59,7 @@ class RateControl:
 
     def __init__(self, config: EngineConfig, feedback: FeedbackConfig) -> None:
         self.estimator = config.estimator
+        self.oracle = config.policy == "oracle"  # it reads the capacity: never paused
         self.state = EstimatorState(estimate_kbps=config.estimator.initial_kbps)
 
     def on_report(self, report: ReceiverReport, now_s: float) -> tuple[ProbeRequest | None, list]:
@@ -69,6 +71,11 @@ class RateControl:
     def skip(self, frame_bits: float, queued_bits: float, now_s: float) -> bool:
         return False
 
+    def paused(self, now_s: float) -> bool:
+        """Whether the sender should send nothing new it may hold back (the feedback has
+        gone quiet)."""
+        return False
+
     def skips_frame(self, point: OperatingPoint, queued_bits: int, now_s: float) -> bool:
         """Whether a frame at `point` is not coded (`skip` on its share of the point's rate;
         never a codec that may not be skipped for backlog)."""
@@ -77,12 +84,12 @@ class RateControl:
         return self.skip(point.rate_kbps * 1000.0 / point.fps, queued_bits, now_s)
 
     def _follow(self, report: ReceiverReport, estimate_kbps: float, queue_ms: float | None):
-        """`state` after `report` with `estimate_kbps` (bounded) and its queueing delay."""
-        cfg = self.estimator
+        """`state` after `report` with `estimate_kbps` (the kind's own, already within
+        [min_kbps, max_kbps]: each controller bounds its target) and its queueing delay."""
         window, received_kbps, loss = windowed_received(self.state, report, RECEIVED_WINDOW_S)
         self.state = replace(
             self.state,
-            estimate_kbps=min(max(estimate_kbps, cfg.min_kbps), cfg.max_kbps),
+            estimate_kbps=estimate_kbps,
             queue_delay_ms=self.state.queue_delay_ms if queue_ms is None else queue_ms,
             loss_fraction=loss,
             received_kbps=received_kbps,
@@ -136,6 +143,13 @@ class UmaRate(RateControl):
         self.state = replace(self.state, estimate_kbps=decision.target_kbps)
         return [EngineEvent(now_s, "silence", f"estimate {decision.target_kbps:.1f} kbps")]
 
+    def paused(self, now_s: float) -> bool:
+        """The controller's `paused` on its clock (the receiver's), from when the last report
+        arrived here."""
+        if self.oracle or self._report_ms is None:
+            return False
+        return self.controller.paused(self._report_ms + (now_s - self._report_s) * 1000.0)
+
     def skip(self, frame_bits: float, queued_bits: float, now_s: float) -> bool:
         """Salsify's rule on the controller's capacity and the queue it last saw (the pacer's
         bits plus the bottleneck's), or no report for the controller's `pause_ms`; never for
@@ -143,8 +157,7 @@ class UmaRate(RateControl):
         c, s = self.controller, self.controller.settings
         ahead_bits = queued_bits + c.queue_ms * c.capacity_kbps
         skip = should_skip(frame_bits, ahead_bits, c.capacity_kbps, s.skip_budget_ms)
-        if self._report_ms is not None:
-            skip = skip or c.paused(self._report_ms + (now_s - self._report_s) * 1000.0)
+        skip = skip or self.paused(now_s)
         if skip:
             if self._skipping_s is None:
                 self._skipping_s = now_s
@@ -196,8 +209,11 @@ class WebrtcRate(RateControl):
                 size_bits=record.size_bits,
             )  # fmt: skip
         estimate = self.remb.estimate_kbps
-        self._follow(report, self.state.estimate_kbps if estimate is None else estimate,
-                     report.queue_delay_ms)  # fmt: skip
+        if estimate is None:
+            estimate = self.state.estimate_kbps
+        else:  # aiortc's estimator knows no bounds: the REMB within the configured ones
+            estimate = min(max(estimate, self.estimator.min_kbps), self.estimator.max_kbps)
+        self._follow(report, estimate, report.queue_delay_ms)
         self._report_s = now_s
         return None, []
 

@@ -190,10 +190,13 @@ class RefreshPlanner:
             [(packet, packet.size_bits) for packet in packets], now_s, intra=coded.intra
         )
 
-    def pace(self, now_s: float, *, queue_delay_ms: float) -> list[tuple[object, int]]:
+    def pace(
+        self, now_s: float, *, queue_delay_ms: float, held: bool = False
+    ) -> list[tuple[object, int]]:
         """The refresh packets ((packet, size_bits) each) that leave at `now_s`: the credit the
         spare rate gave since the last call allows them (one may overdraw it), none while the
-        queue is building (call it every frame: it keeps the recent delays)."""
+        queue is building or while `held` (no credit accrues then; call it every frame: it
+        keeps the recent delays)."""
         window_s = self.config.queue_window_ms / 1000.0
         delays = self.delays
         while delays and delays[0][0] < now_s - window_s:
@@ -205,7 +208,7 @@ class RefreshPlanner:
             return []
         elapsed_s = max(0.0, now_s - (self.last_pace_s if self.last_pace_s is not None else now_s))
         self.last_pace_s = now_s
-        if queue_delay_ms - delays[0][1] > self.config.queue_high_ms:
+        if held or queue_delay_ms - delays[0][1] > self.config.queue_high_ms:
             return []
         rate_kbps = max(self.spare_kbps, 0.5 * self.config.min_spare_kbps)
         self.credit_bits += rate_kbps * 1000.0 * elapsed_s

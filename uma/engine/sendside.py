@@ -53,11 +53,12 @@ class SendSide:
             return []
         return self.outbox.probe(probe.packets, probe.packet_bits) + [Tally("probes", 1)]
 
-    def refresh_due(self, now_s: float, estimator) -> list[SendPacket]:
-        """The refresh's packets that leave now (ask every frame: it keeps the recent delays)."""
+    def refresh_due(self, now_s: float, estimator, *, held: bool = False) -> list[SendPacket]:
+        """The refresh's packets that leave now, none while `held` (ask every frame: it keeps
+        the recent delays)."""
         if self.refresh is None:
             return []
-        out = self.refresh.pace(now_s, queue_delay_ms=estimator.queue_delay_ms)
+        out = self.refresh.pace(now_s, queue_delay_ms=estimator.queue_delay_ms, held=held)
         return self.outbox.number([packet for packet, _ in out]) if out else []
 
     def pace(
