@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import argparse
 
+from uma.cli.args import frame_size
+
 __all__ = ["register"]
 
 
@@ -26,7 +28,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="FILE",
         help="a clip any PyAV reads, or raw YUV 4:2:0 (.yuv, with --size) (needs --face)",
     )
-    parser.add_argument("--size", metavar="WxH", help="a .yuv clip's frame size, e.g. 176x144")
+    parser.add_argument(
+        "--size", type=frame_size, metavar="WxH", help="a .yuv clip's frame size, e.g. 176x144"
+    )
     parser.add_argument(
         "--fps", type=float, default=25.0, help="a .yuv clip's frame rate (default 25)"
     )
@@ -67,7 +71,9 @@ def handle(args: argparse.Namespace) -> int:
         if video.suffix.lower() == ".yuv":
             from uma.bench.mbc_clips import yuv_clip
 
-            clips = [yuv_clip(video, _size(args.size), args.fps, description, args.frames)]
+            if args.size is None:
+                raise ConfigError(f"{video}: a raw YUV clip: expected --size WxH (e.g. 176x144)")
+            clips = [yuv_clip(video, args.size, args.fps, description, args.frames)]
         else:
             clips = [file_clip(video, description, args.frames)]
     else:
@@ -84,18 +90,3 @@ def handle(args: argparse.Namespace) -> int:
     result = run_model_bench(clips, seed=args.seed, progress=progress, picture=picture)
     emit(result, format_table(result), as_json=args.json)
     return 0
-
-
-def _size(text: str | None) -> tuple[int, int]:
-    """--size WxH as (W, H): even and positive, else a `ConfigError` naming it."""
-    from uma.errors import ConfigError
-
-    try:
-        width, height = (int(v) for v in (text or "").lower().split("x"))
-    except ValueError:
-        raise ConfigError(
-            f"--size: expected WxH for a .yuv clip (e.g. 176x144), got {text!r}"
-        ) from None
-    if width <= 0 or height <= 0 or width % 2 or height % 2:
-        raise ConfigError(f"--size: expected an even positive size, got {text!r}")
-    return width, height

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import argparse
 
-from uma.cli.bench_mbc import _size
+from uma.cli.args import frame_size
 
 __all__ = ["register"]
 
@@ -51,7 +51,10 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="with a dlib .xml naming several faces in the image: which (0-based; default the largest)",
     )
     parser.add_argument(
-        "--size", metavar="WxH", help="a raw YUV 4:2:0 clip's (.yuv) frame size, e.g. 176x144"
+        "--size",
+        type=frame_size,
+        metavar="WxH",
+        help="a raw YUV 4:2:0 clip's (.yuv) frame size, e.g. 176x144",
     )
     parser.add_argument("--model", metavar="FILE", help="face model (.yaml or Candide-3 .wfm)")
     parser.add_argument("--out", metavar="DIR", default=".", help="output folder (default .)")
@@ -175,7 +178,7 @@ def _clip_frames(args: argparse.Namespace, points_file, image_path) -> list:
     path = Path(image_path)
     frame = args.frame if args.frame is not None else (points_file.frame or 0)
     if path.suffix.lower() == ".yuv":
-        source = RawYuvSource(path, *_size(args.size), 25.0)
+        source = RawYuvSource(path, *args.size, 25.0)
     elif path.suffix.lower() in VIDEO_SUFFIXES and path.is_file():
         source = VideoFileSource(path, max_frames=frame + RING_FRAMES + 1)
     else:
@@ -199,7 +202,7 @@ def _yuv_picture(args: argparse.Namespace, points_file):
     if args.size is None:
         raise FaceError(f"{args.image}: a raw YUV clip: expected --size WxH (e.g. 176x144)")
     frame = args.frame if args.frame is not None else (points_file.frame or 0)
-    for index, picture in enumerate(RawYuvSource(args.image, *_size(args.size), 25.0).frames()):
+    for index, picture in enumerate(RawYuvSource(args.image, *args.size, 25.0).frames()):
         if index == frame:
             return cv2.cvtColor(picture, cv2.COLOR_YUV2BGR_I420)
     raise FaceError(f"{args.image}: --frame {frame}: past the clip's end ({index + 1} frames)")
