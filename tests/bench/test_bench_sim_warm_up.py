@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 from numba import njit
 
-from uma.bench.timing import kernel_signatures, kernels_loaded_since, warm_up
+from uma.bench.timing import KERNEL_MODULES, kernel_signatures, kernels_loaded_since, warm_up
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -83,3 +83,15 @@ def test_warm_up_runs_the_work_and_returns_its_seconds():
 @njit
 def _double(values):
     return values * 2.0
+
+
+def test_every_module_with_kernels_is_listed():
+    """A new kernel module outside `KERNEL_MODULES` would compile unseen inside a timed part."""
+    package = ROOT / "uma"
+    found = {
+        ".".join(path.relative_to(ROOT).with_suffix("").parts)
+        for path in package.rglob("*.py")
+        if "from numba import" in (text := path.read_text(encoding="utf-8"))
+        or "import numba" in text
+    }
+    assert found == set(KERNEL_MODULES)

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from uma.mbc.layered_kernels import affine_maps, blend
+from uma.mbc.layered_kernels import FAR_OUTSIDE_MAP, STILL_MAP, affine_maps, blend, triangle_maps
 
 
 def _numpy_maps(labels, table, empty, xs, ys):
@@ -50,3 +50,22 @@ def test_blend_equals_the_numpy_form_on_strided_views(seed):
     _numpy_blend(want[10:70:2, 5:85], toward[10:70:2, 5:85], weight[::2, :80][:30])
     assert got.tobytes() == want.tobytes()
     assert not np.array_equal(got, picture)
+
+
+@pytest.mark.parametrize("outside", [STILL_MAP, FAR_OUTSIDE_MAP])
+def test_triangle_maps_read_outside_through_its_own_map(outside):
+    rng = np.random.default_rng(7)
+    height, width, n_tri = 30, 24, 12
+    ys, xs = np.mgrid[0:height, 0:width].astype(np.float32)
+    labels = rng.integers(-1, n_tri, (height, width)).astype(np.int32)
+    coeffs = rng.normal(0, 2, (n_tri, 2, 3))
+    map_x, map_y = triangle_maps(labels, coeffs, outside, xs, ys)
+    table = np.concatenate([coeffs, np.array(outside)[None]]).reshape(-1, 6).astype(np.float32)
+    want_x, want_y = _numpy_maps(labels, table, n_tri, xs, ys)
+    assert map_x.tobytes() == want_x.tobytes() and map_y.tobytes() == want_y.tobytes()
+    off = labels < 0
+    assert off.any()
+    if outside is STILL_MAP:  # a pixel outside every triangle reads where it is
+        assert np.array_equal(map_x[off], xs[off]) and np.array_equal(map_y[off], ys[off])
+    else:
+        assert (map_x[off] < -1e3).all() and (map_y[off] < -1e3).all()

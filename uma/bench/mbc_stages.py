@@ -15,7 +15,9 @@ import numpy as np
 
 from uma.bench.timing import warm_up
 
-__all__ = ["Clock", "Coded", "encode", "decode", "rates", "tracking", "stages", "median"]
+__all__ = [
+    "Clock", "Coded", "encode", "decode", "rates", "tracking", "stages", "median", "warm_model_path",
+]  # fmt: skip
 
 SCALED_FPS = 25.0
 
@@ -73,7 +75,7 @@ def encode(lumas, results, units, stream_config, renderers, clock: Clock) -> Cod
     first = next((i for i, result in enumerate(results) if result), None)
     if first is not None:  # the kernels of light and rendering loaded before any is timed
         clock.warm_up_s += warm_up(
-            lambda: _warm(mirror, lumas[first], results[first].params, units.camera)
+            lambda: warm_model_path(mirror, lumas[first], results[first].params, units.camera)
         )
     encoder, body_tracker, coded = (
         ParameterEncoder(units, stream_config),
@@ -96,9 +98,10 @@ def encode(lumas, results, units, stream_config, renderers, clock: Clock) -> Cod
     return coded
 
 
-def _warm(mirror, luma, params, camera) -> None:
-    """Untimed: the light and body motion measured once (on a throwaway tracker), and the
-    scene drawn with the head and torso moved (their edges blend)."""
+def warm_model_path(mirror, luma, params, camera: bool = False) -> None:
+    """Untimed: the light and body motion measured once against `mirror` (on a throwaway
+    tracker), and the scene drawn with the head and torso moved (their edges blend); what
+    `uma bench mbc` and `uma bench sim` call before timing the model path."""
     from uma.mbc.body import BodyTracker
     from uma.mbc.layers import NO_BODY_MOTION
     from uma.mbc.light import measure_light

@@ -204,9 +204,8 @@ def _warm_kernels(scenario: Scenario, source: _ListSource) -> None:
     description, _ = model_description(scenario, source)
     if description is None:
         return
-    from uma.mbc import BodyTracker, FaceTracker
-    from uma.mbc.layers import NO_BODY_MOTION
-    from uma.mbc.light import measure_light
+    from uma.bench.mbc_stages import warm_model_path
+    from uma.mbc import FaceTracker
     from uma.sim.mbc_codecs import scene_renderer
 
     tracker = FaceTracker(description, rng=0)
@@ -217,11 +216,7 @@ def _warm_kernels(scenario: Scenario, source: _ListSource) -> None:
     renderer = scene_renderer(description, (width, height))
     renderer.set_reference(frame, result.params)
     renderer.render(result.params)
-    moved, body = result.params.copy(), NO_BODY_MOTION.copy()
-    moved[0], body[0] = moved[0] + 3.0, 2.0  # a moved head and torso: their edges blend
-    renderer.render(moved, None, body)
-    measure_light(renderer, luma, result.params)
-    BodyTracker().measure(renderer, luma)
+    warm_model_path(renderer, luma, result.params)
 
 
 def _uplink(scenario: Scenario, source: _ListSource, store: StoreSettings | None):

@@ -221,6 +221,7 @@ class FaceRenderer:
 
         from uma.face.geometry import project, visible_triangles
         from uma.face.render import barycentric_affine, triangle_labels
+        from uma.mbc.layered_kernels import FAR_OUTSIDE_MAP, triangle_maps
 
         model = self.description.model
         width, height = self.size
@@ -241,12 +242,9 @@ class FaceRenderer:
         # (T, 2, 3): texture (u, v) as an affine function of the box's (x, y, 1).
         affine = barycentric_affine(target - (x0, y0), self.triangles)
         maps = np.einsum("tjc,tjk->tck", self._texture_corners, affine)
-        maps = np.concatenate([maps, np.full((1, 2, 3), -1e4)]).astype(np.float32)
-        # One small table per coefficient (label -1: the last entry, far outside the texture).
-        table = np.ascontiguousarray(maps.reshape(len(maps), 6).T)
         xs, ys = (g[: y1 - y0, : x1 - x0] for g in self._grid)
-        map_x = table[0][labels] * xs + table[1][labels] * ys + table[2][labels]
-        map_y = table[3][labels] * xs + table[4][labels] * ys + table[5][labels]
+        # Label -1 reads far outside the texture.
+        map_x, map_y = triangle_maps(labels, maps, FAR_OUTSIDE_MAP, xs, ys)
         face = labels >= 0
         patch = cv2.remap(
             self.texture, map_x, map_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE

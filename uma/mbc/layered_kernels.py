@@ -13,7 +13,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["affine_maps", "blend"]
+__all__ = ["affine_maps", "blend", "triangle_maps", "STILL_MAP", "FAR_OUTSIDE_MAP"]
+
+STILL_MAP = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0))  # a pixel reads where it is
+FAR_OUTSIDE_MAP = ((-1e4, -1e4, -1e4), (-1e4, -1e4, -1e4))  # far outside any picture
 
 
 # One signature each, compiled (or loaded from the cache) on import: boxes of the picture are
@@ -56,3 +59,15 @@ def blend(top, toward, weight):
                 elif value > 255:
                     value = np.float32(255)
                 top[i, j] = np.uint8(value)
+
+
+def triangle_maps(labels, coeffs, outside, xs, ys) -> tuple[np.ndarray, np.ndarray]:
+    """(map_x, map_y) (H, W) float32 for `cv2.remap`: where each pixel of `labels` (H, W) int32
+    reads, through its triangle's affine map `coeffs[t]` (T, 2, 3) of the pixel's (`xs`, `ys`),
+    or through `outside` (2, 3) where the label is -1 (float64 maps, rounded to float32 once)."""
+    outside = np.asarray(outside, dtype=np.float64).reshape(1, 2, 3)
+    table = np.concatenate([coeffs, outside]).reshape(-1, 6).astype(np.float32)
+    map_x = np.empty(labels.shape, np.float32)
+    map_y = np.empty(labels.shape, np.float32)
+    affine_maps(labels, table, len(coeffs), xs, ys, map_x, map_y)
+    return map_x, map_y

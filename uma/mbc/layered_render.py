@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from uma.mbc.layered_kernels import affine_maps, blend
+from uma.mbc.layered_kernels import STILL_MAP, blend, triangle_maps
 from uma.mbc.layers import (
     N_BODY,
     N_TORSO,
@@ -73,13 +73,9 @@ def _head(renderer, params: np.ndarray, target: np.ndarray, box):
     affine = barycentric_affine(target, scene.triangles)
     # (T, 2, 3): the reference's (x, y) as an affine function of the picture's (x, y, 1).
     coeffs = np.matmul(renderer._reference_points[scene.triangles].transpose(0, 2, 1), affine)
-    still = np.array([[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]])
-    table = np.concatenate([coeffs, still]).reshape(-1, 6).astype(np.float32)
     xs, ys = renderer._x[y0:y1, x0:x1], renderer._y[y0:y1, x0:x1]
-    map_x = np.empty(labels.shape, np.float32)
-    map_y = np.empty(labels.shape, np.float32)
-    # Label -1 (outside the head) reads the last row: the picture where it is.
-    affine_maps(labels, table, len(coeffs), xs, ys, map_x, map_y)
+    # Outside the head (label -1) a pixel reads the picture where it is.
+    map_x, map_y = triangle_maps(labels, coeffs, STILL_MAP, xs, ys)
     return labels, map_x, map_y
 
 

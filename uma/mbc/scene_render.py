@@ -23,7 +23,7 @@ import numpy as np
 from uma.face.describe import ContentDescription
 from uma.face.scene import HEAD_RING_SCALE, SceneMesh
 from uma.mbc.errors import SceneError
-from uma.mbc.layered_kernels import affine_maps
+from uma.mbc.layered_kernels import FAR_OUTSIDE_MAP, STILL_MAP, triangle_maps
 from uma.mbc.layered_render import compose_layers, mask_box
 from uma.mbc.layers import Plate, body_problem, cut_person, head_ring_points
 from uma.mbc.scene_reference import description_reference
@@ -198,11 +198,8 @@ class SceneRenderer:
         )
         affine = barycentric_affine(target, scene.triangles)
         coeffs = np.einsum("tjk,tjc->tck", affine, self._reference_points[scene.triangles])
-        still = np.array([[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]])  # a pixel no triangle covers
-        table = np.concatenate([coeffs, still]).reshape(-1, 6).astype(np.float32)
-        map_x = np.empty((height, width), np.float32)
-        map_y = np.empty((height, width), np.float32)
-        affine_maps(labels, table, len(coeffs), self._x, self._y, map_x, map_y)
+        # A pixel no triangle covers reads the picture where it is.
+        map_x, map_y = triangle_maps(labels, coeffs, STILL_MAP, self._x, self._y)
         return map_x, map_y, labels >= self._strips
 
     def face_luma(self, params: np.ndarray) -> tuple[np.ndarray, np.ndarray, tuple[int, int]]:
@@ -234,11 +231,8 @@ class SceneRenderer:
         # (T, 2, 3): the source's (x, y) as an affine function of the box's (x, y, 1); one
         # gather per coefficient (label -1: the last entry, far outside the picture).
         maps = np.matmul(source[triangles].transpose(0, 2, 1), barycentric_affine(local, triangles))
-        table = np.concatenate([maps, np.full((1, 2, 3), -1e4)]).reshape(-1, 6).astype(np.float32)
         xs, ys = self._x[: y1 - y0, : x1 - x0], self._y[: y1 - y0, : x1 - x0]
-        map_x = np.empty(labels.shape, np.float32)
-        map_y = np.empty(labels.shape, np.float32)
-        affine_maps(labels, table, len(maps), xs, ys, map_x, map_y)
+        map_x, map_y = triangle_maps(labels, maps, FAR_OUTSIDE_MAP, xs, ys)
         patch = cv2.remap(
             picture[:height], map_x, map_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE
         )
