@@ -49,7 +49,11 @@ class RefreshSpec:
     receiver's rendering there (a flag of one bit a unit, counted), so a worse picture never
     replaces a better reference. `region="residual"` codes the face box's residual against
     the engine's rendering (`uma.mbc.refresh_coder`), `intra_every_unit` with an IDR every
-    unit; `preset` is libx264's (None: the ladder's)."""
+    unit; `codec` the full-frame codec of the registry that codes the refresh (`h264`, `vp8`,
+    `av1`: its own ladder's encoder settings), `preset` its preset (libx264's name or
+    SVT-AV1's number; None: the ladder's); `rate_gain` scales the rate the encoder is asked
+    for over the budget (its rate control undershoots at these sizes; the channel the units
+    cross stays the budget)."""
 
     rung_index: int
     refresh_fps: float
@@ -62,7 +66,9 @@ class RefreshSpec:
     face_scale: float = 1.0
     choose: bool = True
     intra_every_unit: bool = False
-    preset: str | None = None
+    preset: str | int | None = None
+    codec: str = "h264"
+    rate_gain: float = 1.0
 
 
 # Chosen on akiyo's and carphone's frames 150-299 (docs/mbc.md, docs/refresh.md), quoted on
@@ -85,9 +91,9 @@ def _size_label(spec: RefreshSpec) -> str:
 
 def _coder(clip, results, spec, budget_kbps, size):
     """The refresh's `RefreshCoder` and the box's corner per tracked frame (face regions)."""
-    from uma.video import load_ladder
+    from uma.video import default_ladder_path, load_ladder
 
-    ladder = load_ladder()
+    ladder = load_ladder(default_ladder_path(spec.codec))
     rung = ladder.rungs[spec.rung_index]
     box, corners = None, {}
     if spec.region in ("face", "residual"):
@@ -104,7 +110,9 @@ def _coder(clip, results, spec, budget_kbps, size):
         settings["keyint_frames"] = 1
     if spec.preset is not None:
         settings["preset"] = spec.preset
-    return RefreshCoder(size, coded, spec.refresh_fps, budget_kbps, settings, box), corners
+    rate_kbps = budget_kbps * spec.rate_gain
+    coder = RefreshCoder(size, coded, spec.refresh_fps, rate_kbps, settings, box, spec.codec)
+    return coder, corners
 
 
 def _renderer(clip, results, spec, size, profile):
@@ -302,6 +310,8 @@ def refresh_display(
     sender = _Sender(clip, face_units, spec, coder, corners, budget_kbps, ahead)
     mirror = _renderer(clip, results, spec, size, profile)
     packets, decoded, switches = _engine(clip, results, face_units, stream_config, sender, mirror)
+    if coder is not None:
+        coder.close()  # one SVT-AV1 encoder open at a time in a process
     receiver = _renderer(clip, results, spec, size, profile)
     shown, switch_s, switch_cpu_s = _receive(
         receiver, face_units, frames[0], len(frames), decoded, switches, sender.pictures
@@ -349,6 +359,7 @@ def _info(spec, budget_kbps, params_kbps, refresh_kbps, units, adopted, switches
     return {
         "refresh_fps": spec.refresh_fps,
         "region": spec.region,
+        "codec": spec.codec,
         "refresh_size": _size_label(spec),
         "description_face": spec.description_face,
         "budget_kbps": round(max(budget_kbps, 0.0), 3),
