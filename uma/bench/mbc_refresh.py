@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from uma.mbc.refresh_coder import (
+    REFRESH_CODEC,
     RefreshCoder,
     box_corner,
     even_px,
@@ -34,7 +35,7 @@ from uma.mbc.refresh_coder import (
     take_refresh,
 )
 
-__all__ = ["RefreshSpec", "DEFAULT_REFRESH", "refresh_display"]
+__all__ = ["RefreshSpec", "DEFAULT_REFRESH", "PREVIOUS_REFRESH", "refresh_display"]
 
 
 @dataclass(frozen=True)
@@ -67,15 +68,32 @@ class RefreshSpec:
     choose: bool = True
     intra_every_unit: bool = False
     preset: str | int | None = None
-    codec: str = "h264"
+    codec: str = REFRESH_CODEC
     rate_gain: float = 1.0
 
 
-# Chosen on akiyo's and carphone's frames 150-299 (docs/mbc.md, docs/refresh.md), quoted on
-# frames 0-149: the face box at half size, libx264's medium preset (the simulation's
-# `engine.mbc.refresh.preset`; 0.4-0.5 dB over the ladder's ultrafast at less rate).
+# Chosen on akiyo's and carphone's frames 150-299 (docs/refresh.md), quoted on frames 0-149,
+# foreman and carphone_qcif: libx264 at its medium preset (the simulation's
+# `engine.mbc.refresh.preset`), the face box at 0.625 of its size, 12.5 frames/s at both rungs,
+# a VBV of 2 frames: how fresh a refresh is matters more than its bits (docs/refresh.md, session
+# refresh2); SVT-AV1 and VP8 there do no better.
 REFRESH_PRESET = "medium"
+REFRESH_FPS = 12.5
+REFRESH_SCALE = 0.625
+REFRESH_VBV_FRAMES = 2.0
 DEFAULT_REFRESH = {
+    name: RefreshSpec(
+        rung,
+        REFRESH_FPS,
+        region="face",
+        face_scale=REFRESH_SCALE,
+        preset=REFRESH_PRESET,
+        vbv_frames=REFRESH_VBV_FRAMES,
+    )  # fmt: skip
+    for name, rung in (("mbc_refresh_lowest", 0), ("mbc_refresh_second", 1))
+}
+# The default until session refresh2: half the box, the rung's frame rate, the ladder's VBV.
+PREVIOUS_REFRESH = {
     "mbc_refresh_lowest": RefreshSpec(0, 5.0, region="face", face_scale=0.5, preset=REFRESH_PRESET),
     "mbc_refresh_second": RefreshSpec(
         1, 25 / 3, region="face", face_scale=0.5, preset=REFRESH_PRESET

@@ -29,6 +29,7 @@ from uma.mbc.layers import N_BODY, N_TORSO
 
 __all__ = [
     "RefreshCoder",
+    "REFRESH_CODEC",
     "refresh_codec_classes",
     "face_box_size",
     "box_corner",
@@ -43,10 +44,12 @@ __all__ = [
 POSITION_BITS = 32  # a face box's position, two 16-bit numbers a unit
 FEATHER_PX = 8
 RESIDUAL_OFFSET = 128  # a residual's zero, in levels
-RESIDUAL_DETAIL = 1.0
+RESIDUAL_DETAIL = 1.0  # how much of the rendering's detail finer than the coded size stays
 # The least coded width and height by codec: SVT-AV1's rate control refuses pictures under
 # 64 pixels a side ("Adaptive quantization can not be turned OFF when RC ON").
-MIN_CODED_PX = {"av1": 64}  # how much of the rendering's detail finer than the coded size stays
+MIN_CODED_PX = {"av1": 64}
+# The refresh's codec unless told: libx264 (SVT-AV1 and VP8 measured no better, docs/refresh.md).
+REFRESH_CODEC = "h264"
 
 
 @dataclass(frozen=True, eq=False)
@@ -169,7 +172,7 @@ class RefreshCoder:
 
     def __init__(
         self, size, coded, fps: float, rate_kbps: float, settings: dict, box=None,
-        codec: str = "h264",
+        codec: str = REFRESH_CODEC,
     ):  # fmt: skip
         encoder_class, decoder_class = refresh_codec_classes(codec)
         least = MIN_CODED_PX.get(codec, 2)
