@@ -4,8 +4,8 @@ Units: kbit/s at the clip's own frame rate (the parameters and the refresh toget
 bits), frames per second, pixels.
 
 A display `mbc_refresh_*` spends a rung's rate: the MBC parameter stream, and with what is
-left (the rung's rate minus the plain MBC stream's measured payload rate) real libx264 at a
-low frame rate, decoded: of the whole picture (`region="frame"`, coded at a given size and
+left (the rung's rate minus the plain MBC stream's measured payload rate) real libx264 (or
+another full-frame codec of the registry, `RefreshSpec.codec`) at a lower frame rate, decoded: of the whole picture (`region="frame"`, coded at a given size and
 upscaled) or of a fixed-size box around the face (`region="face"`, its position on each
 frame sent beside it, 32 bits a unit, counted), pasted with a feathered edge on the receiver's
 rendering of that frame. Each refresh picture becomes the receiver's reference, at the pose
