@@ -1,7 +1,7 @@
 """What a model-aided refresh should code: `uma bench mbc`'s refresh displays for other specs.
 
     PYTHONPATH=$PWD python scripts/refresh_variants.py [--start 150] [--frames 150]
-        [--set box|residual|preset] [--clips akiyo,carphone]
+        [--set box|residual|preset|codec|fresh] [--clips akiyo,carphone]
 
 codes akiyo and carphone (frames `start` to `start + frames`: 150-299 by default, the tuning
 frames the bench does not quote) with the MBC plus each refresh variant below at the two
@@ -62,6 +62,56 @@ def preset_variants() -> dict:
     return out
 
 
+def codec_variants() -> dict:
+    """name -> `RefreshSpec`: the face box at 1/2 scale coded by libx264 (the default), by
+    SVT-AV1 at its ladder's preset 12 and at 10, and by libvpx VP8."""
+    from uma.bench.mbc_refresh import RefreshSpec
+
+    out = {}
+    for rung, fps in ((0, 5.0), (1, 25 / 3)):
+        out[f"box0.5_h264_r{rung}"] = RefreshSpec(
+            rung, fps, region="face", face_scale=0.5, preset="medium"
+        )
+        out[f"box0.5_av1_r{rung}"] = RefreshSpec(rung, fps, region="face", face_scale=0.5,
+                                                 codec="av1")  # fmt: skip
+        out[f"box0.5_av1p10_r{rung}"] = RefreshSpec(
+            rung, fps, region="face", face_scale=0.5, codec="av1", preset=10
+        )
+        out[f"box0.5_vp8_r{rung}"] = RefreshSpec(rung, fps, region="face", face_scale=0.5,
+                                                 codec="vp8")  # fmt: skip
+    return out
+
+
+def fresh_variants() -> dict:
+    """name -> `RefreshSpec`: how fresh against how many bits (session refresh2): the previous
+    default (half the box at the rung's frame rate, the ladder's VBV of 4 frames), a VBV of 1
+    frame, 12.5 and 25 frames/s, the box at 0.625 and 0.75, the rate asked 1.25x the budget,
+    and SVT-AV1 and VP8 at 12.5 frames/s (AV1 asked 0.8x: its CBR overshoots)."""
+    from uma.bench.mbc_refresh import PREVIOUS_REFRESH, RefreshSpec
+
+    out = {f"previous_r{k}": spec for k, spec in enumerate(PREVIOUS_REFRESH.values())}
+    for rung in (0, 1):
+        fps = (5.0, 25 / 3)[rung]
+        fast = {"region": "face", "face_scale": 0.5, "preset": "medium", "vbv_frames": 2.0}
+        out[f"vbv1_r{rung}"] = RefreshSpec(rung, fps, region="face", face_scale=0.5,
+                                           preset="medium", vbv_frames=1.0)  # fmt: skip
+        out[f"f12.5_r{rung}"] = RefreshSpec(rung, 12.5, **fast)
+        out[f"f25_r{rung}"] = RefreshSpec(rung, 25.0, **fast)
+        out[f"f12.5_gain1.25_r{rung}"] = RefreshSpec(rung, 12.5, rate_gain=1.25, **fast)
+        for scale in (0.625, 0.75):
+            out[f"f12.5_s{scale:g}_r{rung}"] = RefreshSpec(
+                rung, 12.5, **{**fast, "face_scale": scale}
+            )
+        out[f"f12.5_av1_r{rung}"] = RefreshSpec(
+            rung, 12.5, region="face", face_scale=0.625, codec="av1", preset=8, vbv_frames=1.0,
+            rate_gain=0.8,
+        )  # fmt: skip
+        out[f"f12.5_vp8_r{rung}"] = RefreshSpec(
+            rung, 12.5, region="face", face_scale=0.5, codec="vp8", vbv_frames=2.0
+        )
+    return out
+
+
 def main() -> None:
     from uma.bench import mbc
     from uma.bench.mbc_clips import default_clips
@@ -69,10 +119,17 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--start", type=int, default=150)
     parser.add_argument("--frames", type=int, default=150)
-    parser.add_argument("--set", choices=("box", "residual", "preset"), default="box")
+    parser.add_argument(
+        "--set", choices=("box", "residual", "preset", "codec", "fresh"), default="box"
+    )
     parser.add_argument("--clips", default="akiyo,carphone")
     args = parser.parse_args()
-    specs = {"box": variants, "residual": residual_variants, "preset": preset_variants}[args.set]()
+    specs = {
+        "box": variants,
+        "residual": residual_variants,
+        "preset": preset_variants,
+        "codec": codec_variants,
+    }[args.set]()
     shown = [*specs, "quantised", "h264_lowest", "h264_second", "av1_lowest", "av1_second"]
     for clip in default_clips(args.frames, start=args.start):
         if clip.name not in args.clips.split(","):

@@ -126,3 +126,28 @@ def test_the_default_refresh_codes_at_the_simulations_preset_and_intra_on_reques
     frames = [clip.frames[i] for i in (0, 5, 10)]
     assert all(intra.code(f, corners[0])[1] for f in frames)
     assert [coder.code(f, corners[0])[1] for f in frames] == [True, False, False]
+
+
+def test_a_refresh_spec_names_its_codec_and_the_rate_it_asks_for(head_clip) -> None:
+    """`RefreshSpec.codec` codes with that codec's encoder at its ladder's settings (SVT-AV1
+    at least 64 px a side), `rate_gain` scales the rate asked of it over the budget, and the
+    default asks the budget itself, of libx264, with a VBV of 2 frames at 12.5 frames/s."""
+    from dataclasses import replace
+
+    from uma.bench.mbc_refresh import DEFAULT_REFRESH, _coder
+    from uma.video import AV1Encoder, H264Encoder
+
+    clip, results = head_clip
+    spec = DEFAULT_REFRESH["mbc_refresh_second"]
+    coder, _ = _coder(clip, results, spec, 12.0, (176, 144))
+    assert isinstance(coder.encoder, H264Encoder) and coder.encoder.rate_kbps == 12.0
+    assert coder.encoder.vbv_frames == 2.0 and spec.refresh_fps == 12.5
+    av1 = replace(spec, codec="av1", preset=8, vbv_frames=1.0, rate_gain=0.8)
+    coder, corners = _coder(clip, results, av1, 12.0, (176, 144))
+    try:
+        assert isinstance(coder.encoder, AV1Encoder) and coder.encoder.preset == 8
+        assert abs(coder.encoder.rate_kbps - 9.6) < 1e-9 and min(coder.coded) >= 64
+        bits, key, (corner, patch) = coder.code(clip.frames[0], corners[0])
+        assert key and bits > 32 and patch.shape[1] == coder.box[0]
+    finally:
+        coder.close()

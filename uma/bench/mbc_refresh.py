@@ -4,8 +4,8 @@ Units: kbit/s at the clip's own frame rate (the parameters and the refresh toget
 bits), frames per second, pixels.
 
 A display `mbc_refresh_*` spends a rung's rate: the MBC parameter stream, and with what is
-left (the rung's rate minus the plain MBC stream's measured payload rate) real libx264 at a
-low frame rate, decoded: of the whole picture (`region="frame"`, coded at a given size and
+left (the rung's rate minus the plain MBC stream's measured payload rate) real libx264 (or
+another full-frame codec of the registry, `RefreshSpec.codec`) at a lower frame rate, decoded: of the whole picture (`region="frame"`, coded at a given size and
 upscaled) or of a fixed-size box around the face (`region="face"`, its position on each
 frame sent beside it, 32 bits a unit, counted), pasted with a feathered edge on the receiver's
 rendering of that frame. Each refresh picture becomes the receiver's reference, at the pose
@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from uma.mbc.refresh_coder import (
+    REFRESH_CODEC,
     RefreshCoder,
     box_corner,
     even_px,
@@ -34,7 +35,7 @@ from uma.mbc.refresh_coder import (
     take_refresh,
 )
 
-__all__ = ["RefreshSpec", "DEFAULT_REFRESH", "refresh_display"]
+__all__ = ["RefreshSpec", "DEFAULT_REFRESH", "PREVIOUS_REFRESH", "refresh_display"]
 
 
 @dataclass(frozen=True)
@@ -49,7 +50,11 @@ class RefreshSpec:
     receiver's rendering there (a flag of one bit a unit, counted), so a worse picture never
     replaces a better reference. `region="residual"` codes the face box's residual against
     the engine's rendering (`uma.mbc.refresh_coder`), `intra_every_unit` with an IDR every
-    unit; `preset` is libx264's (None: the ladder's)."""
+    unit; `codec` the full-frame codec of the registry that codes the refresh (`h264`, `vp8`,
+    `av1`: its own ladder's encoder settings), `preset` its preset (libx264's name or
+    SVT-AV1's number; None: the ladder's); `rate_gain` scales the rate the encoder is asked
+    for over the budget (its rate control undershoots at these sizes; the channel the units
+    cross stays the budget)."""
 
     rung_index: int
     refresh_fps: float
@@ -62,14 +67,33 @@ class RefreshSpec:
     face_scale: float = 1.0
     choose: bool = True
     intra_every_unit: bool = False
-    preset: str | None = None
+    preset: str | int | None = None
+    codec: str = REFRESH_CODEC
+    rate_gain: float = 1.0
 
 
-# Chosen on akiyo's and carphone's frames 150-299 (docs/mbc.md, docs/refresh.md), quoted on
-# frames 0-149: the face box at half size, libx264's medium preset (the simulation's
-# `engine.mbc.refresh.preset`; 0.4-0.5 dB over the ladder's ultrafast at less rate).
+# Chosen on akiyo's and carphone's frames 150-299 (docs/refresh.md), quoted on frames 0-149,
+# foreman and carphone_qcif: libx264 at its medium preset (the simulation's
+# `engine.mbc.refresh.preset`), the face box at 0.625 of its size, 12.5 frames/s at both rungs,
+# a VBV of 2 frames: how fresh a refresh is matters more than its bits (docs/refresh.md, session
+# refresh2); SVT-AV1 and VP8 there do no better.
 REFRESH_PRESET = "medium"
+REFRESH_FPS = 12.5
+REFRESH_SCALE = 0.625
+REFRESH_VBV_FRAMES = 2.0
 DEFAULT_REFRESH = {
+    name: RefreshSpec(
+        rung,
+        REFRESH_FPS,
+        region="face",
+        face_scale=REFRESH_SCALE,
+        preset=REFRESH_PRESET,
+        vbv_frames=REFRESH_VBV_FRAMES,
+    )  # fmt: skip
+    for name, rung in (("mbc_refresh_lowest", 0), ("mbc_refresh_second", 1))
+}
+# The default until session refresh2: half the box, the rung's frame rate, the ladder's VBV.
+PREVIOUS_REFRESH = {
     "mbc_refresh_lowest": RefreshSpec(0, 5.0, region="face", face_scale=0.5, preset=REFRESH_PRESET),
     "mbc_refresh_second": RefreshSpec(
         1, 25 / 3, region="face", face_scale=0.5, preset=REFRESH_PRESET
@@ -85,9 +109,9 @@ def _size_label(spec: RefreshSpec) -> str:
 
 def _coder(clip, results, spec, budget_kbps, size):
     """The refresh's `RefreshCoder` and the box's corner per tracked frame (face regions)."""
-    from uma.video import load_ladder
+    from uma.video import default_ladder_path, load_ladder
 
-    ladder = load_ladder()
+    ladder = load_ladder(default_ladder_path(spec.codec))
     rung = ladder.rungs[spec.rung_index]
     box, corners = None, {}
     if spec.region in ("face", "residual"):
@@ -104,7 +128,9 @@ def _coder(clip, results, spec, budget_kbps, size):
         settings["keyint_frames"] = 1
     if spec.preset is not None:
         settings["preset"] = spec.preset
-    return RefreshCoder(size, coded, spec.refresh_fps, budget_kbps, settings, box), corners
+    rate_kbps = budget_kbps * spec.rate_gain
+    coder = RefreshCoder(size, coded, spec.refresh_fps, rate_kbps, settings, box, spec.codec)
+    return coder, corners
 
 
 def _renderer(clip, results, spec, size, profile):
@@ -302,6 +328,8 @@ def refresh_display(
     sender = _Sender(clip, face_units, spec, coder, corners, budget_kbps, ahead)
     mirror = _renderer(clip, results, spec, size, profile)
     packets, decoded, switches = _engine(clip, results, face_units, stream_config, sender, mirror)
+    if coder is not None:
+        coder.close()  # one SVT-AV1 encoder open at a time in a process
     receiver = _renderer(clip, results, spec, size, profile)
     shown, switch_s, switch_cpu_s = _receive(
         receiver, face_units, frames[0], len(frames), decoded, switches, sender.pictures
@@ -349,6 +377,7 @@ def _info(spec, budget_kbps, params_kbps, refresh_kbps, units, adopted, switches
     return {
         "refresh_fps": spec.refresh_fps,
         "region": spec.region,
+        "codec": spec.codec,
         "refresh_size": _size_label(spec),
         "description_face": spec.description_face,
         "budget_kbps": round(max(budget_kbps, 0.0), 3),

@@ -29,6 +29,8 @@ from uma.mbc.layers import N_BODY, N_TORSO
 
 __all__ = [
     "RefreshCoder",
+    "REFRESH_CODEC",
+    "refresh_codec_classes",
     "face_box_size",
     "box_corner",
     "even_px",
@@ -43,6 +45,11 @@ POSITION_BITS = 32  # a face box's position, two 16-bit numbers a unit
 FEATHER_PX = 8
 RESIDUAL_OFFSET = 128  # a residual's zero, in levels
 RESIDUAL_DETAIL = 1.0  # how much of the rendering's detail finer than the coded size stays
+# The least coded width and height by codec: SVT-AV1's rate control refuses pictures under
+# 64 pixels a side ("Adaptive quantization can not be turned OFF when RC ON").
+MIN_CODED_PX = {"av1": 64}
+# The refresh's codec unless told: libx264 (SVT-AV1 and VP8 measured no better, docs/refresh.md).
+REFRESH_CODEC = "h264"
 
 
 @dataclass(frozen=True, eq=False)
@@ -143,18 +150,41 @@ def _paste(canvas: np.ndarray, patch: np.ndarray, x0: int, y0: int) -> np.ndarra
     return out
 
 
+def refresh_codec_classes(codec: str):
+    """The (encoder, decoder) classes of `uma.video` a refresh codes with, by the codec
+    registry's full-frame name (`h264`, `vp8`, `av1`); a `SceneError` naming the known ones
+    otherwise."""
+    import uma.video
+    from uma.codecs import Role, names, spec
+
+    known = names(Role.FULL_FRAME)
+    if codec not in known:
+        raise SceneError(f"refresh codec: expected one of {', '.join(known)}, got {codec!r}")
+    entry = spec(codec)
+    return getattr(uma.video, entry.video_encoder), getattr(uma.video, entry.video_decoder)
+
+
 class RefreshCoder:
-    """The engine's refresh coder and its decoded picture: H.264 (the ladder's encoder
-    settings `settings`) of the face box of `box` (W, H) coded at `coded` (W, H), or of the
-    whole picture at `coded` when `box` is None, at `fps` and `rate_kbps`."""
+    """The engine's refresh coder and its decoded picture: `codec` (a full-frame codec of the
+    registry, its encoder at `settings`, e.g. its ladder's) of the face box of `box` (W, H)
+    coded at `coded` (W, H), or of the whole picture at `coded` when `box` is None, at `fps`
+    and `rate_kbps`. `close` ends the encoder (keep at most one SVT-AV1 encoder open)."""
 
-    def __init__(self, size, coded, fps: float, rate_kbps: float, settings: dict, box=None):
-        from uma.video import H264Decoder, H264Encoder
+    def __init__(
+        self, size, coded, fps: float, rate_kbps: float, settings: dict, box=None,
+        codec: str = REFRESH_CODEC,
+    ):  # fmt: skip
+        encoder_class, decoder_class = refresh_codec_classes(codec)
+        least = MIN_CODED_PX.get(codec, 2)
+        coded = tuple(max(int(v), least) for v in coded)
+        self.size, self.coded, self.box, self.codec = tuple(size), coded, box, codec
+        self.encoder = encoder_class(*self.coded, fps, rate_kbps, **settings)
+        self.decoder = decoder_class()
+        self.data = b""  # the last unit's bytes (a simulation carries them)
 
-        self.size, self.coded, self.box = tuple(size), tuple(coded), box
-        self.encoder = H264Encoder(*self.coded, fps, rate_kbps, **settings)
-        self.decoder = H264Decoder()
-        self.data = b""  # the last unit's H.264 bytes (a simulation carries them)
+    def close(self) -> None:
+        """Flush and end the encoder now (not at garbage collection)."""
+        self.encoder.close()
 
     def code(self, frame: np.ndarray, corner=None, base: np.ndarray | None = None):
         """`frame` (YUV 4:2:0, source size) coded: (size in bits with the box's position,
@@ -184,6 +214,19 @@ class RefreshCoder:
         return unit.size_bits + extra_bits, bool(unit.is_keyframe), picture
 
 
+def _box_of(patch) -> tuple[int, int]:
+    """A decoded box's (H, W); a `SceneError` naming what it is when it is not a YUV 4:2:0
+    uint8 picture of even size (it cannot be pasted on the plate)."""
+    patch = np.asarray(patch)
+    rows = patch.shape[0] if patch.ndim == 2 else 0
+    if patch.ndim != 2 or patch.dtype != np.uint8 or rows % 3 or patch.shape[1] % 2 or not rows:
+        raise SceneError(
+            f"refresh box: expected a YUV 4:2:0 uint8 picture of even size, got "
+            f"{patch.shape} {patch.dtype}"
+        )
+    return rows * 2 // 3, patch.shape[1]
+
+
 def take_refresh(renderer, units, values: np.ndarray, picture) -> None:
     """`renderer` (a `uma.mbc.scene_render.SceneRenderer`) renders from the decoded refresh
     `picture` (`RefreshCoder.code`'s) from now on, at the decoded set `values` of its frame
@@ -203,7 +246,7 @@ def take_refresh(renderer, units, values: np.ndarray, picture) -> None:
             (x0, y0), (box_w, box_h), patch = picture.corner, picture.box, None
         else:
             (x0, y0), patch = picture
-            box_h, box_w = patch.shape[0] * 2 // 3, patch.shape[1]
+            box_h, box_w = _box_of(patch)
         if x0 < 0 or y0 < 0 or x0 + box_w > width or y0 + box_h > height:
             raise SceneError(f"refresh box at ({x0}, {y0}) of {box_w}x{box_h}: outside the picture")
         drawn = renderer.render(params, light, body)[0]
