@@ -1,7 +1,8 @@
 """The receiver's picture: the whole reference scene warped by the face model, in colour.
 
 Units: pixels; pictures are planar YUV 4:2:0 (H * 3 // 2, W) uint8; parameters as in
-`uma.face.geometry`; light as (gain, offset_levels) on the face's luma, faded out just beyond its edge.
+`uma.face.geometry`; light as (gain, offset_levels) on the face's luma, faded out just beyond
+its edge.
 
 The reference is a full picture the receiver holds together with the pose the model had on it:
 by default the description's own picture (its texture where it was cut from, mid-grey around
