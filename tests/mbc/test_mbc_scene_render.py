@@ -101,3 +101,31 @@ def test_head_ring_size_is_a_choice_and_the_talking_head_keeps_its_rigid_hair(st
     assert ring == max(HEAD_RING_CHOICES) == 1.4
     with pytest.raises(SceneError, match="pose each"):
         choose_head_ring(still_head.description, frame0, still_head.params_at(0), pictures, [])
+
+
+def test_the_light_fades_out_beyond_the_face_without_a_step(still_head, monkeypatch) -> None:
+    """A relit face beside a head ring that is not showed a step where the mesh ends (a seam
+    across carphone's hair): the light now fades over `LIGHT_FEATHER_OF_FACE` of the face's
+    width beyond its edge, and stops there."""
+    import cv2
+
+    import uma.mbc.scene_render as scene_render
+
+    renderer = SceneRenderer(still_head.description, (352, 288))
+    params = renderer.reference_params
+    plain, face = renderer.render(params)
+    lit, _ = renderer.render(params, (0.5, 0.0))
+    change = plain[:288].astype(int) - lit[:288]
+    outside = cv2.distanceTransform((~face).view(np.uint8), cv2.DIST_L2, 3)
+    width = np.ptp(np.nonzero(face)[1])
+    feather = scene_render.LIGHT_FEATHER_OF_FACE * width
+    assert feather >= 3
+    assert np.array_equal(change[face], plain[:288][face] - np.rint(plain[:288][face] * 0.5))
+    near, far = (outside > 0) & (outside < feather / 2), outside > feather + 1
+    assert np.all(change[near] > 0) and not change[far].any()
+    # Just outside the face the change is most of the face's own (no step), not none.
+    ring = (outside > 0) & (outside <= 1.5)
+    assert np.mean(change[ring]) > 0.5 * np.mean(change[face & (outside == 0)])
+    monkeypatch.setattr(scene_render, "LIGHT_FEATHER_OF_FACE", 0.0)
+    hard, _ = renderer.render(params, (0.5, 0.0))
+    assert not (plain[:288].astype(int) - hard[:288])[~face].any()

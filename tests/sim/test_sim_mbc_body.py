@@ -96,6 +96,44 @@ def test_an_absurd_body_motion_shows_the_last_good_picture(head):
     assert np.isfinite(again).all()
 
 
+def test_an_absurd_body_motion_on_the_first_frame_shows_the_still_scene(head):
+    """No good picture yet: the scene without the body motion, not an error or NaN."""
+    from uma.sim.mbc_codecs import MbcUnitDecoder
+
+    source, _ = head
+    decoder = MbcUnitDecoder(context=_context(source))
+    params = source.description.params
+    shown = decoder._render(params, (1.0, 0.0), np.array([0.0, 0.0, 7.0]))
+    still, _ = decoder.renderer.render(params, None, None)
+    assert shown.dtype == np.uint8 and np.array_equal(shown, still)
+
+
+def test_a_refresh_off_the_plate_or_a_lost_plate_keeps_a_good_picture(head):
+    """A refresh box outside the picture is refused (the old reference stays); a lost plate
+    draws from the reference; a refresh of another scene starts the plate again, with its
+    reason."""
+    from uma.sim.mbc_codecs import MbcUnitDecoder
+
+    source, picture = head
+    decoder = MbcUnitDecoder(context=_context(source))
+    values = np.concatenate([source.description.params, np.zeros(3), [1.0, 0.0]])
+    decoder.values_by_frame[3] = values
+    before = decoder.renderer.reference.copy()
+    assert not decoder.refresh(3, ((170, 0), picture[:48, :32]))
+    assert decoder.refresh_frame == -1 and np.array_equal(decoder.renderer.reference, before)
+    params = source.description.params
+    decoder.renderer.plate.forget()
+    shown = decoder._render(params, (1.0, 0.0), np.zeros(3))
+    assert decoder.renderer.plate.reason == "plate lost" and shown.dtype == np.uint8
+    assert np.array_equal(shown, decoder.renderer.reference)  # the reference, not grey
+    decoder.renderer.set_reference(picture, params)
+    dark = np.full_like(picture, 16)
+    decoder.renderer.set_reference(dark, params)
+    assert "started again" in decoder.renderer.plate.reason
+    shown = decoder._render(params, (1.0, 0.0), np.zeros(3))
+    assert np.array_equal(shown, dark)
+
+
 def test_the_simulation_and_the_bench_code_one_refresh(head, monkeypatch):
     """The simulation's refresh (`uma.sim.refresh`, `uma.sim.mbc_codecs`) and the bench's
     (`uma.bench.mbc_refresh`) call the same coder and the same composition."""

@@ -1,7 +1,8 @@
 """The receiver's picture: the whole reference scene warped by the face model, in colour.
 
 Units: pixels; pictures are planar YUV 4:2:0 (H * 3 // 2, W) uint8; parameters as in
-`uma.face.geometry`; light as (gain, offset_levels) on the face's luma.
+`uma.face.geometry`; light as (gain, offset_levels) on the face's luma, faded out just beyond
+its edge.
 
 The reference is a full picture the receiver holds together with the pose the model had on it:
 by default the description's own picture (its texture where it was cut from, mid-grey around
@@ -57,6 +58,11 @@ HEAD_RING_CHOICES = (1.05, HEAD_RING_OUTLINES)
 # rim and hair carried higher, 0.02 and 0.2: 22.36 | 20.69 against 0.05 and 0.1's 22.23 |
 # 20.71, without the hair left above carphone's moved head.
 HALO_OF_HEAD = 0.02
+# The face's light fades out over this share of the face's width beyond its edge (0: the face
+# alone is relit, which left a step where the mesh ends: a seam across carphone's hair).
+# Frames 150-299, MBC alone face box dB, akiyo | carphone: 0 22.89 | 21.16, 0.05 22.91 |
+# 21.17, 0.1 22.87 | 21.21, 0.2 22.74 | 21.27 (docs/mbc.md, session mbc6).
+LIGHT_FEATHER_OF_FACE = 0.05
 LIGHT_GAIN_RANGE = (0.25, 4.0)  # a face's luma gain against its reference's
 LIGHT_OFFSET_RANGE = (-128.0, 128.0)  # levels
 
@@ -350,16 +356,31 @@ class SceneRenderer:
 
 def _relight(luma: np.ndarray, face: np.ndarray, light: tuple[float, float]) -> None:
     """The face's pixels of `luma` (in place) times the gain plus the offset, over the face's
-    box only."""
+    box only; with `LIGHT_FEATHER_OF_FACE`, the light fades out over that share of the face's
+    width beyond its edge (a relit face beside a head ring that is not shows a step where the
+    mesh ends: a seam across the hair)."""
     import cv2
 
     x, y, w, h = cv2.boundingRect(face.view(np.uint8))
     if w == 0 or h == 0:
         return
     gain, offset = light
-    box, inside = luma[y : y + h, x : x + w], face[y : y + h, x : x + w]
-    lit = box[inside].astype(np.float32) * gain + offset
-    box[inside] = np.clip(np.rint(lit), 0, 255).astype(np.uint8)
+    feather = int(round(LIGHT_FEATHER_OF_FACE * w))
+    if feather < 1:
+        box, inside = luma[y : y + h, x : x + w], face[y : y + h, x : x + w]
+        lit = box[inside].astype(np.float32) * gain + offset
+        box[inside] = np.clip(np.rint(lit), 0, 255).astype(np.uint8)
+        return
+    height, width = luma.shape
+    x0, y0 = max(x - feather, 0), max(y - feather, 0)
+    x1, y1 = min(x + w + feather, width), min(y + h + feather, height)
+    inside = face[y0:y1, x0:x1]
+    outside_px = cv2.distanceTransform((~inside).view(np.uint8), cv2.DIST_L2, 3)
+    weight = np.clip(1.0 - outside_px / np.float32(feather), 0.0, 1.0)
+    box = luma[y0:y1, x0:x1]
+    a = box.astype(np.float32)
+    lit = a + weight * (a * np.float32(gain - 1.0) + np.float32(offset))
+    box[:] = np.clip(np.rint(lit), 0, 255).astype(np.uint8)
 
 
 def _checked_light(light) -> tuple[float, float]:
