@@ -74,11 +74,11 @@ def region_labels(renderer, params: np.ndarray, box) -> np.ndarray:
     return labels
 
 
-def run(clip, png_dir: Path | None, worst: int, seed: int = 0) -> dict:
-    """Per frame: region -> (pixels, squared error per display); per frame the head's
-    distance from frame 0's pose (px)."""
+def coded_run(clip, seed: int = 0):
+    """The bench's steps on `clip`: (lumas, tracked results, units, the receiver, the decoded
+    sets by frame, H.264 16k's display), as `uma bench mbc` runs them."""
     from uma.bench import mbc
-    from uma.bench.mbc_scores import codec_display, face_box
+    from uma.bench.mbc_scores import codec_display
     from uma.bench.mbc_stages import Clock, decode, encode
     from uma.config.codecs import MbcConfig
     from uma.mbc.stream import StreamConfig
@@ -95,6 +95,15 @@ def run(clip, png_dir: Path | None, worst: int, seed: int = 0) -> dict:
     coded = encode(lumas, results, units, config, renderers, clock)
     decoded, _ = decode(units, config, coded.packets, clock)
     h264 = codec_display(clip.frames, clip.fps, 0, "h264")[0]
+    return lumas, results, units, receiver, decoded, h264
+
+
+def run(clip, png_dir: Path | None, worst: int, seed: int = 0) -> dict:
+    """Per frame: region -> (pixels, squared error per display); per frame the head's
+    distance from frame 0's pose (px)."""
+    from uma.bench.mbc_scores import face_box
+
+    lumas, results, units, receiver, decoded, h264 = coded_run(clip, seed)
     height = lumas[0].shape[0]
     shown, box, params = clip.frames[0], None, results[0].params
     frames = []

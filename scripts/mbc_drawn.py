@@ -48,27 +48,13 @@ def run(clip) -> dict:
     import cv2
 
     sys.path.insert(0, str(Path(__file__).parent))
-    from mbc_anatomy import region_labels
+    from mbc_anatomy import coded_run, region_labels
 
-    from uma.bench import mbc
-    from uma.bench.mbc_scores import codec_display, face_box
-    from uma.bench.mbc_stages import Clock, decode, encode
-    from uma.config.codecs import MbcConfig
+    from uma.bench.mbc_scores import face_box
     from uma.mbc.layers import head_ring_points, rigid_fit
-    from uma.mbc.stream import StreamConfig
-    from uma.mbc.units import FaceUnits
 
     drawn = _recorder()
-    config, clock = StreamConfig(), Clock()
-    lumas = [mbc._luma(f) for f in clip.frames]
-    results = mbc._track(clip, lumas, 0, None, clock)
-    units = FaceUnits.of(clip.description.model, clip.description.params, light=True, body=True,
-                         camera=mbc.CAMERA_MOTION)  # fmt: skip
-    results[0] = mbc._as_decoded(results[0], units, config)
-    *renderers, receiver = mbc._renderers(clip, results, "picture", MbcConfig())
-    coded = encode(lumas, results, units, config, renderers, clock)
-    decoded, _ = decode(units, config, coded.packets, clock)
-    h264 = codec_display(clip.frames, clip.fps, 0, "h264")[0]
+    lumas, results, units, receiver, decoded, h264 = coded_run(clip)
     height, width = lumas[0].shape
     sums = {"box_px": 0, "px": np.zeros(len(KINDS)), "sse": np.zeros((len(KINDS), len(SHOWN))),
             "bound_outside": np.zeros(3), "bound_box": np.zeros(3)}  # fmt: skip
