@@ -21,7 +21,12 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
   sent back to back, whose spacing measures the link, sized to queue about `probe_ms`;
 - **pause**: no report for `pause_ms` (1.5 report intervals): `paused` says the sender should
   code nothing new until one comes (the skip rule's caller asks), so a handover's gap or an
-  outage gets little of the stream, and a lost report costs a frame or two, not a rate;
+  outage gets little of the stream, and a lost report costs a frame or two, not a rate. A
+  report that holds no packet while the oldest one outstanding (`due`, the sender's own
+  knowledge) should have arrived is no news from the link: the quiet clock runs from when
+  that packet was due, and at `overdue_ms` (or the packet's own time at the capacity
+  estimate, if longer) past it the sender pauses at once (a downlink outage with a live
+  uplink: the receiver's reports keep coming, empty);
 - **silence**: no report for `silence_ms` (an outage, a handover's gap) cuts the capacity to
   `silence_factor` of itself or of what arrived over the last `received_tau_ms`, whichever is
   less (an application-limited stream sends no more than that), once per `silence_ms`; when
@@ -177,12 +182,14 @@ class UmaController:
             last = report.records[-1]
             self._base_ms = last.arrival_ms - last.send_ms - report.queue_delay_ms[-1]
             self._last_arrival_ms = last.arrival_ms
-        since_ms = report.end_ms
+        since_ms, grace_ms = report.end_ms, self.settings.overdue_ms
         if not report.records and due is not None and self._base_ms is not None:
             send_ms, size_bits = due
             start_ms = max(send_ms + self._base_ms, self._last_arrival_ms)
-            since_ms = min(since_ms, start_ms + size_bits / self.capacity_kbps)
-        self._overdue = report.end_ms - since_ms >= self.settings.overdue_ms
+            service_ms = size_bits / self.capacity_kbps
+            since_ms = min(since_ms, start_ms + service_ms)
+            grace_ms = max(grace_ms, service_ms)
+        self._overdue = report.end_ms - since_ms >= grace_ms
         if self._quiet_since_ms is None or since_ms > self._quiet_since_ms:
             self._quiet_since_ms, self._silences = since_ms, 0
 
