@@ -86,8 +86,7 @@ class UmaEngine:
         self.inflight.on_report(report.highest_seq, now_s)
         actions = self.description.on_report(report.description_complete, now_s)
         probe, taken = self.rate.on_report(report, now_s, due=self.inflight.oldest_outstanding())
-        probe = None if self.oracle else probe  # the oracle knows
-        actions += taken + self.sender.probe(probe, now_s)
+        actions += taken + self.sender.probe(None if self.oracle else probe, now_s)
         if self.refresh is not None:
             actions += self.refresh.on_ack(report.refresh_frame)
         return self._keep(actions)
