@@ -235,3 +235,33 @@ def test_one_quiet_clock_times_the_pause_and_each_silence_and_a_report_restarts_
     assert not controller.paused(900.0) and controller.quiet_ms(900.0) == 0.0
     assert controller.on_silence(1100.0).reason == ""  # 200 ms of quiet: none yet
     assert controller.on_silence(1150.0).reason == "silence"
+
+
+def _arrived(send_ms, arrival_ms, end_ms, *, bits=9600):
+    """A report of one packet sent at `send_ms` that met no queue (the path's base delay)."""
+    from uma.control.delivery import DeliveryReport, PacketRecord
+
+    record = PacketRecord(0, send_ms, arrival_ms, bits)
+    return DeliveryReport(
+        start_ms=end_ms - 100.0, end_ms=end_ms, packets=1, received_bits=bits, lost=0,
+        train_bits=0, train_ms=0.0, queue_delay_ms=(0.0,), records=(record,),
+    )  # fmt: skip
+
+
+@pytest.mark.parametrize("due", [None, (150.0, 9600), (90.0, 9600)])
+def test_an_empty_report_while_a_packet_was_due_is_no_news_from_the_link(due):
+    """Reports keep coming but the link delivers nothing: the packet sent at 90 ms should
+    have arrived at 90 + 20 (base) + 9,600 bits / 300 kbit/s = 142 ms; the report ending at
+    200 ms holds nothing, so the link has been quiet since 142 ms: 58 ms overdue pauses the
+    sender (>= 50 ms), and the silence cuts at 142 + 250 ms. One sent at 150 ms was not due
+    yet (202 ms); with nothing outstanding an empty report is the usual news."""
+    controller = UmaController(UmaSettings(initial_kbps=300.0))
+    controller.on_report(_arrived(0.0, 20.0, 100.0))
+    empty = _report(100.0, 200.0, bits=0, queue_ms=())
+    controller.on_report(empty, due=due)
+    overdue = due == (90.0, 9600)
+    assert controller.quiet_ms(200.0) == pytest.approx(58.0 if overdue else 0.0)
+    assert controller.paused(200.0) is overdue
+    assert (controller.on_silence(392.0).reason == "silence") is overdue
+    controller.on_report(_arrived(90.0, 400.0, 400.0))  # it came: news again
+    assert not controller.paused(400.0)

@@ -22,12 +22,13 @@ def make_engine(**engine_kw):
     )
 
 
-def in_flight(engine: UmaEngine, sizes_bits: list[int]) -> list[SendPacket]:
-    """Packets of `sizes_bits` through the engine's send path (numbered, in flight)."""
+def in_flight(engine: UmaEngine, sizes_bits: list[int], now_s: float = 0.0) -> list[SendPacket]:
+    """Packets of `sizes_bits` through the engine's send path (numbered, in flight at
+    `now_s`)."""
     packets = [
         SendPacket("padding", None, i, len(sizes_bits), s, -1) for i, s in enumerate(sizes_bits)
     ]
-    return engine.outbox.number(packets)
+    return engine.outbox.number(packets, now_s)
 
 
 def coded(engine: UmaEngine, decision, now_s: float, **outcome) -> list:

@@ -164,6 +164,26 @@ def test_no_report_for_one_and_a_half_intervals_pauses_the_stream_until_one_come
     assert engine.on_frame(8, 0.32).send
 
 
+def test_reports_that_come_empty_while_the_link_owes_a_frame_pause_the_stream():
+    """The link stops (an outage of the downlink alone) while reports keep coming: the frame
+    sent at 0.12 s is due by about 0.2 s; the report at 0.3 s holds nothing, so no frame is
+    coded after it, where the same empty report with nothing outstanding changes nothing."""
+    for dead in (True, False):
+        engine = make_engine()
+        link = Link(lambda t: 1000.0)
+        run(engine, link, 0.12)  # frames 0-5 delivered and reported
+        decision = engine.on_frame(6, 0.12)
+        engine.on_coded(CodedReport(6, decision.rung, decision.keyframe), 0.12)
+        unit = OutgoingUnit(None, 1000, decision.rung, (6,), decision.keyframe)
+        packets = [a for a in engine.on_sent(unit, 0.12) if isinstance(a, SendPacket)]
+        if not dead:
+            link.send(packets, 0.12)
+        engine.on_report(link.report(0.2), 0.22)  # the frame may still be on its way
+        assert engine.on_frame(7, 0.24).send
+        engine.on_report(link.report(0.3), 0.32)
+        assert engine.on_frame(8, 0.32).send is not dead
+
+
 @pytest.mark.parametrize("kind", ["uma", "gcc", "webrtc"])
 def test_each_kind_bounds_its_own_target_and_the_engine_follows_it_as_it_is(kind):
     """`engine.estimator.max_kbps` 200 on a 1,000 kbit/s link: every kind's estimate climbs to

@@ -226,3 +226,23 @@ def test_every_state_can_leave_and_nothing_else_is_allowed():
     plan, _, _ = planner()
     with pytest.raises(RuntimeError, match="no transition from OFF on CODED"):
         plan.fire(RefreshEvent.CODED)
+
+
+def test_the_spare_rate_is_capped_by_the_most_delivered_over_the_longest_interval():
+    """What arrived over the last second is low between refreshes spaced more than a second
+    apart (the refresh's own bits are most of it): the cap is the most any window of the
+    last `max_interval_ms` delivered, so a refresh does not shrink the next one's rate; a
+    window older than that no longer counts."""
+    plan, _, _ = planner(max_interval_ms=3000)
+
+    def spare(t_s, received_kbps):
+        plan.on_frame(
+            int(t_s * FPS), t_s, on_model=True, budget_kbps=30.0, model_kbps=4.8,
+            received_kbps=received_kbps,
+        )  # fmt: skip
+        return plan.spare_kbps
+
+    assert spare(0.0, 20.0) == pytest.approx(15.2)
+    assert spare(1.5, 8.0) == pytest.approx(15.2)  # the window with the refresh still counts
+    assert spare(2.9, 40.0) == pytest.approx(25.2)  # never above the budget
+    assert spare(6.0, 8.0) == pytest.approx(3.2)  # 3 s later only the last window counts

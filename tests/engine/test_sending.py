@@ -29,7 +29,7 @@ def test_without_the_pacer_everything_leaves_at_once_numbered_in_order():
     assert all(p.kind == "video" and p.payload == "u0" and p.count == 3 for p in sent)
     padding = outbox.padding(8 * 1500, 0.0)
     assert [p.seq for p in padding] == [3, 4] and {p.kind for p in padding} == {"padding"}
-    chunks = outbox.number([SendPacket("description", None, 0, 2, 8000, -1)])
+    chunks = outbox.number([SendPacket("description", None, 0, 2, 8000, -1)], 0.0)
     assert chunks[0].seq == 5 and outbox.queued_bits == 0
     assert outbox.inflight.outstanding_bits == bits + 8 * 1500 + 8000
 

@@ -21,7 +21,12 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
   sent back to back, whose spacing measures the link, sized to queue about `probe_ms`;
 - **pause**: no report for `pause_ms` (1.5 report intervals): `paused` says the sender should
   code nothing new until one comes (the skip rule's caller asks), so a handover's gap or an
-  outage gets little of the stream, and a lost report costs a frame or two, not a rate;
+  outage gets little of the stream, and a lost report costs a frame or two, not a rate. A
+  report that holds no packet while the oldest one outstanding (`due`, the sender's own
+  knowledge) should have arrived is no news from the link: the quiet clock runs from when
+  that packet was due, and at `overdue_ms` (or the packet's own time at the capacity
+  estimate, if longer) past it the sender pauses at once (a downlink outage with a live
+  uplink: the receiver's reports keep coming, empty);
 - **silence**: no report for `silence_ms` (an outage, a handover's gap) cuts the capacity to
   `silence_factor` of itself or of what arrived over the last `received_tau_ms`, whichever is
   less (an application-limited stream sends no more than that), once per `silence_ms`; when
@@ -74,6 +79,7 @@ class UmaSettings:
     packet_bits: int = 1200 * 8
     silence_ms: float = 250.0
     pause_ms: float = 150.0
+    overdue_ms: float = 50.0
     received_tau_ms: float = 500.0
     skip_budget_ms: float = 300.0
     max_skip_ms: float = 1000.0
@@ -123,6 +129,9 @@ class UmaController:
         self._probe_pending = False
         self.received_kbps: float | None = None  # what arrived, smoothed over `received_tau_ms`
         self._before_silence: float | None = None  # the capacity the silence cut from
+        self._base_ms: float | None = None  # the path's one-way delay with no queue
+        self._last_arrival_ms = float("-inf")
+        self._overdue = False  # the last report was empty with a packet overdue
 
     def _reset_trend(self) -> None:
         self.groups = InterArrival()
@@ -130,11 +139,16 @@ class UmaController:
         self.detector = OveruseDetector()
         self.usage = Usage.NORMAL
 
-    def on_report(self, report: DeliveryReport) -> RateDecision:
-        """One feedback report in; the target (and a probe when the link is unmeasured) out."""
+    def on_report(
+        self, report: DeliveryReport, *, due: tuple[float, int] | None = None
+    ) -> RateDecision:
+        """One feedback report in; the target (and a probe when the link is unmeasured) out.
+        `due`: (send stamp in ms, size in bits) of the oldest packet sent and not yet in any
+        report (the sender knows it): a report with no packet while that one was due is
+        no news from the link (`_quiet_from`)."""
         s = self.settings
         now_ms = report.end_ms
-        self._quiet_since_ms, self._silences = now_ms, 0
+        self._quiet_from(report, due)
         self._received(report)
         self._undo_spurious_silence(report)
         if report.capacity_kbps is not None:
@@ -159,6 +173,26 @@ class UmaController:
         self.target_kbps = self._bounded(target)
         return RateDecision(self.target_kbps, self._probe(report, now_ms), reason)
 
+    def _quiet_from(self, report: DeliveryReport, due: tuple[float, int] | None) -> None:
+        """Move the quiet clock: to the report's end, unless the report holds no packet while
+        the oldest outstanding one should have arrived (its send stamp plus the path's base
+        delay, or the last arrival, plus its time at the capacity estimate): then the link
+        has been quiet since that packet was due, as if the report had not come."""
+        if report.records:
+            last = report.records[-1]
+            self._base_ms = last.arrival_ms - last.send_ms - report.queue_delay_ms[-1]
+            self._last_arrival_ms = last.arrival_ms
+        since_ms, grace_ms = report.end_ms, self.settings.overdue_ms
+        if not report.records and due is not None and self._base_ms is not None:
+            send_ms, size_bits = due
+            start_ms = max(send_ms + self._base_ms, self._last_arrival_ms)
+            service_ms = size_bits / self.capacity_kbps
+            since_ms = min(since_ms, start_ms + service_ms)
+            grace_ms = max(grace_ms, service_ms)
+        self._overdue = report.end_ms - since_ms >= grace_ms
+        if self._quiet_since_ms is None or since_ms > self._quiet_since_ms:
+            self._quiet_since_ms, self._silences = since_ms, 0
+
     def _bounded(self, target_kbps: float) -> float:
         """`target_kbps` within [min_kbps, max_kbps]: the one place the target is bounded
         (the engine follows it as it is)."""
@@ -179,7 +213,7 @@ class UmaController:
         """No report for `pause_ms`: the sender sends nothing new until one comes (a lost
         report costs a frame or two; a handover's gap or an outage gets none of the stream)."""
         quiet_ms = self.quiet_ms(now_ms)
-        return quiet_ms is not None and quiet_ms >= self.settings.pause_ms
+        return self._overdue or (quiet_ms is not None and quiet_ms >= self.settings.pause_ms)
 
     def quiet_ms(self, now_ms: float) -> float | None:
         """How long no report has come (None: none yet)."""
@@ -217,6 +251,7 @@ class UmaController:
         prior = s.priors_kbps.get(technology)
         self._reset_trend()
         self._before_silence = None  # the silence was the handover's gap: no undoing it
+        self._base_ms = None  # the new path's delay is not known yet
         reason = "handover"
         if prior is not None and prior < self.capacity_kbps:
             self.capacity_kbps = prior

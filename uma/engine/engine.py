@@ -85,8 +85,8 @@ class UmaEngine:
     def on_report(self, report: ReceiverReport, now_s: float) -> list:
         self.inflight.on_report(report.highest_seq, now_s)
         actions = self.description.on_report(report.description_complete, now_s)
-        probe, taken = self.rate.on_report(report, now_s)
-        actions += taken + self.sender.probe(None if self.oracle else probe)  # the oracle knows
+        probe, taken = self.rate.on_report(report, now_s, due=self.inflight.oldest_outstanding())
+        actions += taken + self.sender.probe(None if self.oracle else probe, now_s)
         if self.refresh is not None:
             actions += self.refresh.on_ack(report.refresh_frame)
         return self._keep(actions)
@@ -199,7 +199,7 @@ class UmaEngine:
             budget_kbps=budget_kbps, point_rate_kbps=point.rate_kbps, fps=self.ladder.source_fps,
             backlog_bits=self.estimate_kbps * self.config.max_backlog_ms / 2.0,
             outstanding_bits=self.outstanding_bits,
-        ))  # fmt: skip
+        ), now_s)  # fmt: skip
         decision = self._send_or_hold(decision, now_s, capacity_kbps, budget_kbps, switched)
         actions += decision.actions
         if initialise is not None and not decoded:

@@ -40,6 +40,7 @@ class InFlight:
 
     def __init__(self) -> None:
         self.cum_sent_bits: list[int] = [0]  # cum_sent_bits[seq + 1] = bits sent up to seq
+        self.sent_s: list[float] = []  # sent_s[seq]: when packet seq was handed to the downlink
         self.highest_seq = -1
         self.last_progress_s = 0.0
         self.last_report_s = 0.0
@@ -53,14 +54,24 @@ class InFlight:
             self.last_progress_s = now_s
         self.last_report_s = now_s
 
-    def on_sent(self, sizes_bits) -> int:
-        """Packets of `sizes_bits` handed to the downlink; returns the first one's number."""
+    def on_sent(self, sizes_bits, now_s: float) -> int:
+        """Packets of `sizes_bits` handed to the downlink at `now_s`; returns the first one's
+        number."""
         first_seq = len(self.cum_sent_bits) - 1
         total = self.cum_sent_bits[-1]
         for size in sizes_bits:
             total += size
             self.cum_sent_bits.append(total)
+            self.sent_s.append(now_s)
         return first_seq
+
+    def oldest_outstanding(self) -> tuple[float, int] | None:
+        """(when it was sent in s, its size in bits) of the first packet after the highest
+        reported one; None when every packet sent is reported."""
+        seq = self.highest_seq + 1
+        if seq >= len(self.sent_s):
+            return None
+        return self.sent_s[seq], self.cum_sent_bits[seq + 1] - self.cum_sent_bits[seq]
 
     @property
     def outstanding_bits(self) -> int:

@@ -62,7 +62,11 @@ class RateControl:
         self.oracle = config.policy == "oracle"  # it reads the capacity: never paused
         self.state = EstimatorState(estimate_kbps=config.estimator.initial_kbps)
 
-    def on_report(self, report: ReceiverReport, now_s: float) -> tuple[ProbeRequest | None, list]:
+    def on_report(
+        self, report: ReceiverReport, now_s: float, *, due: tuple[float, int] | None = None
+    ) -> tuple[ProbeRequest | None, list]:
+        """Fold `report` in; `due`: (sent in s, size in bits) of the oldest packet sent and
+        not yet reported (None: none), the sender's own knowledge of what the link owes."""
         raise NotImplementedError
 
     def on_silence(self, now_s: float) -> list:
@@ -111,10 +115,13 @@ class UmaRate(RateControl):
         self._report_s = 0.0  # when it arrived here
         self._skipping_s: float | None = None  # since when frames are skipped in a row
 
-    def on_report(self, report: ReceiverReport, now_s: float) -> tuple[ProbeRequest | None, list]:
+    def on_report(
+        self, report: ReceiverReport, now_s: float, *, due: tuple[float, int] | None = None
+    ) -> tuple[ProbeRequest | None, list]:
         probe = None
         if report.delivery is not None:  # what arrived (over the old path, if it changed)
-            decision: RateDecision = self.controller.on_report(report.delivery)
+            due_ms = None if due is None else (due[0] * 1000.0, due[1])
+            decision: RateDecision = self.controller.on_report(report.delivery, due=due_ms)
             self._report_ms, self._report_s = report.delivery.end_ms, now_s
             self._follow(report, decision.target_kbps, self.controller.queue_ms)
             probe = decision.probe
@@ -179,7 +186,9 @@ class GccRate(RateControl):
             )
         )
 
-    def on_report(self, report: ReceiverReport, now_s: float) -> tuple[ProbeRequest | None, list]:
+    def on_report(
+        self, report: ReceiverReport, now_s: float, *, due: tuple[float, int] | None = None
+    ) -> tuple[ProbeRequest | None, list]:
         if report.delivery is None:
             return None, []
         decision = self.controller.on_report(report.delivery)
@@ -202,7 +211,9 @@ class WebrtcRate(RateControl):
         self._report_s = 0.0
         self._stale_s = 0.0
 
-    def on_report(self, report: ReceiverReport, now_s: float) -> tuple[ProbeRequest | None, list]:
+    def on_report(
+        self, report: ReceiverReport, now_s: float, *, due: tuple[float, int] | None = None
+    ) -> tuple[ProbeRequest | None, list]:
         for record in () if report.delivery is None else report.delivery.records:
             self.remb.on_packet(
                 arrival_s=record.arrival_ms / 1000.0, sent_s=record.send_ms / 1000.0,

@@ -4,9 +4,11 @@ when its packets leave (docs/refresh.md).
 Units: times in seconds, rates in kbit/s, sizes in bits.
 
 While the engine is on the model codec, the budget (safety x estimate) leaves `spare` =
-budget - the model point's rate, the budget never above what the link delivered over the
-estimator's last window (the estimate overshoots a slow link while the model codec's probe
-pads: GSM's 9.6 kbit/s read as 20; what arrived does not). A refresh is H.264 of the whole
+budget - the model point's rate, the budget never above the most the link delivered over
+any of the estimator's windows in the last `max_interval_ms` (the estimate overshoots a slow
+link while the model codec's probe pads: GSM's 9.6 kbit/s read as 20; what arrived does not;
+over the last window alone, refreshes spaced beyond it would cap their own rate by a window
+without them, each shrinking the next). A refresh is H.264 of the whole
 picture; an intra one starts a stream sized to what `share` x spare carries in `interval_ms` (within
 `min_frame_bits` and `max_frame_bits`), and the refreshes after it are predicted from the one
 before at that size. The spare rate sets how often: the next is ordered once the last has
@@ -81,6 +83,7 @@ class RefreshPlanner:
         self.state = RefreshState.OFF
         self.queue: deque[tuple[object, int]] = deque()
         self.delays: deque[tuple[float, float]] = deque()  # (now_s, queue_ms), increasing
+        self.received: deque[tuple[float, float]] = deque()  # (now_s, kbit/s), decreasing
         self.credit_bits = 0.0
         self.spare_kbps = 0.0
         self.last_coded_s = -math.inf
@@ -132,7 +135,8 @@ class RefreshPlanner:
     ) -> RefreshOrder | None:
         config = self.config
         self.fire(RefreshEvent.ENTER)
-        self.spare_kbps = max(0.0, min(budget_kbps, received_kbps) - model_kbps)
+        delivered_kbps = self._delivered(now_s, received_kbps)
+        self.spare_kbps = max(0.0, min(budget_kbps, delivered_kbps) - model_kbps)
         if self.spare_kbps < config.min_spare_kbps:
             return None
         if self.state is not RefreshState.WAITING:
@@ -156,6 +160,18 @@ class RefreshPlanner:
             self.frame_bits = int(round(wanted_bits / 500.0)) * 500
         self.last_coded_s = now_s
         return RefreshOrder(frame, self.frame_bits / 1000.0, 1.0, intra)
+
+    def _delivered(self, now_s: float, received_kbps: float) -> float:
+        """The most the link delivered over any received window of the last
+        `max_interval_ms`: a refresh spaced beyond one window would otherwise cap its own
+        spare rate by a window without it, and each refresh's would shrink the next's."""
+        memory = self.received
+        while memory and memory[-1][1] <= received_kbps:
+            memory.pop()
+        memory.append((now_s, received_kbps))
+        while memory[0][0] < now_s - self.config.max_interval_ms / 1000.0:
+            memory.popleft()
+        return memory[0][1]
 
     def coded(self, packets: list[tuple[object, int]], now_s: float, *, intra: bool) -> list:
         """The refresh ordered was coded as `packets` ((packet, size_bits) each; none: not

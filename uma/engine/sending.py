@@ -87,11 +87,11 @@ class Outbox:
     def queued_bits(self) -> int:
         return self.pacer.queued_bits
 
-    def number(self, packets: list[SendPacket]) -> list[SendPacket]:
-        """Give `packets` the next sequence numbers; they are in flight from now."""
+    def number(self, packets: list[SendPacket], now_s: float) -> list[SendPacket]:
+        """Give `packets` the next sequence numbers; they are in flight from `now_s`."""
         if not packets:
             return []
-        first_seq = self.inflight.on_sent([packet.size_bits for packet in packets])
+        first_seq = self.inflight.on_sent([packet.size_bits for packet in packets], now_s)
         return [replace(packet, seq=first_seq + i) for i, packet in enumerate(packets)]
 
     def unit(
@@ -122,24 +122,24 @@ class Outbox:
         self.pacer.push(packets, PADDING)
         return self._flush(now_s)
 
-    def probe(self, packets: int, packet_bits: int) -> list[SendPacket]:
+    def probe(self, packets: int, packet_bits: int, now_s: float) -> list[SendPacket]:
         """A rate controller's probe: `packets` padding packets of `packet_bits` on the wire,
         numbered and sent now, back to back with one send stamp (not paced: their arrival
         spacing is to measure the link, not the pacer)."""
         bits = max(packet_bits, 8 * (HEADER_BYTES + 1))
         return self.number(
-            [SendPacket("padding", None, i, packets, bits, -1) for i in range(packets)]
+            [SendPacket("padding", None, i, packets, bits, -1) for i in range(packets)], now_s
         )
 
     def _flush(self, now_s: float) -> list:
         if self.paced:
             return [WakePacer()]
         release = self.pacer.release(now_s, math.inf, network_delay_s=0.0)
-        return self.number([packet.payload for packet in release.sent])
+        return self.number([packet.payload for packet in release.sent], now_s)
 
     def release(
         self, now_s: float, rate_kbps: float, *, network_delay_s: float, hold: bool
     ) -> tuple[list[SendPacket], PacerRelease]:
         """What the pacer lets out at `now_s` at `rate_kbps`, numbered, and its release."""
         release = self.pacer.release(now_s, rate_kbps, network_delay_s=network_delay_s, hold=hold)
-        return self.number([packet.payload for packet in release.sent]), release
+        return self.number([packet.payload for packet in release.sent], now_s), release

@@ -47,11 +47,11 @@ class SendSide:
         pad = padding_bits(estimator.estimate_kbps, interval_s, sent_bits=bits)
         return actions + self.outbox.padding(pad, now_s)
 
-    def probe(self, probe) -> list:
+    def probe(self, probe, now_s: float) -> list:
         """A rate controller's `ProbeRequest` (None: none): its packets, sent now, counted."""
         if probe is None:
             return []
-        return self.outbox.probe(probe.packets, probe.packet_bits) + [Tally("probes", 1)]
+        return self.outbox.probe(probe.packets, probe.packet_bits, now_s) + [Tally("probes", 1)]
 
     def refresh_due(self, now_s: float, estimator, *, held: bool = False) -> list[SendPacket]:
         """The refresh's packets that leave now, none while `held` (ask every frame: it keeps
@@ -59,7 +59,7 @@ class SendSide:
         if self.refresh is None:
             return []
         out = self.refresh.pace(now_s, queue_delay_ms=estimator.queue_delay_ms, held=held)
-        return self.outbox.number([packet for packet, _ in out]) if out else []
+        return self.outbox.number([packet for packet, _ in out], now_s) if out else []
 
     def pace(
         self, now_s: float, *, seen_kbps: float, rung: int, estimator
