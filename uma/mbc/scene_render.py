@@ -250,10 +250,13 @@ class SceneRenderer:
         params: np.ndarray,
         light: tuple[float, float] | None = None,
         body: np.ndarray | None = None,
+        *,
+        luma_only: bool = False,
     ) -> tuple[np.ndarray, np.ndarray]:
         """The picture (YUV 4:2:0) at `params` and the mask of the face's pixels; `light`
         (gain, offset in levels) relights the face's luma against the reference's; `body`
-        (layered only) moves the torso (`uma.mbc.layers.BODY_NAMES`; None: still). Light out
+        (layered only) moves the torso (`uma.mbc.layers.BODY_NAMES`; None: still);
+        `luma_only`: the same luma, the chroma planes left undrawn (a judge's). Light out
         of `LIGHT_GAIN_RANGE`/`LIGHT_OFFSET_RANGE`, an absurd body motion or values not
         finite are a `SceneError` (nothing drawn: the caller keeps its last picture)."""
 
@@ -266,7 +269,7 @@ class SceneRenderer:
             if problem:
                 raise SceneError(problem)
         if self.layered:
-            out, face = compose_layers(self, params, body)
+            out, face = compose_layers(self, params, body, chroma=not luma_only)
         else:
             out, face = self._stretched(params)
         luma = out[:height]
@@ -275,7 +278,7 @@ class SceneRenderer:
         if light is not None:
             _relight(luma, face, _checked_light(light))
         chroma = out[height:].reshape(2, height // 2, width // 2)
-        if self._face_source is not None and self._face_chroma is not None:
+        if self._face_source is not None and self._face_chroma is not None and not luma_only:
             (x0, y0), mask, planes = self._face_chroma
             for plane, patch in zip(chroma, planes, strict=True):
                 h, w = patch.shape
