@@ -36,3 +36,24 @@ def test_the_gain_is_the_box_psnr_of_the_patch_less_the_renderings(head) -> None
     assert gain > 10.0  # the true picture beats any rendering of it
     grey = np.full_like(exact, 128)
     assert refresh_gain_db(renderer, units, values, (x0, y0), grey, truth) < 0.0
+
+
+@pytest.mark.parametrize("soften", [False, True])
+def test_a_luma_only_rendering_draws_the_same_luma(head, soften: bool) -> None:
+    """The judge's rendering (`luma_only`) skips the chroma, not a pixel of the luma: a moved
+    head and torso, the light and the outline's softening drawn both ways."""
+    import cv2
+
+    from uma.mbc.scene_render import SceneRenderer
+
+    renderer = SceneRenderer(head.description, (352, 288), soften_outline=soften)
+    renderer.set_reference(cv2.cvtColor(head.render_bgr(0), cv2.COLOR_BGR2YUV_I420),
+                           head.params_at(0))  # fmt: skip
+    params = head.params_at(8).copy()
+    params[0] += 4.0
+    body = np.array([3.0, -2.0, 0.01])
+    full, face = renderer.render(params, (1.1, -3.0), body)
+    luma, luma_face = renderer.render(params, (1.1, -3.0), body, luma_only=True)
+    assert renderer.layered and np.array_equal(face, luma_face)
+    assert np.array_equal(luma[:288], full[:288])
+    assert not np.array_equal(luma[288:], full[288:])  # the chroma was not drawn

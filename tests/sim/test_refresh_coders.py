@@ -200,7 +200,7 @@ def test_a_refresh_no_better_than_the_receivers_picture_is_not_sent(head):
     params = source.params_at(10)
 
     def encoder_showing(picture):
-        mirror = SimpleNamespace(render=lambda p, light, body=None: (picture, None))
+        mirror = SimpleNamespace(render=lambda p, light, body=None, **_: (picture, None))
         stream = SimpleNamespace(decoded=np.append(params, (1.0, 0.0)))
         return SimpleNamespace(
             mirror=mirror, stream=stream, units=units, description=source.description,

@@ -159,7 +159,8 @@ def _nearer(mirror, face_units, spec, frame, values, picture, base=None) -> bool
         return refresh_gain_db(mirror, face_units, values, corner, patch, frame) > 0.0
     height = mirror.size[1]
     params, light = face_units.split(values)
-    rendering = mirror.render(params, light, face_units.body_of(values))[0][:height]
+    body = face_units.body_of(values)
+    rendering = mirror.render(params, light, body, luma_only=True)[0][:height]
     truth = frame[:height].astype(np.float32)
     candidate = picture[:height]
     return float(np.mean((candidate - truth) ** 2)) < float(np.mean((rendering - truth) ** 2))

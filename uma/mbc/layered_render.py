@@ -122,9 +122,10 @@ def _warped_mask(source: np.ndarray, source_box, matrix: np.ndarray, size) -> np
     return out
 
 
-def _draw_layer(renderer, out: np.ndarray, mask: np.ndarray, matrix: np.ndarray, box):
+def _draw_layer(renderer, out: np.ndarray, mask: np.ndarray, matrix: np.ndarray, box, chroma=True):
     """Draw the reference moved by `matrix` into `out` where `mask`, over `box` only; the
-    moved picture over `box` (luma rows, then both chroma planes' rows)."""
+    moved picture over `box` (luma rows, then both chroma planes' rows, left undrawn without
+    `chroma`)."""
     import cv2
 
     height = renderer.size[1]
@@ -137,19 +138,22 @@ def _draw_layer(renderer, out: np.ndarray, mask: np.ndarray, matrix: np.ndarray,
     )
     inside = mask[y0:y1, x0:x1]
     np.copyto(out[y0:y1, x0:x1], drawn[: y1 - y0], where=inside.view(bool))
+    if not chroma:
+        return drawn
     at = (inside[0::2, 0::2] | inside[1::2, 1::2]).view(bool)
     half = ((x1 - x0) // 2, (y1 - y0) // 2)
-    chroma = out[height:].reshape(2, height // 2, -1)
+    planes = out[height:].reshape(2, height // 2, -1)
     below = drawn[y1 - y0 :].reshape(2, half[1], half[0])
     for k, source in enumerate((renderer._u, renderer._v)):
         below[k] = cv2.warpAffine(source, chroma_matrix(moved), half, flags=linear,
                                   borderMode=edge)  # fmt: skip
-        np.copyto(chroma[k][y0 // 2 : y1 // 2, x0 // 2 : x1 // 2], below[k], where=at)
+        np.copyto(planes[k][y0 // 2 : y1 // 2, x0 // 2 : x1 // 2], below[k], where=at)
     return drawn
 
 
-def _draw_head(renderer, out: np.ndarray, inside: np.ndarray, maps, box) -> None:
-    """Draw the head over `box` where `inside`, reading the reference at `maps`."""
+def _draw_head(renderer, out: np.ndarray, inside: np.ndarray, maps, box, chroma=True) -> None:
+    """Draw the head over `box` where `inside`, reading the reference at `maps` (its chroma
+    too with `chroma`)."""
     import cv2
 
     height = renderer.size[1]
@@ -158,19 +162,22 @@ def _draw_head(renderer, out: np.ndarray, inside: np.ndarray, maps, box) -> None
     linear, edge = cv2.INTER_LINEAR, cv2.BORDER_REPLICATE
     drawn = cv2.remap(renderer.reference[:height], map_x, map_y, linear, borderMode=edge)
     np.copyto(out[y0:y1, x0:x1], drawn, where=inside)
+    if not chroma:
+        return
     cx = (map_x[0::2, 0::2] + map_x[1::2, 1::2] - 1.0) * 0.25
     cy = (map_y[0::2, 0::2] + map_y[1::2, 1::2] - 1.0) * 0.25
     at = inside[0::2, 0::2] | inside[1::2, 1::2]
-    chroma = out[height:].reshape(2, height // 2, -1)
-    for plane, source in zip(chroma, (renderer._u, renderer._v), strict=True):
+    planes = out[height:].reshape(2, height // 2, -1)
+    for plane, source in zip(planes, (renderer._u, renderer._v), strict=True):
         drawn = cv2.remap(source, cx, cy, linear, borderMode=edge)
         np.copyto(plane[y0 // 2 : y1 // 2, x0 // 2 : x1 // 2], drawn, where=at)
 
 
-def compose_layers(renderer, params: np.ndarray, body: np.ndarray | None):
+def compose_layers(renderer, params: np.ndarray, body: np.ndarray | None, chroma: bool = True):
     """The picture (YUV 4:2:0, no light) of a layered `renderer`
     (`uma.mbc.scene_render.SceneRenderer`) at `params` with the torso at `body` (None:
-    still), and the mask of the face's own pixels.
+    still), and the mask of the face's own pixels; without `chroma` its chroma planes are
+    not drawn (they hold no picture), its luma the same.
 
     Every layer is warped over the box it covers only (the plate's pixels elsewhere are
     never touched), which draws the same picture as whole-picture warps at a fraction of
@@ -205,19 +212,20 @@ def compose_layers(renderer, params: np.ndarray, body: np.ndarray | None):
     torso_box = mask_box(torso)
     if torso_box is not None:
         plate = out.copy() if body_moved > 0 else None  # the torso's edge fades into it
-        _draw_layer(renderer, out, torso, torso_forward, torso_box)
+        _draw_layer(renderer, out, torso, torso_forward, torso_box, chroma)
         if plate is not None:  # the torso's outer edge only: it meets the head inside
             strength = min(body_moved / FEATHER_FULL_PX, 1.0)
-            _feather(out, plate, torso.view(bool), strength, (torso | person).view(bool))
+            _feather(out, plate, torso.view(bool), strength, (torso | person).view(bool), chroma)
     # The picture moved with the head, around the head and halo: what their seam fades into.
     around_box = mask_box(person, _BLEED_MARGIN_PX) if moved > 0 else mask_box(halo)
     around = None
     if around_box is not None:
-        around = _draw_layer(renderer, out, halo, head_forward, around_box)
+        around = _draw_layer(renderer, out, halo, head_forward, around_box, chroma)
     if box is not None:
-        _draw_head(renderer, out, head[y0:y1, x0:x1].view(bool), (map_x, map_y), box)
+        _draw_head(renderer, out, head[y0:y1, x0:x1].view(bool), (map_x, map_y), box, chroma)
     if moved > 0 and around is not None:
-        _bleed(out, around, around_box, person.view(bool), min(moved / FEATHER_FULL_PX, 1.0))
+        strength = min(moved / FEATHER_FULL_PX, 1.0)
+        _bleed(out, around, around_box, person.view(bool), strength, chroma)
     if renderer.soft_outline:
         soften_outline(out, person.view(bool), face, moved)
     return out, face
@@ -234,11 +242,14 @@ def _plate(renderer, body: np.ndarray | None) -> np.ndarray:
     return shift_yuv(plate, np.array([[1.0, 0.0, tx], [0.0, 1.0, ty]]), cv2.INTER_LINEAR)
 
 
-def _bleed(out: np.ndarray, around: np.ndarray, box, mask: np.ndarray, strength: float) -> None:
+def _bleed(
+    out: np.ndarray, around: np.ndarray, box, mask: np.ndarray, strength: float, chroma=True
+) -> None:
     """Fade the head's edge outward: the pixels just outside `mask` (the head and its halo)
     in `out` move toward `around` (the picture moved rigidly with the head, over `box`, at
     least `_BLEED_MARGIN_PX` beyond the mask) by up to half, over about `FEATHER_SIGMA_PX`,
-    times `strength`; the head's own pixels stay as drawn."""
+    times `strength`; the head's own pixels stay as drawn; the chroma planes too with
+    `chroma`."""
     import cv2
 
     height = mask.shape[0]
@@ -246,12 +257,15 @@ def _bleed(out: np.ndarray, around: np.ndarray, box, mask: np.ndarray, strength:
     inside = mask[y0:y1, x0:x1]
     weight = strength * cv2.GaussianBlur(inside.astype(np.float32), (0, 0), FEATHER_SIGMA_PX)
     weight[inside] = 0.0
+    if not chroma:
+        _blend(out[y0:y1, x0:x1], around[: y1 - y0], weight)
+        return
     half = weight[0::2, 0::2]
     box_h = y1 - y0
-    chroma = out[height:].reshape(2, height // 2, -1)[:, y0 // 2 : y1 // 2, x0 // 2 : x1 // 2]
+    planes = out[height:].reshape(2, height // 2, -1)[:, y0 // 2 : y1 // 2, x0 // 2 : x1 // 2]
     toward = around[box_h:].reshape(2, box_h // 2, -1)
     for top, target, w in ((out[y0:y1, x0:x1], around[:box_h], weight),
-                           (chroma[0], toward[0], half), (chroma[1], toward[1], half)):  # fmt: skip
+                           (planes[0], toward[0], half), (planes[1], toward[1], half)):  # fmt: skip
         _blend(top, target, w)
 
 
@@ -268,11 +282,13 @@ def _head_moved_px(renderer, target: np.ndarray) -> float:
 
 
 def _feather(
-    out: np.ndarray, under: np.ndarray, mask: np.ndarray, strength: float, solid=None
-) -> None:
+    out: np.ndarray, under: np.ndarray, mask: np.ndarray, strength: float, solid=None,
+    chroma: bool = True,
+) -> None:  # fmt: skip
     """Fade the pixels of `mask` in `out` into `under` near the edge of `solid` (default
     `mask`) over about `FEATHER_SIGMA_PX`, by `strength` (0: a hard edge, as when the layer has
-    not moved); computed over `mask`'s box (and the blur's reach) only."""
+    not moved); computed over `mask`'s box (and the blur's reach) only; the chroma planes too
+    with `chroma`."""
     import cv2
 
     height = mask.shape[0]
@@ -290,5 +306,5 @@ def _feather(
     top = out[height:].reshape(2, height // 2, -1)
     bottom = under[height:].reshape(2, height // 2, -1)
     _blend(out[y0:y1, x0:x1], under[y0:y1, x0:x1], away)
-    for k in range(2):
+    for k in range(2 if chroma else 0):
         _blend(top[k][rows], bottom[k][rows], half)

@@ -44,7 +44,7 @@ def refresh_gain_db(
     `uma.mbc.units.FaceUnits` layout), both against `truth` (the source picture, YUV 4:2:0),
     over the box's luma."""
     params, light = units.split(values)
-    rendered, _ = mirror.render(params, light, units.body_of(values))
+    rendered, _ = mirror.render(params, light, units.body_of(values), luma_only=True)
     height = rendered.shape[0] * 2 // 3
     x0, y0 = corner
     box_h = patch.shape[0] * 2 // 3

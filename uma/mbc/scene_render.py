@@ -27,7 +27,9 @@ from uma.mbc.errors import SceneError
 from uma.mbc.layered_kernels import FAR_OUTSIDE_MAP, STILL_MAP, triangle_maps
 from uma.mbc.layered_render import compose_layers, mask_box
 from uma.mbc.layers import Plate, body_problem, cut_person, head_ring_points
+from uma.mbc.render_memo import RenderMemo
 from uma.mbc.scene_reference import description_reference
+from uma.mbc.stretched_render import stretched
 
 __all__ = [
     "SceneRenderer",
@@ -121,6 +123,7 @@ class SceneRenderer:
         self._face_source = None
         self._face_chroma = None
         self._last_face = None
+        self._memo = RenderMemo()  # cleared by every new reference and face source
         self.set_reference(*description_reference(description, self.size))
         # The description's picture is mid-grey around its texture: not background anyone saw.
         # The first real reference replaces that plate instead of being laid over it (the grey
@@ -154,6 +157,7 @@ class SceneRenderer:
                 f"reference pose: expected {expected[0]} finite parameters with a positive "
                 f"scale, got {np.array2string(params, precision=3, threshold=8)}"
             )
+        self._memo.clear()
         self.reference = np.ascontiguousarray(picture)
         self.reference_params = params.copy()
         self.reference_serial = getattr(self, "reference_serial", 0) + 1  # one per reference
@@ -174,6 +178,7 @@ class SceneRenderer:
         pose is only approximately known (the receiver's last picture, shown a while before the
         stream's first pose)."""
         self._face_source = None
+        self._memo.clear()
         if use_description:
             self._face_source = description_reference(self.description, self.size)
 
@@ -250,10 +255,13 @@ class SceneRenderer:
         params: np.ndarray,
         light: tuple[float, float] | None = None,
         body: np.ndarray | None = None,
+        *,
+        luma_only: bool = False,
     ) -> tuple[np.ndarray, np.ndarray]:
         """The picture (YUV 4:2:0) at `params` and the mask of the face's pixels; `light`
         (gain, offset in levels) relights the face's luma against the reference's; `body`
-        (layered only) moves the torso (`uma.mbc.layers.BODY_NAMES`; None: still). Light out
+        (layered only) moves the torso (`uma.mbc.layers.BODY_NAMES`; None: still);
+        `luma_only`: the same luma, the chroma planes left undrawn (a judge's). Light out
         of `LIGHT_GAIN_RANGE`/`LIGHT_OFFSET_RANGE`, an absurd body motion or values not
         finite are a `SceneError` (nothing drawn: the caller keeps its last picture)."""
 
@@ -265,41 +273,27 @@ class SceneRenderer:
             problem = body_problem(body, self.size)
             if problem:
                 raise SceneError(problem)
+        kept = None if luma_only else self._memo.get(params, light, body)
+        if kept is not None:
+            return kept
         if self.layered:
-            out, face = compose_layers(self, params, body)
+            out, face = compose_layers(self, params, body, chroma=not luma_only)
         else:
-            out, face = self._stretched(params)
+            out, face = stretched(self, params)
         luma = out[:height]
         if self._face_source is not None:
             self._paste_face(luma, params)  # before the light: the pasted face is relit too
         if light is not None:
             _relight(luma, face, _checked_light(light))
         chroma = out[height:].reshape(2, height // 2, width // 2)
-        if self._face_source is not None and self._face_chroma is not None:
+        if self._face_source is not None and self._face_chroma is not None and not luma_only:
             (x0, y0), mask, planes = self._face_chroma
             for plane, patch in zip(chroma, planes, strict=True):
                 h, w = patch.shape
                 box = plane[y0 : y0 + h, x0 : x0 + w]
                 box[mask] = patch[mask]
-        return out, face
-
-    def _stretched(self, params: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The whole reference stretched by the scene mesh (no layers), and the face's mask."""
-        import cv2
-
-        width, height = self.size
-        map_x, map_y, face = self.maps(params)
-        out = np.empty((height * 3 // 2, width), dtype=np.uint8)
-        out[:height] = cv2.remap(
-            self.reference[:height], map_x, map_y, cv2.INTER_LINEAR,
-            borderMode=cv2.BORDER_REPLICATE,
-        )  # fmt: skip
-        # Chroma: each 2x2 block's mean position, in chroma-plane coordinates.
-        cx = (map_x[0::2, 0::2] + map_x[1::2, 1::2] - 1.0) * 0.25
-        cy = (map_y[0::2, 0::2] + map_y[1::2, 1::2] - 1.0) * 0.25
-        chroma = out[height:].reshape(2, height // 2, width // 2)
-        for plane, source in zip(chroma, (self._u, self._v), strict=True):
-            plane[:] = cv2.remap(source, cx, cy, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+        if not luma_only:
+            self._memo.put(params, light, body, out, face)
         return out, face
 
     def _cut_layers(self, params: np.ndarray, fresh: np.ndarray | None) -> None:
