@@ -63,6 +63,8 @@ class RefreshConfig(Section):
     initialisation picture, often sharper than the receiver's last one; measured on the akiyo
     cut of docs/refresh.md, checking it too did better). `encode_ms`: the
     modelled compute of coding one refresh, decoding it again for the mirror and that check.
+    `handover_drain_ms`: when the reports name a new technology, a refresh under way whose
+    remaining bits would take longer than this at the new estimate is dropped (the next intra).
     """
 
     enabled: Bool = False
@@ -82,6 +84,7 @@ class RefreshConfig(Section):
     min_gain_db: Num = 0.5
     first_always: Bool = False
     encode_ms: NonNeg = 12.0
+    handover_drain_ms: PosNum = 500.0
 
     @model_validator(mode="after")
     def _intervals(self) -> RefreshConfig:

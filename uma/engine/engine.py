@@ -14,7 +14,8 @@ engine keeps the events and counts among them (`_keep`) and hands them on in `fi
 Rate control is one object of `uma.engine.rate` (the kind `engine.estimator` names): each
 report goes to it, and its estimate is what the rate policy reads; a probe it asks for leaves
 at once as padding packets with one send stamp; at each frame decision it is told of silence
-and asked whether to skip the frame; while it is paused no refresh packet leaves. A change of
+and asked whether to skip the frame; while it holds the refresh (`refresh_held`: paused, or
+the reports late) no refresh packet leaves. A change of
 rung within one codec and size retargets the open encoder (the decision's `target_kbps`, no
 keyframe); a new codec or size is a new stream.
 """
@@ -88,7 +89,7 @@ class UmaEngine:
         probe, taken = self.rate.on_report(report, now_s, due=self.inflight.oldest_outstanding())
         actions += taken + self.sender.probe(None if self.oracle else probe, now_s)
         if self.refresh is not None:
-            actions += self.refresh.on_ack(report.refresh_frame)
+            actions += self.refresh.on_report(report, now_s, self.estimate_kbps, self.oracle)
         return self._keep(actions)
 
     def on_keyframe_request(self, request: KeyframeRequest, now_s: float) -> list:
@@ -127,8 +128,7 @@ class UmaEngine:
     def on_sent(self, unit: OutgoingUnit | None, now_s: float) -> list:
         """The frame's coded unit leaves (None: none), then the refresh's packets due."""
         actions = [] if unit is None else self.sender.unit(unit, now_s, self.estimator)
-        held = self.rate.paused(now_s)  # its bits would go into a handover's gap
-        return self._keep(actions + self.sender.refresh_due(now_s, self.estimator, held=held))
+        return self._keep(actions + self.sender.refresh_due(now_s, self.rate))
 
     def on_pace(self, now_s: float, *, capacity_kbps: float | None = None) -> PaceDecision:
         """What the pacer lets out now; `capacity_kbps`: the true rate (the oracle's pace)."""
@@ -208,7 +208,7 @@ class UmaEngine:
         adopted = self.refresh.take_adopted() if decision.send and self.refresh else None
         actions += [] if adopted is None else [AdoptRefresh(adopted)]
         if not decision.send or not decoded:
-            actions += self.sender.refresh_due(now_s, self.estimator, held=self.rate.paused(now_s))
+            actions += self.sender.refresh_due(now_s, self.rate)
         return replace(decision, actions=tuple(self._keep(actions)))
 
     def _send_or_hold(self, decision, now_s, capacity_kbps, budget_kbps, switched: bool):

@@ -14,7 +14,9 @@ encoder sends at its target; uma's ladder sends at most a rung's rate).
   probes when application-limited, `on_silence` per report interval without a report, the
   technology's prior on a handover, the skip rule, and no frame coded while the controller is
   `paused` (no report for its `pause_ms`; still never more than `max_skip_ms` in a row);
-  while paused no refresh packet leaves either.
+  no refresh packet leaves while paused or while the reports are later than their own spacing
+  allows (`ReportSpacing`, `refresh_held`: the refresh alone waits for the next report; a
+  pause that early for the video cost a measured trace, docs/rate-control.md).
 - `gcc`: `uma.control.GccController` (the published GCC), its probes, no skip.
 - `webrtc`: aiortc's receiver-side estimator fed the report's packets (a REMB, as before the
   controllers: earlier results stay comparable), padding to its estimate, a decrease by
@@ -44,7 +46,15 @@ from uma.engine.points import OperatingPoint
 from uma.engine.records import EngineEvent
 from uma.engine.reports import ReceiverReport
 
-__all__ = ["RateControl", "UmaRate", "GccRate", "WebrtcRate", "RATE_CONTROLS", "make_rate"]
+__all__ = [
+    "RateControl",
+    "ReportSpacing",
+    "UmaRate",
+    "GccRate",
+    "WebrtcRate",
+    "RATE_CONTROLS",
+    "make_rate",
+]
 
 # The received rate the rest of the engine reads (the refresh's spend) is over this window.
 RECEIVED_WINDOW_S = 1.0
@@ -80,6 +90,11 @@ class RateControl:
         gone quiet)."""
         return False
 
+    def refresh_held(self, now_s: float) -> bool:
+        """Whether the refresh should neither be ordered nor leave (`paused`, or the kind's
+        own earlier sign that the feedback is late)."""
+        return self.paused(now_s)
+
     def skips_frame(self, point: OperatingPoint, queued_bits: int, now_s: float) -> bool:
         """Whether a frame at `point` is not coded (`skip` on its share of the point's rate;
         never a codec that may not be skipped for backlog)."""
@@ -101,6 +116,44 @@ class RateControl:
         )
 
 
+class ReportSpacing:
+    """The spacing of the receiver's reports as they arrive here, smoothed as RFC 6298
+    smooths a round trip (gain 1/8, the mean deviation 1/4): a report is late once the last
+    came more than the smoothed spacing plus `deviations` mean deviations ago, at least
+    `min_ms` and at most `max_ms` (the controller's pause)."""
+
+    def __init__(self, *, deviations: float = 4.0, min_ms: float = 10.0, max_ms: float = 150.0):
+        self.deviations, self.min_ms, self.max_ms = deviations, min_ms, max_ms
+        self.last_s: float | None = None
+        self.smoothed_ms: float | None = None
+        self.deviation_ms = 0.0
+
+    def on_report(self, now_s: float) -> None:
+        if self.last_s is not None:
+            spacing_ms = (now_s - self.last_s) * 1000.0
+            if self.smoothed_ms is None:
+                self.smoothed_ms, self.deviation_ms = spacing_ms, spacing_ms / 2.0
+            else:
+                error_ms = abs(spacing_ms - self.smoothed_ms)
+                self.deviation_ms += (error_ms - self.deviation_ms) / 4.0
+                self.smoothed_ms += (spacing_ms - self.smoothed_ms) / 8.0
+        self.last_s = now_s
+
+    @property
+    def allowed_ms(self) -> float | None:
+        """How long after a report the next one is late (None: no spacing seen yet)."""
+        if self.smoothed_ms is None:
+            return None
+        allowed_ms = self.smoothed_ms + self.deviations * self.deviation_ms
+        return min(max(allowed_ms, self.min_ms), self.max_ms)
+
+    def late(self, now_s: float) -> bool:
+        allowed_ms = self.allowed_ms
+        if allowed_ms is None or self.last_s is None:
+            return False
+        return (now_s - self.last_s) * 1000.0 > allowed_ms
+
+
 class UmaRate(RateControl):
     """uma's controller (`uma.control.UmaController`)."""
 
@@ -114,11 +167,13 @@ class UmaRate(RateControl):
         self._report_ms: float | None = None  # the last report's end, on the receiver's clock
         self._report_s = 0.0  # when it arrived here
         self._skipping_s: float | None = None  # since when frames are skipped in a row
+        self.spacing = ReportSpacing()
 
     def on_report(
         self, report: ReceiverReport, now_s: float, *, due: tuple[float, int] | None = None
     ) -> tuple[ProbeRequest | None, list]:
         probe = None
+        self.spacing.on_report(now_s)
         if report.delivery is not None:  # what arrived (over the old path, if it changed)
             due_ms = None if due is None else (due[0] * 1000.0, due[1])
             decision: RateDecision = self.controller.on_report(report.delivery, due=due_ms)
@@ -156,6 +211,14 @@ class UmaRate(RateControl):
         if self.oracle or self._report_ms is None:
             return False
         return self.controller.paused(self._report_ms + (now_s - self._report_s) * 1000.0)
+
+    def refresh_held(self, now_s: float) -> bool:
+        """`paused`, or no report for longer than the reports' own spacing allows
+        (`ReportSpacing.late`): the refresh is the one stream that can wait for the next
+        report, so its bits stay out of a handover's gap (never for the oracle)."""
+        if self.oracle:
+            return False
+        return self.paused(now_s) or self.spacing.late(now_s)
 
     def skip(self, frame_bits: float, queued_bits: float, now_s: float) -> bool:
         """Salsify's rule on the controller's capacity and the queue it last saw (the pacer's

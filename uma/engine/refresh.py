@@ -16,15 +16,18 @@ left and its bits at `share` x spare would have taken as long, never sooner than
 `min_interval_ms` after it, and none while that would take longer than `max_interval_ms` or
 less than `min_spare_kbps` are spare. Its packets wait here and leave at the spare rate, a
 packet whenever the credit allows, so the parameters never queue behind a whole refresh;
-nothing leaves while the last report's queueing delay is more than `queue_high_ms` above the
-least of the last `queue_window_ms` (a handover to a slower technology raises the delay the
+nothing leaves while the rate control holds the refresh (the reports late or paused:
+`RateControl.refresh_held`), nor while the last report's queueing delay is more than
+`queue_high_ms` above the least of the last `queue_window_ms` (a handover to a slower technology raises the delay the
 receiver reads for as long as it remembers the old link's, with no queue behind it), and
 when the spare rate falls under way they still leave at half `min_spare_kbps` (a refresh
 coded before the estimate fell, as it does while a handover's queue drains, still arrives,
 and its bits let the estimate grow again). A refresh is intra at the start of a stretch,
 after the receiver asked for one (a refresh lost or undecodable), and when the spare rate
 has grown to twice the stream's size an interval; one left half sent when the engine leaves
-the model codec is dropped, and the next is intra. The receiver reports the newest refresh
+the model codec is dropped, and the next is intra; so is one whose remaining bits would take
+more than `handover_drain_ms` at the estimate when the reports name a new technology (they
+would hold the parameters behind them on a slower link). The receiver reports the newest refresh
 it renders from; the engine hands it on once (`take_adopted`), so the encoder's mirror of
 the receiver's reference changes only when the receiver's did.
 
@@ -94,6 +97,7 @@ class RefreshPlanner:
         self.released_bits = 0  # since the last `take_released_bits`
         self.acked_frame = -1
         self.adopted: int | None = None  # a refresh the receiver took, not yet handed on
+        self.technology = ""  # the last the reports named
 
     def fire(self, event: RefreshEvent) -> None:
         key = (self.state, event)
@@ -240,6 +244,15 @@ class RefreshPlanner:
             self.fire(RefreshEvent.DRAINED)
         return out
 
+    def on_handover(self, now_s: float, estimate_kbps: float) -> list:
+        """The reports name a new technology: a refresh under way whose remaining bits would
+        take more than `handover_drain_ms` at `estimate_kbps` (the new link's first estimate)
+        is dropped, and the next is intra (its bits would hold the parameters behind them on
+        a slower link)."""
+        if self.queued_bits <= estimate_kbps * self.config.handover_drain_ms:
+            return []
+        return self._drop(now_s, f"handover, {estimate_kbps:.1f} kbps")
+
     def take_released_bits(self) -> int:
         """Refresh bits released since the last call (the probe's padding leaves them out)."""
         bits, self.released_bits = self.released_bits, 0
@@ -249,6 +262,17 @@ class RefreshPlanner:
         """The receiver lost a refresh (or could not decode it): the next one is intra."""
         self.intra_due = True
         return []
+
+    def on_report(self, report, now_s: float, estimate_kbps: float, oracle: bool = False) -> list:
+        """A `ReceiverReport`: the refresh the receiver renders from (`on_ack`), and, once it
+        names a technology other than the last it named, `on_handover` at `estimate_kbps`
+        (the rate control has taken the report and the new technology's prior; never for the
+        oracle, whose budget is the capacity, not the estimate)."""
+        actions = self.on_ack(report.refresh_frame)
+        technology, self.technology = self.technology, report.technology or self.technology
+        if oracle or not technology or self.technology == technology:
+            return actions
+        return actions + self.on_handover(now_s, estimate_kbps)
 
     def on_ack(self, frame: int) -> list:
         """A report says the receiver renders from the refresh of `frame`."""

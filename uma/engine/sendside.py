@@ -53,12 +53,14 @@ class SendSide:
             return []
         return self.outbox.probe(probe.packets, probe.packet_bits, now_s) + [Tally("probes", 1)]
 
-    def refresh_due(self, now_s: float, estimator, *, held: bool = False) -> list[SendPacket]:
-        """The refresh's packets that leave now, none while `held` (ask every frame: it keeps
-        the recent delays)."""
+    def refresh_due(self, now_s: float, rate) -> list[SendPacket]:
+        """The refresh's packets that leave now, none while the rate control holds the
+        refresh (`RateControl.refresh_held`; ask every frame: it keeps the recent delays)."""
         if self.refresh is None:
             return []
-        out = self.refresh.pace(now_s, queue_delay_ms=estimator.queue_delay_ms, held=held)
+        out = self.refresh.pace(
+            now_s, queue_delay_ms=rate.state.queue_delay_ms, held=rate.refresh_held(now_s)
+        )
         return self.outbox.number([packet for packet, _ in out], now_s) if out else []
 
     def pace(
