@@ -73,7 +73,8 @@ def test_a_handover_with_a_refresh_under_way_hand_worked():
         tracker.on_packet(tick, (now_s - 0.07) * 1000.0, (now_s - 0.03) * 1000.0, 600)
         gprs = report(tracker, now_s - 0.02, "GPRS")
         rate.on_report(gprs, now_s)
-        assert plan.on_report(gprs, now_s, rate.state.estimate_kbps) == []  # no new technology
+        assert not rate.handover and rate.technology == "GPRS"  # no new technology
+        assert plan.on_report(gprs, now_s, rate.state.estimate_kbps, rate.handover) == []
 
     for tick in range(1, 10):  # reports at 0.1 ... 0.9 s
         gprs_report(tick)
@@ -93,9 +94,9 @@ def test_a_handover_with_a_refresh_under_way_hand_worked():
     rate.on_report(gsm, 1.6)
     estimate_kbps = rate.state.estimate_kbps
     assert estimate_kbps <= 9.6
-    assert plan.on_report(gsm, 1.6, estimate_kbps, oracle=True) == []  # the oracle: kept
-    plan.technology = "GPRS"
-    actions = plan.on_report(gsm, 1.6, estimate_kbps)
+    assert rate.handover and rate.technology == "GSM"
+    assert plan.on_report(gsm, 1.6, estimate_kbps, False) == []  # no handover: kept
+    actions = plan.on_report(gsm, 1.6, estimate_kbps, rate.handover)
     assert Tally("refresh_dropped") in actions and not plan.queue and plan.intra_due
 
 
@@ -120,3 +121,7 @@ def test_the_oracle_and_the_other_kinds_hold_the_refresh_only_while_paused():
     oracle.spacing.on_report(0.0)
     oracle.spacing.on_report(0.1)
     assert not oracle.refresh_held(5.0)
+    tracker = DeliveryTracker(DeliverySettings(interval_ms=1e9))
+    for now_s, technology in ((0.2, "3G"), (0.3, "GPRS")):
+        oracle.on_report(report(tracker, now_s, technology), now_s)
+    assert oracle.technology == "GPRS" and not oracle.handover  # the oracle drops no refresh

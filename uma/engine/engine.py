@@ -89,7 +89,7 @@ class UmaEngine:
         probe, taken = self.rate.on_report(report, now_s, due=self.inflight.oldest_outstanding())
         actions += taken + self.sender.probe(None if self.oracle else probe, now_s)
         if self.refresh is not None:
-            actions += self.refresh.on_report(report, now_s, self.estimate_kbps, self.oracle)
+            actions += self.refresh.on_report(report, now_s, self.estimate_kbps, self.rate.handover)
         return self._keep(actions)
 
     def on_keyframe_request(self, request: KeyframeRequest, now_s: float) -> list:

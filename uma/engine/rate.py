@@ -71,6 +71,8 @@ class RateControl:
         self.estimator = config.estimator
         self.oracle = config.policy == "oracle"  # it reads the capacity: never paused
         self.state = EstimatorState(estimate_kbps=config.estimator.initial_kbps)
+        self.technology = ""  # the last the reports named
+        self.handover = False  # the last report named a new technology (never the oracle)
 
     def on_report(
         self, report: ReceiverReport, now_s: float, *, due: tuple[float, int] | None = None
@@ -94,6 +96,15 @@ class RateControl:
         """Whether the refresh should neither be ordered nor leave (`paused`, or the kind's
         own earlier sign that the feedback is late)."""
         return self.paused(now_s)
+
+    def _named(self, technology: str) -> bool:
+        """Note the technology a report names (none: unchanged); whether it differs from one
+        named before (the first named is no handover). `handover` says the same for what
+        follows the estimate: never for the oracle (it reads the capacity)."""
+        changed = bool(technology and self.technology and technology != self.technology)
+        self.technology = technology or self.technology
+        self.handover = changed and not self.oracle
+        return changed
 
     def skips_frame(self, point: OperatingPoint, queued_bits: int, now_s: float) -> bool:
         """Whether a frame at `point` is not coded (`skip` on its share of the point's rate;
@@ -163,7 +174,6 @@ class UmaRate(RateControl):
         self.controller = UmaController(
             UmaSettings(initial_kbps=cfg.initial_kbps, min_kbps=cfg.min_kbps, max_kbps=cfg.max_kbps)
         )
-        self.technology = ""
         self._report_ms: float | None = None  # the last report's end, on the receiver's clock
         self._report_s = 0.0  # when it arrived here
         self._skipping_s: float | None = None  # since when frames are skipped in a row
@@ -184,10 +194,7 @@ class UmaRate(RateControl):
 
     def _technology(self, technology: str, now_s: float) -> list:
         """A change of the technology the reports name: the controller's prior for it."""
-        if not technology or technology == self.technology:
-            return []
-        first, self.technology = not self.technology, technology
-        if first:
+        if not self._named(technology):
             return []
         decision = self.controller.on_handover(technology, now_s * 1000.0)
         self.state = replace(self.state, estimate_kbps=decision.target_kbps)
@@ -252,6 +259,7 @@ class GccRate(RateControl):
     def on_report(
         self, report: ReceiverReport, now_s: float, *, due: tuple[float, int] | None = None
     ) -> tuple[ProbeRequest | None, list]:
+        self._named(report.technology)
         if report.delivery is None:
             return None, []
         decision = self.controller.on_report(report.delivery)
@@ -277,6 +285,7 @@ class WebrtcRate(RateControl):
     def on_report(
         self, report: ReceiverReport, now_s: float, *, due: tuple[float, int] | None = None
     ) -> tuple[ProbeRequest | None, list]:
+        self._named(report.technology)
         for record in () if report.delivery is None else report.delivery.records:
             self.remb.on_packet(
                 arrival_s=record.arrival_ms / 1000.0, sent_s=record.send_ms / 1000.0,

@@ -97,7 +97,6 @@ class RefreshPlanner:
         self.released_bits = 0  # since the last `take_released_bits`
         self.acked_frame = -1
         self.adopted: int | None = None  # a refresh the receiver took, not yet handed on
-        self.technology = ""  # the last the reports named
 
     def fire(self, event: RefreshEvent) -> None:
         key = (self.state, event)
@@ -263,16 +262,13 @@ class RefreshPlanner:
         self.intra_due = True
         return []
 
-    def on_report(self, report, now_s: float, estimate_kbps: float, oracle: bool = False) -> list:
-        """A `ReceiverReport`: the refresh the receiver renders from (`on_ack`), and, once it
-        names a technology other than the last it named, `on_handover` at `estimate_kbps`
-        (the rate control has taken the report and the new technology's prior; never for the
-        oracle, whose budget is the capacity, not the estimate)."""
+    def on_report(self, report, now_s: float, estimate_kbps: float, handover: bool) -> list:
+        """A `ReceiverReport`: the refresh the receiver renders from (`on_ack`), and, when it
+        named a new technology (`handover`: `RateControl.handover`, after the rate
+        control took the report and the new technology's prior), `on_handover` at
+        `estimate_kbps`."""
         actions = self.on_ack(report.refresh_frame)
-        technology, self.technology = self.technology, report.technology or self.technology
-        if oracle or not technology or self.technology == technology:
-            return actions
-        return actions + self.on_handover(now_s, estimate_kbps)
+        return actions + self.on_handover(now_s, estimate_kbps) if handover else actions
 
     def on_ack(self, frame: int) -> list:
         """A report says the receiver renders from the refresh of `frame`."""
