@@ -279,7 +279,8 @@ class SceneRenderer:
         if self.layered:
             out, face = compose_layers(self, params, body, chroma=not luma_only)
         else:
-            out, face = stretched(self, params)
+            map_x, map_y, face = self.maps(params)
+            out = stretched(self.reference, (self._u, self._v), map_x, map_y)
         luma = out[:height]
         if self._face_source is not None:
             self._paste_face(luma, params)  # before the light: the pasted face is relit too
