@@ -9,7 +9,8 @@ on any difference. Run from the repository root with the checkout on `PYTHONPATH
 The set: the regression suite's scenarios (VP8 among them), the switching commute cut to 70 s (it
 reaches GPRS, so the model-based codec is used), the default commute with the refresh cut to 90 s
 (it reaches GSM, so the model codec and its refresh both run), the rate-control commute (pacer,
-handover awareness, delay-trend estimator) cut to 70 s, and short scenarios that between them use every codec
+handover awareness, delay-trend estimator) cut to 70 s, the real-video commute's akiyo on a
+short modelled route (a looped file, the face detector, the model codec on real video), and short scenarios that between them use every codec
 and path of the engine: face-region rungs with MBC below them (and a failed face search),
 the selection scheme, WebRTC's estimator with padding and predictive switching, and oracle
 switching, and a switch MBC must refuse (no description). `--only NAME` runs a subset (repeatable).
@@ -43,6 +44,19 @@ SCENARIOS: dict[str, tuple[str | None, dict, int]] = {
     "switching-70s": ("scenarios/stockholm-uppsala-switching.yaml", {"duration_s": 70.0}, 1),
     "default-refresh-90s": ("scenarios/stockholm-uppsala.yaml", {"duration_s": 90.0}, 1),
     "ratecontrol-70s": ("scenarios/stockholm-uppsala-ratecontrol.yaml", {"duration_s": 70.0}, 1),
+    # Real video (akiyo, looped every 300 frames) with the face detector scoring it and the
+    # model codec initialised on it (needs ../shared/data).
+    "real-akiyo-30s": (
+        "scenarios/stockholm-uppsala-real.yaml",
+        {
+            "duration_s": 30.0,
+            "route": [
+                {"technology": "3G", "duration_s": 12},
+                {"technology": "GPRS", "duration_s": 18},
+            ],
+        },
+        1,
+    ),
     "vp8-3g": ("tests/baselines/vp8-3g.yaml", {}, 4),
     "selection": ("scenarios/wlan-gsm-wlan-selection.yaml", {}, 1),
     "face-mbc": (

@@ -63,3 +63,28 @@ def test_detection_is_cached_by_clip_frame_and_falls_back_to_the_last_box(monkey
     assert calls == [2, 1]  # once per distinct clip frame
     assert boxes.boxes[0] is None  # no face found yet
     assert boxes.boxes[1:] == [detect.Box(1, 2, 30, 30)] * 4
+
+
+def test_the_cascade_answers_a_picture_it_has_seen_from_memory(monkeypatch):
+    import uma.face.detect as detect
+
+    frame = next(iter(TalkingHeadSource(width=176, height=144, seed=0, frame_count=1).frames()))
+    luma = np.ascontiguousarray(frame[:144])
+    first = detect.detect_face(luma)
+    assert first  # the talking head's face is found
+    calls = []
+    real = detect._cascade
+
+    def counting():
+        calls.append(1)
+        return real()
+
+    monkeypatch.setattr(detect, "_cascade", counting)
+    again = detect.detect_face(luma.copy())
+    assert again == first and calls == []  # the same picture: no second detection
+    shifted = np.roll(luma, 1, axis=1)
+    detect.detect_face(shifted)
+    assert calls == [1]  # another picture is detected afresh
+    found = detect.detect_faces(luma)
+    found.clear()  # a caller's list is its own
+    assert detect.detect_faces(luma) == [first]

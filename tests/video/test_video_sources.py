@@ -155,3 +155,40 @@ def test_resize_rejects_what_is_not_a_yuv420_frame():
         resize_yuv420(np.zeros((100, 176), dtype=np.uint8), 88, 72)
     with pytest.raises(VideoError, match="even positive size"):
         resize_yuv420(np.zeros((216, 176), dtype=np.uint8), 87, 72)
+
+
+def test_a_looped_clip_replays_its_first_pass_as_copies(tmp_path, monkeypatch):
+    path = tmp_path / "ramp.mkv"
+    write_video(path, 32, 16, 5)
+    decoded = list(VideoFileSource(path).frames())
+    looped = VideoFileSource(path, loop=True, max_frames=13)
+    passes = []
+    monkeypatch.setattr(looped, "_once", _counting(looped._once, passes))
+    frames = list(looped.frames())
+    assert len(passes) == 1  # decoded once, replayed twice and a bit
+    for index, frame in enumerate(frames):
+        assert np.array_equal(frame, decoded[index % 5])
+    frames[5][:] = 0  # a consumer writing into a replayed picture changes no later pass
+    assert np.array_equal(frames[10], decoded[0]) and frames[5] is not frames[10]
+
+
+def test_a_looped_clip_too_large_to_keep_is_decoded_on_each_pass(tmp_path, monkeypatch):
+    import uma.video.sources as sources
+
+    path = tmp_path / "ramp.mkv"
+    write_video(path, 32, 16, 5)
+    monkeypatch.setattr(sources, "LOOP_KEEP_BYTES", 32 * 24 * 3)  # three of the five frames
+    looped = VideoFileSource(path, loop=True, max_frames=12)
+    passes = []
+    monkeypatch.setattr(looped, "_once", _counting(looped._once, passes))
+    frames = list(looped.frames())
+    assert len(passes) == 3 and len(frames) == 12
+    assert all(np.array_equal(frames[i], frames[i + 5]) for i in range(7))
+
+
+def _counting(once, passes):
+    def counted():
+        passes.append(1)
+        return once()
+
+    return counted

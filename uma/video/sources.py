@@ -17,6 +17,10 @@ from uma.errors import VideoError
 
 __all__ = ["VideoFileSource", "RawYuvSource", "PatternSource"]
 
+# A looped clip's decoded pictures are kept and replayed when they fit in this many bytes (akiyo
+# at CIF: 300 frames, 46 MB); a longer clip is decoded again on each pass.
+LOOP_KEEP_BYTES = 256 * 1024 * 1024
+
 
 class VideoFileSource:
     """Frames decoded from a file by PyAV (any container and codec it reads).
@@ -82,10 +86,13 @@ class VideoFileSource:
             raise VideoError(f"{self.path}: decoding failed after {index} frames ({err})") from None
 
     def frames(self) -> Iterator[np.ndarray]:
+        """The clip's pictures; with `loop`, the first pass is kept (when it fits in
+        `LOOP_KEEP_BYTES`) and replayed as copies instead of decoding the file again."""
         produced = 0
+        kept: list[np.ndarray] | None = [] if self.loop else None
         while True:
             empty = True
-            for array in self._once():
+            for array in self._pass(kept):
                 empty = False
                 yield array
                 produced += 1
@@ -93,6 +100,24 @@ class VideoFileSource:
                     return
             if not self.loop or empty:
                 return
+            if kept is not None and len(kept) == 0:
+                kept = None  # the clip did not fit: decode each pass
+
+    def _pass(self, kept: list[np.ndarray] | None) -> Iterator[np.ndarray]:
+        """One pass over the clip: decoded (filling `kept` while it fits) or replayed."""
+        if kept:
+            for array in kept:
+                yield array.copy()
+            return
+        frame_bytes = self.width * self.height * 3 // 2
+        for array in self._once():
+            if kept is not None:
+                if (len(kept) + 1) * frame_bytes <= LOOP_KEEP_BYTES:
+                    kept.append(array.copy())
+                else:
+                    kept.clear()
+                    kept = None
+            yield array
 
 
 def _to_yuv420(frame, width: int, height: int, path: Path, index: int) -> np.ndarray:
