@@ -1,6 +1,8 @@
 """Open the frame source a scenario names: a video file, raw YUV, or a built-in synthetic one.
 
-Every source yields planar YUV 4:2:0 frames, arrays of shape (H * 3 // 2, W), uint8.
+Every source yields planar YUV 4:2:0 frames, arrays of shape (H * 3 // 2, W), uint8. A
+synthetic source (the pattern, the talking head) is rendered once per process for its settings
+and seed (`uma.sim.kept_source`).
 """
 
 from __future__ import annotations
@@ -15,6 +17,15 @@ SOURCE_KINDS = ("pattern", "file", "yuv", "talking-head")
 
 def open_source(config: SourceConfig, *, seed: int):
     """A frame source for `config`; a file source takes its size and rate from the file."""
+    if config.kind in ("pattern", "talking-head"):
+        from uma.sim.kept_source import KeptSource
+
+        key = f"{config.model_dump_json()} seed {seed}"
+        return KeptSource(_open(config, seed=seed), key, lambda: _open(config, seed=seed))
+    return _open(config, seed=seed)
+
+
+def _open(config: SourceConfig, *, seed: int):
     if config.kind == "pattern":
         from uma.video import PatternSource
 
