@@ -11,6 +11,7 @@ from uma.config.scenario import AdaptivePlayoutConfig, ReceiverConfig
 from uma.sim.playout import AdaptivePlayout, FixedPlayout, make_playout, percentile
 
 FPS = 25.0
+REJECT = AdaptivePlayoutConfig(reject_bursts=True)
 
 
 def drive(playout, delays_s):
@@ -82,10 +83,8 @@ def burst(delays_s, start, peak_s, base_s, drain_per_frame_s=0.036):
 def test_a_one_off_burst_is_shown_late_but_does_not_hold_the_delay_up():
     # 20 s at 100 ms, then 1.5 s of late frames draining (a handover's queue), then 100 ms.
     delays = burst(np.full(1000, 0.1), 500, 1.5, 0.1)
-    kept = drive(AdaptivePlayout(AdaptivePlayoutConfig(), initial_delay_s=0.3), delays)
-    sized = drive(
-        AdaptivePlayout(AdaptivePlayoutConfig(reject_bursts=False), initial_delay_s=0.3), delays
-    )
+    kept = drive(AdaptivePlayout(REJECT, initial_delay_s=0.3), delays)
+    sized = drive(AdaptivePlayout(AdaptivePlayoutConfig(), initial_delay_s=0.3), delays)
     # The percentile playout rises towards the burst and takes seconds to come down from it.
     assert sized.max() > 1.0 and sized[500 + int(8 * FPS)] > 0.5
     # This one stays within a few frames' rise of where it was, and is back within 3 s.
@@ -96,7 +95,7 @@ def test_a_one_off_burst_is_shown_late_but_does_not_hold_the_delay_up():
 def test_a_lasting_increase_of_delay_is_followed():
     # A handover: a burst draining onto a path 300 ms slower than before, which lasts.
     delays = burst(np.r_[np.full(500, 0.1), np.full(500, 0.4)], 500, 1.5, 0.4)
-    trace = drive(AdaptivePlayout(AdaptivePlayoutConfig(), initial_delay_s=0.3), delays)
+    trace = drive(AdaptivePlayout(REJECT, initial_delay_s=0.3), delays)
     assert trace[500:].max() < 0.8  # not sized to the burst
     settled = trace[500 + int(4 * FPS) :]
     assert settled == pytest.approx(np.full(settled.size, 0.42), abs=0.01)
@@ -105,7 +104,7 @@ def test_a_lasting_increase_of_delay_is_followed():
 def test_a_lasting_increase_of_jitter_is_followed():
     rng = np.random.default_rng(1)
     delays = 0.1 + np.r_[rng.uniform(0.0, 0.02, 500), rng.uniform(0.0, 0.3, 500)]
-    trace = drive(AdaptivePlayout(AdaptivePlayoutConfig(), initial_delay_s=0.3), delays)
+    trace = drive(AdaptivePlayout(REJECT, initial_delay_s=0.3), delays)
     assert trace[400:500].max() < 0.15
     # Floor + the 95th percentile of the delays above it + 20 ms: about 0.1 + 0.285 + 0.02.
     assert trace[500 + int(4 * FPS) :].min() > 0.35
@@ -115,7 +114,7 @@ def test_bursts_in_quick_succession_are_followed_as_the_percentile_says():
     # A second burst 3 s after the first (within calm_s): the link is turbulent, and the delay
     # rises to the second burst as the playout without reject_bursts does.
     delays = burst(burst(np.full(1000, 0.1), 500, 1.5, 0.1), 575, 1.5, 0.1)
-    kept = drive(AdaptivePlayout(AdaptivePlayoutConfig(), initial_delay_s=0.3), delays)
+    kept = drive(AdaptivePlayout(REJECT, initial_delay_s=0.3), delays)
     assert kept[500:575].max() < 0.25 and kept[575:].max() > 1.0
 
 

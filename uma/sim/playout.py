@@ -5,15 +5,16 @@ display instant (capture time + delay), and the receiver tells `on_decoded` of e
 decodes.
 
 `AdaptivePlayout` behaves as WebRTC's video jitter buffer does in outline: a target delay from
-the recent frames' capture-to-decoded delays, which the current delay approaches at a bounded
-slope, so a change plays as slow or fast motion rather than a jump: down by at most
+the recent frames' capture-to-decoded delays (a high percentile over a time window, plus a
+margin, within bounds), which the current delay approaches at a bounded slope, so a change plays as slow or fast motion rather than a jump: down by at most
 `max_decrease_ms_per_s` (WebRTC's VCMTiming: 100 ms per second), up by at most
 `max_increase_ms_per_s`. WebRTC also lets a late frame raise the delay at once by its lateness;
 here it may not (on cellular traces one frame queued through an outage would set seconds of
 delay in one step), so the delay stays smooth. With no frame decoded within the window the
 delay holds.
 
-The target, as WebRTC separates a change of the path's delay (its timestamp extrapolator, which
+With `reject_bursts` (off by default: measured in docs/rate-control.md, section `rc7`) the
+target, as WebRTC separates a change of the path's delay (its timestamp extrapolator, which
 moves to a new offset only when frames keep arriving off it) from jitter (its jitter estimator,
 which clamps a frame delay beyond a number of standard deviations as an outlier): the path's
 *floor* is the least delay of the frames decoded in the last `floor_window_s` (it follows a
@@ -52,8 +53,8 @@ class FixedPlayout:
 
 
 class AdaptivePlayout:
-    """A playout delay that tracks the frames' delay and jitter, bounded and rate-limited; a
-    one-off burst of late frames on a calm link does not hold it up (module docstring)."""
+    """A playout delay that tracks the frames' delay and jitter, bounded and rate-limited; with
+    `reject_bursts`, a one-off burst of late frames on a calm link does not hold it up."""
 
     def __init__(self, config: AdaptivePlayoutConfig, *, initial_delay_s: float) -> None:
         self.config = config
