@@ -1,14 +1,17 @@
-"""Playout: the fixed deadline, and the adaptive delay that follows the frames' delay and jitter."""
+"""Playout: the fixed deadline, and the adaptive delay that follows the frames' delay and jitter
+but not a one-off burst of late frames."""
 
 import numpy as np
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
+from pydantic import ValidationError
 
 from uma.config.scenario import AdaptivePlayoutConfig, ReceiverConfig
 from uma.sim.playout import AdaptivePlayout, FixedPlayout, make_playout, percentile
 
 FPS = 25.0
+REJECT = AdaptivePlayoutConfig(reject_bursts=True)
 
 
 def drive(playout, delays_s):
@@ -49,7 +52,8 @@ def test_tracks_delay_and_jitter_within_its_bounds():
 
 
 def test_follows_a_step_smoothly_and_stays_bounded():
-    config = AdaptivePlayoutConfig(min_delay_ms=50, max_delay_ms=1000)
+    # Every step is one burst after another within calm_s: followed as the percentile says.
+    config = AdaptivePlayoutConfig(min_delay_ms=50, max_delay_ms=1000, reject_bursts=False)
     delays = np.r_[np.full(250, 0.08), np.full(500, 0.6), np.full(500, 2.5), np.full(750, 0.08)]
     trace = drive(AdaptivePlayout(config, initial_delay_s=0.3), delays)
     steps = np.diff(trace)
@@ -63,6 +67,60 @@ def test_follows_a_step_smoothly_and_stays_bounded():
     # about 0.45 s ten seconds after the drop, at the new target 20 s later.
     assert 0.4 < trace[1250 + int(10 * FPS)] < 0.5
     assert trace[-1] == pytest.approx(0.1, abs=0.01)
+
+
+def burst(delays_s, start, peak_s, base_s, drain_per_frame_s=0.036):
+    """A one-off burst from frame `start`: `peak_s` late, then its queue draining to `base_s`."""
+    out = np.array(delays_s, dtype=float)
+    for i in range(start, len(out)):
+        late_s = peak_s - drain_per_frame_s * (i - start)
+        if late_s <= base_s:
+            break
+        out[i] = late_s
+    return out
+
+
+def test_a_one_off_burst_is_shown_late_but_does_not_hold_the_delay_up():
+    # 20 s at 100 ms, then 1.5 s of late frames draining (a handover's queue), then 100 ms.
+    delays = burst(np.full(1000, 0.1), 500, 1.5, 0.1)
+    kept = drive(AdaptivePlayout(REJECT, initial_delay_s=0.3), delays)
+    sized = drive(AdaptivePlayout(AdaptivePlayoutConfig(), initial_delay_s=0.3), delays)
+    # The percentile playout rises towards the burst and takes seconds to come down from it.
+    assert sized.max() > 1.0 and sized[500 + int(8 * FPS)] > 0.5
+    # This one stays within a few frames' rise of where it was, and is back within 3 s.
+    assert kept[500:].max() < 0.25
+    assert kept[500 + int(3 * FPS) :] == pytest.approx(np.full(500 - int(3 * FPS), 0.12), abs=0.01)
+
+
+def test_a_lasting_increase_of_delay_is_followed():
+    # A handover: a burst draining onto a path 300 ms slower than before, which lasts.
+    delays = burst(np.r_[np.full(500, 0.1), np.full(500, 0.4)], 500, 1.5, 0.4)
+    trace = drive(AdaptivePlayout(REJECT, initial_delay_s=0.3), delays)
+    assert trace[500:].max() < 0.8  # not sized to the burst
+    settled = trace[500 + int(4 * FPS) :]
+    assert settled == pytest.approx(np.full(settled.size, 0.42), abs=0.01)
+
+
+def test_a_lasting_increase_of_jitter_is_followed():
+    rng = np.random.default_rng(1)
+    delays = 0.1 + np.r_[rng.uniform(0.0, 0.02, 500), rng.uniform(0.0, 0.3, 500)]
+    trace = drive(AdaptivePlayout(REJECT, initial_delay_s=0.3), delays)
+    assert trace[400:500].max() < 0.15
+    # Floor + the 95th percentile of the delays above it + 20 ms: about 0.1 + 0.285 + 0.02.
+    assert trace[500 + int(4 * FPS) :].min() > 0.35
+
+
+def test_bursts_in_quick_succession_are_followed_as_the_percentile_says():
+    # A second burst 3 s after the first (within calm_s): the link is turbulent, and the delay
+    # rises to the second burst as the playout without reject_bursts does.
+    delays = burst(burst(np.full(1000, 0.1), 500, 1.5, 0.1), 575, 1.5, 0.1)
+    kept = drive(AdaptivePlayout(REJECT, initial_delay_s=0.3), delays)
+    assert kept[500:575].max() < 0.25 and kept[575:].max() > 1.0
+
+
+def test_the_drain_window_must_fit_the_window_twice():
+    with pytest.raises(ValidationError, match=r"drain_window_ms \(1500\) must be at most half"):
+        AdaptivePlayoutConfig(window_s=2.0, drain_window_ms=1500.0)
 
 
 def test_holds_when_nothing_arrives():

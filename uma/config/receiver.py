@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import AllowInfNan, Field, Strict
+from pydantic import AllowInfNan, Field, Strict, model_validator
 
 from uma.config.types import Bool, NonNeg, PosNum, Section
 
@@ -21,9 +21,16 @@ __all__ = [
 class AdaptivePlayoutConfig(Section):
     """A playout delay that follows the measured frame delay and jitter (`uma.sim.playout`).
 
-    The target is a high percentile of the capture-to-decoded delays of the frames decoded in
-    the last `window_s`, plus a margin, within [min_delay_ms, max_delay_ms]; the delay moves
-    towards it at a bounded slope (down at WebRTC's 100 ms/s, up at most 500 ms/s by default).
+    The delay moves towards a target at a bounded slope (down at WebRTC's 100 ms/s, up at most
+    500 ms/s by default), within [min_delay_ms, max_delay_ms]. The target is a high percentile
+    of the capture-to-decoded delays of the frames decoded in the last `window_s`, plus a
+    margin. With `reject_bursts` (off by default), a one-off burst of late frames does not set
+    it: a frame later than the path's floor (the least delay of the last `floor_window_s`) by
+    more than `outlier_min_ms` and `outlier_jitters` x the jitter (the percentile of the delays
+    above that floor) starts a burst; a burst that comes `calm_s` or more after the last late
+    frame is one-off, and until the next burst the target is the floor plus the jitter and the
+    delay does not rise while the floor falls (by `drain_drop_ms` within `drain_window_ms`: the
+    burst's queue draining). Late frames closer than `burst_gap_ms` are one burst.
     """
 
     window_s: PosNum = 2.0
@@ -36,6 +43,25 @@ class AdaptivePlayoutConfig(Section):
         100.0
     )
     max_increase_ms_per_s: PosNum = 500.0
+    # Off: measured on the commute and on measured traces, it did not hold (docs/rate-control.md,
+    # `rc7`): the commute's p95 fell below 1,000 ms, the measured traces froze a little more.
+    reject_bursts: Bool = False
+    floor_window_s: PosNum = 1.0
+    outlier_min_ms: NonNeg = 150.0
+    outlier_jitters: NonNeg = 3.0
+    calm_s: NonNeg = 10.0
+    burst_gap_ms: NonNeg = 500.0
+    drain_window_ms: PosNum = 250.0
+    drain_drop_ms: NonNeg = 100.0
+
+    @model_validator(mode="after")
+    def _drain_within_window(self) -> AdaptivePlayoutConfig:
+        if 2 * self.drain_window_ms > 1000.0 * self.window_s:
+            raise ValueError(
+                f"drain_window_ms ({self.drain_window_ms:g}) must be at most half of window_s "
+                f"({self.window_s:g} s): the floor's fall is read from the window's frames"
+            )
+        return self
 
 
 class ReceiverConfig(Section):
