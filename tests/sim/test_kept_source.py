@@ -24,14 +24,14 @@ def same(frames, reference):
 
 
 def test_a_second_run_replays_the_first_runs_frames_and_renders_on(monkeypatch):
-    reference = first(_open(HEAD, seed=3), 30)
-    assert same(first(open_source(HEAD, seed=3), 20), reference[:20])
+    reference = first(_open(HEAD, seed=3), 12)
+    assert same(first(open_source(HEAD, seed=3), 8), reference[:8])
     renders = []
     monkeypatch.setattr(kept_source, "_Kept", _counting(kept_source._Kept, renders))
-    second = first(open_source(HEAD, seed=3), 30)  # 20 replayed, 10 rendered on
+    second = first(open_source(HEAD, seed=3), 12)  # 8 replayed, 4 rendered on
     assert same(second, reference) and renders == []
     second[0][:] = 0  # a run writing into its frame changes no later run's
-    assert same(first(open_source(HEAD, seed=3), 30), reference)
+    assert same(first(open_source(HEAD, seed=3), 12), reference)
 
 
 def test_other_settings_or_seed_are_rendered_afresh():
@@ -43,12 +43,12 @@ def test_other_settings_or_seed_are_rendered_afresh():
 
 
 def test_past_the_bound_a_run_that_falls_behind_renders_from_its_own_source(monkeypatch):
-    reference = first(_open(HEAD, seed=3), 40)
-    monkeypatch.setattr(kept_source, "KEEP_BYTES", reference[0].nbytes * 10)
+    reference = first(_open(HEAD, seed=3), 14)
+    monkeypatch.setattr(kept_source, "KEEP_BYTES", reference[0].nbytes * 4)
     front = open_source(HEAD, seed=3).frames()
-    ahead = [next(front) for _ in range(25)]  # 10 kept; the shared renderer is 25 in
-    behind = first(open_source(HEAD, seed=3), 40)  # 10 replayed, then a source of its own
-    ahead += [next(front) for _ in range(15)]
+    ahead = [next(front) for _ in range(8)]  # 4 kept; the shared renderer is 8 in
+    behind = first(open_source(HEAD, seed=3), 14)  # 4 replayed, then a source of its own
+    ahead += [next(front) for _ in range(6)]
     assert same(ahead, reference) and same(behind, reference)
 
 
