@@ -1,0 +1,204 @@
+"""A block map beside the face's parameters: where the receiver shows, instead of its rendering,
+a picture it already holds (its rendering softened or blurred, the plate, the reference).
+
+Units: pixels; bits; kbit/s; pictures planar YUV 4:2:0 (H * 3 // 2, W) uint8.
+
+The receiver keeps one choice per block of `BLOCK_PX` pixels (`CHOICES`; all "rendering" at
+first). The engine, which has the source and mirrors the receiver's picture, sends a few
+changes a frame: the blocks where another choice errs least against the source by the most
+squared luma error, greedily, as many as its bit allowance pays for. Only the blocks of a
+window of `WINDOW_BLOCKS` a side about the drawn face can change (their index is coded within
+it); a block that leaves the window goes back to the rendering at both ends. The allowance is a
+bucket filled at `MAP_TOTAL_KBPS` less the parameter stream's own bits, so stream and map
+together stay under it. Each frame costs an Exp-Golomb count of its changes and, per change,
+the block's index in the window and which of the other choices (`change_bits`). Both ends draw
+the same picture from the same decoded parameters, so the engine's choice is exact at the
+receiver. Measured in docs/mbc.md (session mbc7).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from uma.mbc.errors import SceneError
+
+__all__ = [
+    "BlockMap",
+    "BLOCK_PX",
+    "WINDOW_BLOCKS",
+    "CHOICES",
+    "MAP_TOTAL_KBPS",
+    "change_bits",
+    "count_bits",
+]
+
+BLOCK_PX = 8
+WINDOW_BLOCKS = 16  # a side: 128 px at CIF, the head and the outline about it
+CHOICES = ("rendering", "softened", "blurred", "plate", "reference")
+BLUR_SIGMAS_PX = (1.0, 2.0)  # "softened", "blurred": the rendering's Gaussian blur
+MAP_TOTAL_KBPS = 2.4  # the parameter stream and the map together (the target is 2.5)
+# At most this much allowance saved for a later frame, or owed after the stream's own peaks
+# (an intra set); the map pays its count's bit every frame even when it owes.
+BUCKET_MAX_BITS = 200.0
+_BLUR_MARGIN_PX = 8  # the blur reads this far outside the window
+
+
+def count_bits(count: int) -> int:
+    """Bits of the Exp-Golomb code of a frame's change count `count` (0: one bit)."""
+    return 2 * int(math.floor(math.log2(count + 1))) + 1
+
+
+def change_bits(window_blocks: int) -> int:
+    """Bits of one change: the block's index among `window_blocks` and the new choice among
+    the other `len(CHOICES) - 1`."""
+    return math.ceil(math.log2(max(window_blocks, 2))) + math.ceil(math.log2(len(CHOICES) - 1))
+
+
+class BlockMap:
+    """Both ends' block map over pictures of `size` (W, H) at `fps`: `step` chooses a frame's
+    changes (the engine's side, against the source), takes them (the receiver's side) and
+    returns the picture shown; `bits` counts every bit sent."""
+
+    def __init__(self, size: tuple[int, int], fps: float, total_kbps: float = MAP_TOTAL_KBPS):
+        width, height = size
+        if width < BLOCK_PX or height < BLOCK_PX or not fps > 0:
+            raise SceneError(
+                f"block map: expected a picture of at least {BLOCK_PX} px a side at a positive "
+                f"frame rate, got size {size} at {fps} frames/s"
+            )
+        self.grid = (height // BLOCK_PX, width // BLOCK_PX)
+        self.state = np.zeros(self.grid, np.int8)
+        self.frame_bits = total_kbps * 1000.0 / fps
+        self.bucket = 0.0
+        self.bits = 0
+        self.changes = 0
+
+    def window(self, face: np.ndarray) -> tuple[int, int, int, int] | None:
+        """The window (b0, a0, b1, a1) in blocks (columns b, rows a) about the drawn `face`
+        (H, W bool); None without a face."""
+        import cv2
+
+        x, y, w, h = cv2.boundingRect(face.view(np.uint8))
+        if w == 0 or h == 0:
+            return None
+        rows, cols = self.grid
+        side_r, side_c = min(WINDOW_BLOCKS, rows), min(WINDOW_BLOCKS, cols)
+        c0 = int(round((x + w / 2) / BLOCK_PX - side_c / 2))
+        r0 = int(round((y + h / 2) / BLOCK_PX - side_r / 2))
+        c0, r0 = min(max(c0, 0), cols - side_c), min(max(r0, 0), rows - side_r)
+        return c0, r0, c0 + side_c, r0 + side_r
+
+    def step(self, shown, face, plate, reference, source=None, stream_bits: float = 0.0):
+        """The picture shown for a frame whose rendering is `shown` with the face at `face`;
+        `plate`, `reference` the receiver's; with `source` (the engine's frame) the frame's
+        changes are chosen and sent within the allowance left by `stream_bits`."""
+        window = self.window(face)
+        self.bucket = float(np.clip(self.bucket + self.frame_bits - stream_bits,
+                                    -BUCKET_MAX_BITS, BUCKET_MAX_BITS))  # fmt: skip
+        if window is None:
+            self.state[:] = 0
+            return shown
+        c0, r0, c1, r1 = window
+        outside = np.ones(self.grid, bool)
+        outside[r0:r1, c0:c1] = False
+        self.state[outside] = 0
+        stack = _candidates(shown, plate, reference, window)
+        if source is not None:
+            self._choose(stack, source, window)
+        return _compose(shown, stack, self.state[r0:r1, c0:c1], window)
+
+    def _choose(self, stack, source: np.ndarray, window) -> None:
+        """The engine's changes for this frame, taken; their bits counted."""
+        c0, r0, c1, r1 = window
+        y0, x0, y1, x1 = r0 * BLOCK_PX, c0 * BLOCK_PX, r1 * BLOCK_PX, c1 * BLOCK_PX
+        truth = source[y0:y1, x0:x1].astype(np.float32)
+        rows, cols = r1 - r0, c1 - c0
+        errors = (stack[:, 0][:, :y1 - y0] - truth) ** 2  # fmt: skip
+        sse = errors.reshape(len(CHOICES), rows, BLOCK_PX, cols, BLOCK_PX).sum(axis=(2, 4))
+        state = self.state[r0:r1, c0:c1]
+        current = np.take_along_axis(sse, state[None].astype(np.intp), 0)[0]
+        gain = (current - sse.min(axis=0)).ravel()
+        best = sse.argmin(axis=0).ravel()
+        cost = change_bits(rows * cols)
+        order = [k for k in np.argsort(-gain, kind="stable") if gain[k] > 0]
+        n = 0
+        while n < len(order) and count_bits(n + 1) + (n + 1) * cost <= self.bucket:
+            n += 1
+        for k in order[:n]:
+            state[k // cols, k % cols] = best[k]
+        spent = count_bits(n) + n * cost
+        self.bucket -= spent
+        self.bits += spent
+        self.changes += n
+
+
+def _candidates(shown, plate, reference, window) -> np.ndarray:
+    """(len(CHOICES), 1, ...) the window's candidates as float32 YUV crops: luma rows then
+    both chroma planes' rows stacked like the picture's."""
+    import cv2
+
+    height = shown.shape[0] * 2 // 3
+    width = shown.shape[1]
+    c0, r0, c1, r1 = window
+    y0, x0, y1, x1 = r0 * BLOCK_PX, c0 * BLOCK_PX, r1 * BLOCK_PX, c1 * BLOCK_PX
+    m = _BLUR_MARGIN_PX
+    by0, bx0, by1, bx1 = max(y0 - m, 0), max(x0 - m, 0), min(y1 + m, height), min(x1 + m, width)
+    out = []
+    for picture in (shown, None, None, plate, reference):
+        out.append(_crop(picture if picture is not None else shown, height, (y0, x0, y1, x1)))
+    for k, sigma in enumerate(BLUR_SIGMAS_PX, start=1):
+        planes = []
+        luma = cv2.GaussianBlur(shown[by0:by1, bx0:bx1], (0, 0), sigma)
+        planes.append(luma[y0 - by0 : y1 - by0, x0 - bx0 : x1 - bx0])
+        chroma = shown[height:].reshape(2, height // 2, width // 2)
+        for plane in chroma:
+            half = cv2.GaussianBlur(plane[by0 // 2 : by1 // 2, bx0 // 2 : bx1 // 2], (0, 0),
+                                    max(sigma / 2, 0.5))  # fmt: skip
+            planes.append(
+                half[(y0 - by0) // 2 : (y1 - by0) // 2, (x0 - bx0) // 2 : (x1 - bx0) // 2]
+            )
+        out[k] = _stacked(planes)
+    return np.stack(out)[:, None].astype(np.float32)
+
+
+def _crop(picture, height: int, box) -> np.ndarray:
+    y0, x0, y1, x1 = box
+    width = picture.shape[1]
+    chroma = picture[height:].reshape(2, height // 2, width // 2)
+    return _stacked(
+        [picture[y0:y1, x0:x1]] + [p[y0 // 2 : y1 // 2, x0 // 2 : x1 // 2] for p in chroma]
+    )
+
+
+def _stacked(planes) -> np.ndarray:
+    """Luma (h, w) and two chroma (h/2, w/2) planes as one (h * 3 // 2, w) array."""
+    luma, u, v = planes
+    h, w = luma.shape
+    chroma = np.concatenate([u, v], axis=0).reshape(h // 2, w)
+    return np.concatenate([luma, chroma], axis=0)
+
+
+def _compose(shown, stack, state, window) -> np.ndarray:
+    """`shown` with each block of the window drawn from its chosen candidate (a copy when
+    any block is not the rendering)."""
+    if not state.any():
+        return shown
+    height = shown.shape[0] * 2 // 3
+    width = shown.shape[1]
+    c0, r0, c1, r1 = window
+    y0, x0, y1, x1 = r0 * BLOCK_PX, c0 * BLOCK_PX, r1 * BLOCK_PX, c1 * BLOCK_PX
+    h, w = y1 - y0, x1 - x0
+    luma_choice = np.kron(state, np.ones((BLOCK_PX, BLOCK_PX), np.int8)).astype(np.intp)
+    half = luma_choice[0::2, 0::2]
+    crops = stack[:, 0]
+    out = shown.copy()
+    picked = np.take_along_axis(crops[:, :h], luma_choice[None], 0)[0]
+    out[y0:y1, x0:x1] = np.clip(np.rint(picked), 0, 255).astype(np.uint8)
+    chroma = out[height:].reshape(2, height // 2, width // 2)
+    stacked_chroma = crops[:, h:].reshape(len(CHOICES), 2, h // 2, w // 2)
+    for k in range(2):
+        picked = np.take_along_axis(stacked_chroma[:, k], half[None], 0)[0]
+        chroma[k][y0 // 2 : y1 // 2, x0 // 2 : x1 // 2] = np.clip(np.rint(picked), 0, 255)
+    return out
