@@ -104,19 +104,21 @@ class BlockMap:
         outside = np.ones(self.grid, bool)
         outside[r0:r1, c0:c1] = False
         self.state[outside] = 0
-        stack = _candidates(shown, plate, reference, window)
+        lumas = _candidates(shown, plate, reference, window)
         if source is not None:
-            self._choose(stack, source, window)
-        return _compose(shown, stack, self.state[r0:r1, c0:c1], window)
+            self._choose(lumas, source, window)
+        return _compose(shown, lumas, self.state[r0:r1, c0:c1], window, plate, reference)
 
-    def _choose(self, stack, source: np.ndarray, window) -> None:
+    def _choose(self, lumas, source: np.ndarray, window) -> None:
         """The engine's changes for this frame, taken; their bits counted."""
         c0, r0, c1, r1 = window
         y0, x0, y1, x1 = r0 * BLOCK_PX, c0 * BLOCK_PX, r1 * BLOCK_PX, c1 * BLOCK_PX
         truth = source[y0:y1, x0:x1].astype(np.float32)
         rows, cols = r1 - r0, c1 - c0
-        errors = (stack[:, 0][:, :y1 - y0] - truth) ** 2  # fmt: skip
-        sse = errors.reshape(len(CHOICES), rows, BLOCK_PX, cols, BLOCK_PX).sum(axis=(2, 4))
+        sse = np.empty((len(CHOICES), rows, cols), np.float32)
+        for k, candidate in enumerate(lumas):
+            error = (candidate.astype(np.float32) - truth) ** 2
+            sse[k] = error.reshape(rows, BLOCK_PX, cols, BLOCK_PX).sum(axis=(1, 3))
         state = self.state[r0:r1, c0:c1]
         current = np.take_along_axis(sse, state[None].astype(np.intp), 0)[0]
         gain = (current - sse.min(axis=0)).ravel()
@@ -134,71 +136,67 @@ class BlockMap:
         self.changes += n
 
 
-def _candidates(shown, plate, reference, window) -> np.ndarray:
-    """(len(CHOICES), 1, ...) the window's candidates as float32 YUV crops: luma rows then
-    both chroma planes' rows stacked like the picture's."""
+def _margin_box(window, size) -> tuple[tuple, tuple]:
+    """The window's pixel box (y0, x0, y1, x1) and the box a blur of it reads."""
+    width, height = size
+    c0, r0, c1, r1 = window
+    y0, x0, y1, x1 = r0 * BLOCK_PX, c0 * BLOCK_PX, r1 * BLOCK_PX, c1 * BLOCK_PX
+    m = _BLUR_MARGIN_PX
+    return (y0, x0, y1, x1), (max(y0 - m, 0), max(x0 - m, 0), min(y1 + m, height),
+                              min(x1 + m, width))  # fmt: skip
+
+
+def _candidates(shown, plate, reference, window) -> list[np.ndarray]:
+    """The window's luma in each of `CHOICES` (uint8 crops, in order)."""
+    import cv2
+
+    height = shown.shape[0] * 2 // 3
+    (y0, x0, y1, x1), (by0, bx0, by1, bx1) = _margin_box(window, (shown.shape[1], height))
+    out = [picture[y0:y1, x0:x1] for picture in (shown, shown, shown, plate, reference)]
+    for k, sigma in enumerate(BLUR_SIGMAS_PX, start=1):
+        blurred = cv2.GaussianBlur(shown[by0:by1, bx0:bx1], (0, 0), sigma)
+        out[k] = blurred[y0 - by0 : y1 - by0, x0 - bx0 : x1 - bx0]
+    return out
+
+
+def _chroma(k: int, shown, plate, reference, window) -> np.ndarray:
+    """(2, h/2, w/2): the window's chroma planes in choice `k`."""
     import cv2
 
     height = shown.shape[0] * 2 // 3
     width = shown.shape[1]
-    c0, r0, c1, r1 = window
-    y0, x0, y1, x1 = r0 * BLOCK_PX, c0 * BLOCK_PX, r1 * BLOCK_PX, c1 * BLOCK_PX
-    m = _BLUR_MARGIN_PX
-    by0, bx0, by1, bx1 = max(y0 - m, 0), max(x0 - m, 0), min(y1 + m, height), min(x1 + m, width)
+    (y0, x0, y1, x1), (by0, bx0, by1, bx1) = _margin_box(window, (width, height))
+    rows, cols = slice(y0 // 2, y1 // 2), slice(x0 // 2, x1 // 2)
+    if CHOICES[k] in ("plate", "reference"):
+        picture = plate if CHOICES[k] == "plate" else reference
+        return picture[height:].reshape(2, height // 2, width // 2)[:, rows, cols]
+    sigma = max(BLUR_SIGMAS_PX[k - 1] / 2, 0.5)
     out = []
-    for picture in (shown, None, None, plate, reference):
-        out.append(_crop(picture if picture is not None else shown, height, (y0, x0, y1, x1)))
-    for k, sigma in enumerate(BLUR_SIGMAS_PX, start=1):
-        planes = []
-        luma = cv2.GaussianBlur(shown[by0:by1, bx0:bx1], (0, 0), sigma)
-        planes.append(luma[y0 - by0 : y1 - by0, x0 - bx0 : x1 - bx0])
-        chroma = shown[height:].reshape(2, height // 2, width // 2)
-        for plane in chroma:
-            half = cv2.GaussianBlur(plane[by0 // 2 : by1 // 2, bx0 // 2 : bx1 // 2], (0, 0),
-                                    max(sigma / 2, 0.5))  # fmt: skip
-            planes.append(
-                half[(y0 - by0) // 2 : (y1 - by0) // 2, (x0 - bx0) // 2 : (x1 - bx0) // 2]
-            )
-        out[k] = _stacked(planes)
-    return np.stack(out)[:, None].astype(np.float32)
+    for plane in shown[height:].reshape(2, height // 2, width // 2):
+        blurred = cv2.GaussianBlur(plane[by0 // 2 : by1 // 2, bx0 // 2 : bx1 // 2], (0, 0), sigma)
+        out.append(blurred[(y0 - by0) // 2 : (y1 - by0) // 2, (x0 - bx0) // 2 : (x1 - bx0) // 2])
+    return np.stack(out)
 
 
-def _crop(picture, height: int, box) -> np.ndarray:
-    y0, x0, y1, x1 = box
-    width = picture.shape[1]
-    chroma = picture[height:].reshape(2, height // 2, width // 2)
-    return _stacked(
-        [picture[y0:y1, x0:x1]] + [p[y0 // 2 : y1 // 2, x0 // 2 : x1 // 2] for p in chroma]
-    )
-
-
-def _stacked(planes) -> np.ndarray:
-    """Luma (h, w) and two chroma (h/2, w/2) planes as one (h * 3 // 2, w) array."""
-    luma, u, v = planes
-    h, w = luma.shape
-    chroma = np.concatenate([u, v], axis=0).reshape(h // 2, w)
-    return np.concatenate([luma, chroma], axis=0)
-
-
-def _compose(shown, stack, state, window) -> np.ndarray:
+def _compose(shown, lumas, state, window, plate, reference) -> np.ndarray:
     """`shown` with each block of the window drawn from its chosen candidate (a copy when
     any block is not the rendering)."""
     if not state.any():
         return shown
     height = shown.shape[0] * 2 // 3
     width = shown.shape[1]
-    c0, r0, c1, r1 = window
-    y0, x0, y1, x1 = r0 * BLOCK_PX, c0 * BLOCK_PX, r1 * BLOCK_PX, c1 * BLOCK_PX
-    h, w = y1 - y0, x1 - x0
-    luma_choice = np.kron(state, np.ones((BLOCK_PX, BLOCK_PX), np.int8)).astype(np.intp)
-    half = luma_choice[0::2, 0::2]
-    crops = stack[:, 0]
+    (y0, x0, y1, x1), _ = _margin_box(window, (width, height))
     out = shown.copy()
-    picked = np.take_along_axis(crops[:, :h], luma_choice[None], 0)[0]
-    out[y0:y1, x0:x1] = np.clip(np.rint(picked), 0, 255).astype(np.uint8)
-    chroma = out[height:].reshape(2, height // 2, width // 2)
-    stacked_chroma = crops[:, h:].reshape(len(CHOICES), 2, h // 2, w // 2)
-    for k in range(2):
-        picked = np.take_along_axis(stacked_chroma[:, k], half[None], 0)[0]
-        chroma[k][y0 // 2 : y1 // 2, x0 // 2 : x1 // 2] = np.clip(np.rint(picked), 0, 255)
+    luma = out[y0:y1, x0:x1]
+    chroma = out[height:].reshape(2, height // 2, width // 2)[
+        :, y0 // 2 : y1 // 2, x0 // 2 : x1 // 2
+    ]
+    for k in range(1, len(CHOICES)):
+        chosen = state == k
+        if not chosen.any():
+            continue
+        half = np.repeat(np.repeat(chosen, BLOCK_PX // 2, axis=0), BLOCK_PX // 2, axis=1)
+        whole = np.repeat(np.repeat(half, 2, axis=0), 2, axis=1)
+        np.copyto(luma, lumas[k], where=whole)
+        np.copyto(chroma, _chroma(k, shown, plate, reference, window), where=half[None])
     return out
