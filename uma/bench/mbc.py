@@ -369,7 +369,7 @@ def run_model_bench(
         if kept:
             tails = {
                 d: f"{result['face'][d]['kbps']:.1f} kbit/s"
-                for d in ("quantised", "mbc_refresh_lowest", "h264_lowest", "av1_lowest")
+                for d in ("quantised", "mbc_map", "mbc_refresh_lowest", "h264_lowest", "av1_lowest")
                 if d in result["face"]
             }
             rows.append((f"{clip.name} #{result['kept_frame']}", kept, tails))
