@@ -94,7 +94,7 @@ def test_a_block_leaving_the_window_goes_back_to_the_rendering():
     rendering[0:BLOCK_PX, 0:BLOCK_PX] = 0
     plate = truth.copy()
     engine = BlockMap(SIZE, FPS)
-    engine.step(rendering, _face(0, 0, 16), plate, truth, truth[: SIZE[1]], 0.0)
+    engine.step(rendering, _face(16, 16, 16), plate, truth, truth[: SIZE[1]], 0.0)
     assert engine.state[0, 0] != 0
     shown = engine.step(rendering, _face(120, 90, 16), plate, truth)  # the receiver's side
     assert engine.state[0, 0] == 0
@@ -113,3 +113,31 @@ def test_no_face_shows_the_rendering_and_clears_the_map():
 def test_a_picture_smaller_than_a_block_is_refused():
     with pytest.raises(ValueError, match="block map"):
         BlockMap((4, 4), FPS)
+
+
+def test_the_face_never_takes_the_plate_the_reference_or_a_blur():
+    rng = np.random.default_rng(5)
+    truth = _picture(rng)
+    height = SIZE[1]
+    face = _face()
+    rendering = truth.copy()
+    rendering[:height][face] = 255 - truth[:height][face]  # the face drawn all wrong
+    engine = BlockMap(SIZE, FPS)
+    for _ in range(20):
+        shown = engine.step(rendering, face, truth, truth, truth[:height], 0.0)
+    # The plate and the reference hold the true face, yet the face's blocks stay as drawn.
+    np.testing.assert_array_equal(shown[:height][face], rendering[:height][face])
+
+
+def test_a_choice_ends_when_the_face_moves_away_from_where_it_was_taken():
+    rng = np.random.default_rng(6)
+    truth = _picture(rng)
+    rendering = truth.copy()
+    rendering[16:24, 16:24] = 0
+    engine = BlockMap(SIZE, FPS)
+    engine.step(rendering, _face(24, 24, 16), truth, truth, truth[: SIZE[1]], 0.0)
+    assert engine.state[2, 2] != 0
+    engine.step(rendering, _face(28, 24, 16), truth, truth)  # moved 4 px: kept
+    assert engine.state[2, 2] != 0
+    shown = engine.step(rendering, _face(36, 24, 16), truth, truth)  # 12 px: ended
+    assert engine.state[2, 2] == 0 and shown is rendering

@@ -240,7 +240,9 @@ def run_clip(
     out.update(tracking(results, clock, scored["mde"]))
     out.update(stages(clock, refreshed))
     out.update(_scored(out["rate_kbps"], scored["sums"], displays, refreshed, scored["map"]))
-    out["block_map"] = scored["map"]
+    # The map is a measured display, not the codec's default: timed apart from the model path.
+    out["block_map"] = dict(scored["map"], ms_median=clock.median("block_map"),
+                            cpu_ms_median=clock.median("block_map", cpu=True))  # fmt: skip
     return out
 
 
@@ -299,6 +301,7 @@ def _score(clip, results, units, coded, decoded, shares, renderers, displays, re
                     receiver.reference,
                     clip.frames[index][:height],
                     stream_bits.get(index, 0.0),
+                    None if receiver.plate is None else receiver.plate.known,
                 )
         truth_points = None
         if clip.truth is not None:

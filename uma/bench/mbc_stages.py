@@ -181,7 +181,7 @@ def stages(clock: Clock, refreshed) -> dict:
     at the lowest rung): the engine's tracking, light (its measure against the mirror, the
     mirror's only rendering) and body motion, the receiver's decoding and rendering, the
     refresh's coding and composition; wall clock and this process's CPU time."""
-    names = ("track", "light", "body", "decode_render", "block_map")
+    names = ("track", "light", "body", "decode_render")
     refresh = refreshed.get("mbc_refresh_lowest")
     refresh_ms = refresh[2]["ms_per_frame"] if refresh else None
     refresh_cpu = refresh[2].get("cpu_ms_per_frame") if refresh else None

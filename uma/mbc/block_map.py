@@ -35,6 +35,10 @@ __all__ = [
 ]
 
 BLOCK_PX = 8
+# A block's choice ends when the face has moved this far from where it was when the block took
+# it (both ends see the drawn face): a plate or reference block left behind by a moving head
+# would show a piece of the old scene beside the new one.
+STALE_PX = 8.0
 WINDOW_BLOCKS = 16  # a side: 128 px at CIF, the head and the outline about it
 CHOICES = ("rendering", "softened", "blurred", "plate", "reference")
 BLUR_SIGMAS_PX = (1.0, 2.0)  # "softened", "blurred": the rendering's Gaussian blur
@@ -70,6 +74,9 @@ class BlockMap:
             )
         self.grid = (height // BLOCK_PX, width // BLOCK_PX)
         self.state = np.zeros(self.grid, np.int8)
+        # Where the face's centre was when each block took its choice (x, y px).
+        self.anchor = np.zeros((2, *self.grid), np.float32)
+        self._centre = (0.0, 0.0)
         self.frame_bits = total_kbps * 1000.0 / fps
         self.bucket = 0.0
         self.bits = 0
@@ -83,6 +90,7 @@ class BlockMap:
         x, y, w, h = cv2.boundingRect(face.view(np.uint8))
         if w == 0 or h == 0:
             return None
+        self._centre = (x + w / 2, y + h / 2)
         rows, cols = self.grid
         side_r, side_c = min(WINDOW_BLOCKS, rows), min(WINDOW_BLOCKS, cols)
         c0 = int(round((x + w / 2) / BLOCK_PX - side_c / 2))
@@ -90,10 +98,11 @@ class BlockMap:
         c0, r0 = min(max(c0, 0), cols - side_c), min(max(r0, 0), rows - side_r)
         return c0, r0, c0 + side_c, r0 + side_r
 
-    def step(self, shown, face, plate, reference, source=None, stream_bits: float = 0.0):
+    def step(self, shown, face, plate, reference, source=None, stream_bits=0.0, plate_known=None):
         """The picture shown for a frame whose rendering is `shown` with the face at `face`;
-        `plate`, `reference` the receiver's; with `source` (the engine's frame) the frame's
-        changes are chosen and sent within the allowance left by `stream_bits`."""
+        `plate`, `reference` the receiver's (`plate_known`: the pixels the plate has seen;
+        None: all); with `source` (the engine's frame) the frame's changes are chosen and sent
+        within the allowance left by `stream_bits`."""
         window = self.window(face)
         self.bucket = float(np.clip(self.bucket + self.frame_bits - stream_bits,
                                     -BUCKET_MAX_BITS, BUCKET_MAX_BITS))  # fmt: skip
@@ -104,12 +113,18 @@ class BlockMap:
         outside = np.ones(self.grid, bool)
         outside[r0:r1, c0:c1] = False
         self.state[outside] = 0
+        moved = np.hypot(self.anchor[0] - self._centre[0], self.anchor[1] - self._centre[1])
+        self.state[moved > STALE_PX] = 0
+        # A choice the block may no longer take (the face has reached into it) ends at both ends.
+        barred = _barred(face, plate_known, window)
+        state = self.state[r0:r1, c0:c1]
+        state[np.take_along_axis(barred, state[None].astype(np.intp), 0)[0]] = 0
         lumas = _candidates(shown, plate, reference, window)
         if source is not None:
-            self._choose(lumas, source, window)
+            self._choose(lumas, source, window, barred)
         return _compose(shown, lumas, self.state[r0:r1, c0:c1], window, plate, reference)
 
-    def _choose(self, lumas, source: np.ndarray, window) -> None:
+    def _choose(self, lumas, source: np.ndarray, window, barred: np.ndarray) -> None:
         """The engine's changes for this frame, taken; their bits counted."""
         c0, r0, c1, r1 = window
         y0, x0, y1, x1 = r0 * BLOCK_PX, c0 * BLOCK_PX, r1 * BLOCK_PX, c1 * BLOCK_PX
@@ -119,6 +134,7 @@ class BlockMap:
         for k, candidate in enumerate(lumas):
             error = (candidate.astype(np.float32) - truth) ** 2
             sse[k] = error.reshape(rows, BLOCK_PX, cols, BLOCK_PX).sum(axis=(1, 3))
+        sse[barred] = np.inf
         state = self.state[r0:r1, c0:c1]
         current = np.take_along_axis(sse, state[None].astype(np.intp), 0)[0]
         gain = (current - sse.min(axis=0)).ravel()
@@ -130,10 +146,35 @@ class BlockMap:
             n += 1
         for k in order[:n]:
             state[k // cols, k % cols] = best[k]
+            self.anchor[:, r0 + k // cols, c0 + k % cols] = self._centre
         spent = count_bits(n) + n * cost
         self.bucket -= spent
         self.bits += spent
         self.changes += n
+
+
+def _barred(face: np.ndarray, plate_known, window) -> np.ndarray:
+    """(len(CHOICES), rows, cols): the choices a block of the window may not take: the plate
+    and the reference where the drawn face reaches into the block (an old face or the plate's
+    guess over the face: a patch that errs less than a face drawn wrong but looks like no
+    face), the plate where it has not seen every pixel of the block."""
+    c0, r0, c1, r1 = window
+    rows, cols = r1 - r0, c1 - c0
+    y0, x0 = r0 * BLOCK_PX, c0 * BLOCK_PX
+
+    def any_in_block(mask):
+        crop = mask[y0 : y0 + rows * BLOCK_PX, x0 : x0 + cols * BLOCK_PX]
+        return crop.reshape(rows, BLOCK_PX, cols, BLOCK_PX).any(axis=(1, 3))
+
+    out = np.zeros((len(CHOICES), rows, cols), bool)
+    on_face = any_in_block(face)
+    unseen = on_face if plate_known is None else on_face | any_in_block(~plate_known)
+    out[CHOICES.index("plate")] = unseen
+    out[CHOICES.index("reference")] = on_face
+    inside = ~any_in_block(~face)  # the face's interior: drawn by the model, never blurred
+    out[CHOICES.index("softened")] = inside
+    out[CHOICES.index("blurred")] = inside
+    return out
 
 
 def _margin_box(window, size) -> tuple[tuple, tuple]:
@@ -152,7 +193,8 @@ def _candidates(shown, plate, reference, window) -> list[np.ndarray]:
 
     height = shown.shape[0] * 2 // 3
     (y0, x0, y1, x1), (by0, bx0, by1, bx1) = _margin_box(window, (shown.shape[1], height))
-    out = [picture[y0:y1, x0:x1] for picture in (shown, shown, shown, plate, reference)]
+    pictures = {"plate": plate, "reference": reference}
+    out = [pictures.get(name, shown)[y0:y1, x0:x1] for name in CHOICES]
     for k, sigma in enumerate(BLUR_SIGMAS_PX, start=1):
         blurred = cv2.GaussianBlur(shown[by0:by1, bx0:bx1], (0, 0), sigma)
         out[k] = blurred[y0 - by0 : y1 - by0, x0 - bx0 : x1 - bx0]
