@@ -55,8 +55,15 @@ def test_the_engine_shows_the_plate_where_the_rendering_is_wrong():
     for _ in range(4):
         shown = engine.step(rendering, _face(), plate, reference, truth[:height], stream_bits)
     for y, x in wrong:
-        np.testing.assert_array_equal(shown[y : y + BLOCK_PX, x : x + BLOCK_PX],
-                                      truth[y : y + BLOCK_PX, x : x + BLOCK_PX])  # fmt: skip
+        block = (slice(y, y + BLOCK_PX), slice(x, x + BLOCK_PX))
+        before = np.abs(rendering[block].astype(int) - truth[block]).mean()
+        after = np.abs(shown[block].astype(int) - truth[block]).mean()
+        # An isolated block keeps about half the rendering at its edge (the feather): 0.6.
+        assert after < 0.6 * before, (y, x, before, after)
+    far = np.ones(SIZE[::-1], bool)
+    for y, x in wrong:
+        far[max(y - 16, 0) : y + BLOCK_PX + 16, max(x - 16, 0) : x + BLOCK_PX + 16] = False
+    np.testing.assert_array_equal(shown[:height][far], rendering[:height][far])
     assert engine.changes == len(wrong)
     assert rendering[40, 48] != truth[40, 48]  # the rendering itself is never written
 
