@@ -240,9 +240,7 @@ def run_clip(
     out.update(tracking(results, clock, scored["mde"]))
     out.update(stages(clock, refreshed))
     out.update(_scored(out["rate_kbps"], scored["sums"], displays, refreshed, scored["map"]))
-    # The map is a measured display, not the codec's default: timed apart from the model path.
-    out["block_map"] = dict(scored["map"], ms_median=clock.median("block_map"),
-                            cpu_ms_median=clock.median("block_map", cpu=True))  # fmt: skip
+    out["block_map"] = scored["map"]
     return out
 
 
@@ -320,10 +318,16 @@ def _score(clip, results, units, coded, decoded, shares, renderers, displays, re
             sums[name].add(clip.frames[index], pictures[name], box, model_mask)
         if kept is not None and index == keep_frame:
             kept.update(pictures, source=clip.frames[index])
-    # The map's bits at 25 frames/s, as the stream's (`rates`).
-    map_kbps = block_map.bits / (len(results) / SCALED_FPS) / 1000.0
-    out = {"kbps": round(map_kbps, 3), "bits": block_map.bits, "changes": block_map.changes}
-    return {"sums": sums, "mde": mde, "map": out}
+    return {"sums": sums, "mde": mde, "map": _map_figures(block_map, len(results), clock)}
+
+
+def _map_figures(block_map, frames: int, clock) -> dict:
+    """The block map's bits (kbit/s at 25 frames/s, as the stream's `rates`) and times: a
+    measured display, not the codec's default, timed apart from the model path."""
+    kbps = block_map.bits / (frames / SCALED_FPS) / 1000.0
+    return {"kbps": round(kbps, 3), "bits": block_map.bits, "changes": block_map.changes,
+            "ms_median": clock.median("block_map"),
+            "cpu_ms_median": clock.median("block_map", cpu=True)}  # fmt: skip
 
 
 def _stream_bits(packets) -> dict[int, float]:

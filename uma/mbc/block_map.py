@@ -13,7 +13,10 @@ bucket filled at `MAP_TOTAL_KBPS` less the parameter stream's own bits, so strea
 together stay under it. Each frame costs an Exp-Golomb count of its changes and, per change,
 the block's index in the window and which of the other choices (`change_bits`). Both ends draw
 the same picture from the same decoded parameters, so the engine's choice is exact at the
-receiver. Measured in docs/mbc.md (session mbc7).
+receiver. Guards against seams, known to both ends from the drawn face: a choice ends once the
+face has moved `STALE_PX` from where it was taken; the plate and the reference never over the
+face (nor the plate where it has not seen), the face's interior never blurred; a block's edge
+fades into its neighbours. Measured in docs/mbc.md (session mbc7).
 """
 
 from __future__ import annotations
