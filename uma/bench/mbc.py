@@ -33,6 +33,7 @@ from uma.bench.mbc_refresh import DEFAULT_REFRESH
 from uma.bench.mbc_stages import Clock, decode, encode, rates, stages, tracking
 from uma.bench.mbc_table import format_table, summarise
 from uma.codecs import full_frame_names, spec
+from uma.mbc.block_map import BlockMap
 
 __all__ = [
     "ClipSpec",
@@ -47,6 +48,7 @@ __all__ = [
 BASE_DISPLAYS = (
     "unquantised",
     "quantised",
+    "mbc_map",
     "frozen",
     "h264_lowest",
     "h264_second",
@@ -237,14 +239,16 @@ def run_clip(
     out.update(rates(lumas, coded.packets, stream_config, scored))
     out.update(tracking(results, clock, scored["mde"]))
     out.update(stages(clock, refreshed))
-    out.update(_scored(out["rate_kbps"], scored["sums"], displays, refreshed))
+    out.update(_scored(out["rate_kbps"], scored["sums"], displays, refreshed, scored["map"]))
+    out["block_map"] = scored["map"]
     return out
 
 
-def _scored(rate_kbps: float, sums, displays, refreshed) -> dict:
+def _scored(rate_kbps: float, sums, displays, refreshed, block_map: dict) -> dict:
     """Every display's means per region (with its rate), the codecs' rungs, the refreshes'
     figures, and the quantisation's loss on the face."""
     display_kbps = {"unquantised": None, "quantised": rate_kbps, "frozen": 0.0,
+                    "mbc_map": rate_kbps + block_map["kbps"],
                     "other_reference": rate_kbps, "description_face": rate_kbps,
                     **{name: displays[name][1] for name in displays},
                     **{name: refreshed[name][1] for name in refreshed}}  # fmt: skip
@@ -273,18 +277,30 @@ def _score(clip, results, units, coded, decoded, shares, renderers, displays, re
     names = BASE_DISPLAYS + tuple(refreshed)
     sums = {d: RegionSums() for d in names}
     shown = {d: clip.frames[0] for d in ("unquantised", "quantised", "other_reference",
-                                         "description_face")}  # fmt: skip
+                                         "description_face", "mbc_map")}  # fmt: skip
     height = clip.frames[0].shape[0] * 2 // 3
     model_mask = np.zeros((height, clip.frames[0].shape[1]), bool)
     mde, box = [], None
+    block_map = BlockMap((clip.frames[0].shape[1], height), SCALED_FPS)  # rates at 25 frames/s
+    stream_bits = _stream_bits(coded.packets)
     for index, result in enumerate(results):
         if result:  # no face: the last good picture stays (no mask in the wrong place)
             shown["unquantised"], model_mask = receiver.render(
                 result.params, coded.lights[index], coded.bodies[index]
             )
         if index in decoded:
-            _render_decoded(index, decoded[index], shares[index], units, coded, shown,
-                            (receiver, other, mixed), clock)  # fmt: skip
+            face = _render_decoded(index, decoded[index], shares[index], units, coded, shown,
+                                   (receiver, other, mixed), clock)  # fmt: skip
+            with clock("block_map"):
+                shown["mbc_map"] = block_map.step(
+                    shown["quantised"],
+                    face,
+                    receiver.plate_picture(),
+                    receiver.reference,
+                    clip.frames[index][:height],
+                    stream_bits.get(index, 0.0),
+                    None if receiver.plate is None else receiver.plate.known,
+                )
         truth_points = None
         if clip.truth is not None:
             truth = clip.truth(index)
@@ -302,21 +318,40 @@ def _score(clip, results, units, coded, decoded, shares, renderers, displays, re
             sums[name].add(clip.frames[index], pictures[name], box, model_mask)
         if kept is not None and index == keep_frame:
             kept.update(pictures, source=clip.frames[index])
-    return {"sums": sums, "mde": mde}
+    return {"sums": sums, "mde": mde, "map": _map_figures(block_map, len(results), clock)}
 
 
-def _render_decoded(index, values, share, units, coded, shown, renderers, clock) -> None:
+def _map_figures(block_map, frames: int, clock) -> dict:
+    """The block map's bits (kbit/s at 25 frames/s, as the stream's `rates`) and times: a
+    measured display, not the codec's default, timed apart from the model path."""
+    kbps = block_map.bits / (frames / SCALED_FPS) / 1000.0
+    return {"kbps": round(kbps, 3), "bits": block_map.bits, "changes": block_map.changes,
+            "ms_median": clock.median("block_map"),
+            "cpu_ms_median": clock.median("block_map", cpu=True)}  # fmt: skip
+
+
+def _stream_bits(packets) -> dict[int, float]:
+    """Each frame's share of the parameter stream's bits (a packet's spread over its frames)."""
+    out: dict[int, float] = {}
+    for packet in packets:
+        for frame in range(packet.first_frame, packet.first_frame + packet.count):
+            out[frame] = out.get(frame, 0.0) + packet.size_bytes * 8.0 / packet.count
+    return out
+
+
+def _render_decoded(index, values, share, units, coded, shown, renderers, clock) -> np.ndarray:
     """The decoded set of frame `index` drawn by the receiver (timed with its decoding share)
-    and by the other two renderers, into `shown`."""
+    and by the other two renderers, into `shown`; the receiver's face mask."""
     receiver, other, mixed = renderers
     begin, cpu = time.perf_counter(), time.process_time()
     params, light = units.split(values)
     body = units.body_of(values)
-    shown["quantised"], _ = receiver.render(params, light, body)
+    shown["quantised"], face = receiver.render(params, light, body)
     wall_ms = share[0] + (time.perf_counter() - begin) * 1000.0
     clock.add("decode_render", wall_ms, share[1] + (time.process_time() - cpu) * 1000.0)
     shown["other_reference"], _ = other.render(params, coded.other_lights[index])
     shown["description_face"], _ = mixed.render(params, coded.mixed_lights[index], body)
+    return face
 
 
 def run_model_bench(
@@ -341,7 +376,7 @@ def run_model_bench(
         if kept:
             tails = {
                 d: f"{result['face'][d]['kbps']:.1f} kbit/s"
-                for d in ("quantised", "mbc_refresh_lowest", "h264_lowest", "av1_lowest")
+                for d in ("quantised", "mbc_map", "mbc_refresh_lowest", "h264_lowest", "av1_lowest")
                 if d in result["face"]
             }
             rows.append((f"{clip.name} #{result['kept_frame']}", kept, tails))

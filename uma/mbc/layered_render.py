@@ -235,7 +235,7 @@ def _plate(renderer, body: np.ndarray | None) -> np.ndarray:
     """The plate to draw on (a copy), moved by `body`'s camera motion if it has one."""
     import cv2
 
-    plate = renderer._plate_picture()
+    plate = renderer.plate_picture()
     if body is None or len(body) < N_BODY or not np.any(body[N_TORSO:]):
         return plate.copy()
     tx, ty = (float(v) for v in body[N_TORSO:])

@@ -313,7 +313,7 @@ class SceneRenderer:
         self.person_mask = person
         self.plate.update(self.reference, person, fresh)
 
-    def _plate_picture(self) -> np.ndarray | None:
+    def plate_picture(self) -> np.ndarray | None:
         """The plate to show behind the person; the reference itself once the plate is lost
         (its reason stays in `plate.reason`)."""
         if self.plate is None:

@@ -1,0 +1,269 @@
+"""A block map beside the face's parameters: where the receiver shows, instead of its rendering,
+a picture it already holds (its rendering softened or blurred, the plate, the reference).
+
+Units: pixels; bits; kbit/s; pictures planar YUV 4:2:0 (H * 3 // 2, W) uint8.
+
+The receiver keeps one choice per block of `BLOCK_PX` pixels (`CHOICES`; all "rendering" at
+first). The engine, which has the source and mirrors the receiver's picture, sends a few
+changes a frame: the blocks where another choice errs least against the source by the most
+squared luma error, greedily, as many as its bit allowance pays for. Only the blocks of a
+window of `WINDOW_BLOCKS` a side about the drawn face can change (their index is coded within
+it); a block that leaves the window goes back to the rendering at both ends. The allowance is a
+bucket filled at `MAP_TOTAL_KBPS` less the parameter stream's own bits, so stream and map
+together stay under it. Each frame costs an Exp-Golomb count of its changes and, per change,
+the block's index in the window and which of the other choices (`change_bits`). Both ends draw
+the same picture from the same decoded parameters, so the engine's choice is exact at the
+receiver. Guards against seams, known to both ends from the drawn face: a choice ends once the
+face has moved `STALE_PX` from where it was taken; the plate and the reference never over the
+face (nor the plate where it has not seen), the face's interior never blurred; a block's edge
+fades into its neighbours. Measured in docs/mbc.md (session mbc7).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from uma.mbc.errors import SceneError
+
+__all__ = [
+    "BlockMap",
+    "BLOCK_PX",
+    "WINDOW_BLOCKS",
+    "CHOICES",
+    "MAP_TOTAL_KBPS",
+    "change_bits",
+    "count_bits",
+]
+
+BLOCK_PX = 8
+# A chosen block's edge fades into its neighbours over this (Gaussian sigma; 0 hard): hard
+# 8x8 steps showed along akiyo's hair. Frames 150-299, face box dB akiyo | carphone: 0 23.207
+# | 21.424, 1.5 23.258 | 21.495, 3 23.263 | 21.533 (docs/mbc.md, session mbc7).
+FEATHER_SIGMA_PX = 3.0
+# A block's choice ends when the face has moved this far from where it was when the block took
+# it (both ends see the drawn face): a plate or reference block left behind by a moving head
+# would show a piece of the old scene beside the new one.
+STALE_PX = 8.0
+WINDOW_BLOCKS = 16  # a side: 128 px at CIF, the head and the outline about it
+CHOICES = ("rendering", "softened", "blurred", "plate", "reference")
+BLUR_SIGMAS_PX = (1.0, 2.0)  # "softened", "blurred": the rendering's Gaussian blur
+MAP_TOTAL_KBPS = 2.4  # the parameter stream and the map together (the target is 2.5)
+# At most this much allowance saved for a later frame, or owed after the stream's own peaks
+# (an intra set); the map pays its count's bit every frame even when it owes.
+BUCKET_MAX_BITS = 200.0
+_BLUR_MARGIN_PX = 8  # the blur reads this far outside the window
+
+
+def count_bits(count: int) -> int:
+    """Bits of the Exp-Golomb code of a frame's change count `count` (0: one bit)."""
+    return 2 * int(math.floor(math.log2(count + 1))) + 1
+
+
+def change_bits(window_blocks: int) -> int:
+    """Bits of one change: the block's index among `window_blocks` and the new choice among
+    the other `len(CHOICES) - 1`."""
+    return math.ceil(math.log2(max(window_blocks, 2))) + math.ceil(math.log2(len(CHOICES) - 1))
+
+
+class BlockMap:
+    """Both ends' block map over pictures of `size` (W, H) at `fps`: `step` chooses a frame's
+    changes (the engine's side, against the source), takes them (the receiver's side) and
+    returns the picture shown; `bits` counts every bit sent."""
+
+    def __init__(self, size: tuple[int, int], fps: float, total_kbps: float = MAP_TOTAL_KBPS):
+        width, height = size
+        if width < BLOCK_PX or height < BLOCK_PX or not fps > 0:
+            raise SceneError(
+                f"block map: expected a picture of at least {BLOCK_PX} px a side at a positive "
+                f"frame rate, got size {size} at {fps} frames/s"
+            )
+        self.grid = (height // BLOCK_PX, width // BLOCK_PX)
+        self.state = np.zeros(self.grid, np.int8)
+        # Where the face's centre was when each block took its choice (x, y px).
+        self.anchor = np.zeros((2, *self.grid), np.float32)
+        self._centre = (0.0, 0.0)
+        self.frame_bits = total_kbps * 1000.0 / fps
+        self.bucket = 0.0
+        self.bits = 0
+        self.changes = 0
+
+    def window(self, face: np.ndarray) -> tuple[int, int, int, int] | None:
+        """The window (b0, a0, b1, a1) in blocks (columns b, rows a) about the drawn `face`
+        (H, W bool); None without a face."""
+        import cv2
+
+        x, y, w, h = cv2.boundingRect(face.view(np.uint8))
+        if w == 0 or h == 0:
+            return None
+        self._centre = (x + w / 2, y + h / 2)
+        rows, cols = self.grid
+        side_r, side_c = min(WINDOW_BLOCKS, rows), min(WINDOW_BLOCKS, cols)
+        c0 = int(round((x + w / 2) / BLOCK_PX - side_c / 2))
+        r0 = int(round((y + h / 2) / BLOCK_PX - side_r / 2))
+        c0, r0 = min(max(c0, 0), cols - side_c), min(max(r0, 0), rows - side_r)
+        return c0, r0, c0 + side_c, r0 + side_r
+
+    def step(self, shown, face, plate, reference, source=None, stream_bits=0.0, plate_known=None):
+        """The picture shown for a frame whose rendering is `shown` with the face at `face`;
+        `plate`, `reference` the receiver's (`plate_known`: the pixels the plate has seen;
+        None: all); with `source` (the engine's frame) the frame's changes are chosen and sent
+        within the allowance left by `stream_bits`."""
+        window = self.window(face)
+        self.bucket = float(np.clip(self.bucket + self.frame_bits - stream_bits,
+                                    -BUCKET_MAX_BITS, BUCKET_MAX_BITS))  # fmt: skip
+        if window is None:
+            self.state[:] = 0
+            return shown
+        c0, r0, c1, r1 = window
+        outside = np.ones(self.grid, bool)
+        outside[r0:r1, c0:c1] = False
+        self.state[outside] = 0
+        moved = np.hypot(self.anchor[0] - self._centre[0], self.anchor[1] - self._centre[1])
+        self.state[moved > STALE_PX] = 0
+        # A choice the block may no longer take (the face has reached into it) ends at both ends.
+        barred = _barred(face, plate_known, window)
+        state = self.state[r0:r1, c0:c1]
+        state[np.take_along_axis(barred, state[None].astype(np.intp), 0)[0]] = 0
+        lumas = _candidates(shown, plate, reference, window)
+        if source is not None:
+            self._choose(lumas, source, window, barred)
+        return _compose(shown, lumas, self.state[r0:r1, c0:c1], window, plate, reference)
+
+    def _choose(self, lumas, source: np.ndarray, window, barred: np.ndarray) -> None:
+        """The engine's changes for this frame, taken; their bits counted."""
+        c0, r0, c1, r1 = window
+        y0, x0, y1, x1 = r0 * BLOCK_PX, c0 * BLOCK_PX, r1 * BLOCK_PX, c1 * BLOCK_PX
+        truth = source[y0:y1, x0:x1].astype(np.float32)
+        rows, cols = r1 - r0, c1 - c0
+        sse = np.empty((len(CHOICES), rows, cols), np.float32)
+        for k, candidate in enumerate(lumas):
+            error = (candidate.astype(np.float32) - truth) ** 2
+            sse[k] = error.reshape(rows, BLOCK_PX, cols, BLOCK_PX).sum(axis=(1, 3))
+        sse[barred] = np.inf
+        state = self.state[r0:r1, c0:c1]
+        current = np.take_along_axis(sse, state[None].astype(np.intp), 0)[0]
+        gain = (current - sse.min(axis=0)).ravel()
+        best = sse.argmin(axis=0).ravel()
+        cost = change_bits(rows * cols)
+        order = [k for k in np.argsort(-gain, kind="stable") if gain[k] > 0]
+        n = 0
+        while n < len(order) and count_bits(n + 1) + (n + 1) * cost <= self.bucket:
+            n += 1
+        for k in order[:n]:
+            state[k // cols, k % cols] = best[k]
+            self.anchor[:, r0 + k // cols, c0 + k % cols] = self._centre
+        spent = count_bits(n) + n * cost
+        self.bucket -= spent
+        self.bits += spent
+        self.changes += n
+
+
+def _barred(face: np.ndarray, plate_known, window) -> np.ndarray:
+    """(len(CHOICES), rows, cols): the choices a block of the window may not take: the plate
+    and the reference where the drawn face reaches into the block (an old face or the plate's
+    guess over the face: a patch that errs less than a face drawn wrong but looks like no
+    face), the plate where it has not seen every pixel of the block."""
+    c0, r0, c1, r1 = window
+    rows, cols = r1 - r0, c1 - c0
+    y0, x0 = r0 * BLOCK_PX, c0 * BLOCK_PX
+
+    def any_in_block(mask):
+        crop = mask[y0 : y0 + rows * BLOCK_PX, x0 : x0 + cols * BLOCK_PX]
+        return crop.reshape(rows, BLOCK_PX, cols, BLOCK_PX).any(axis=(1, 3))
+
+    out = np.zeros((len(CHOICES), rows, cols), bool)
+    on_face = any_in_block(face)
+    unseen = on_face if plate_known is None else on_face | any_in_block(~plate_known)
+    out[CHOICES.index("plate")] = unseen
+    out[CHOICES.index("reference")] = on_face
+    inside = ~any_in_block(~face)  # the face's interior: drawn by the model, never blurred
+    out[CHOICES.index("softened")] = inside
+    out[CHOICES.index("blurred")] = inside
+    return out
+
+
+def _margin_box(window, size) -> tuple[tuple, tuple]:
+    """The window's pixel box (y0, x0, y1, x1) and the box a blur of it reads."""
+    width, height = size
+    c0, r0, c1, r1 = window
+    y0, x0, y1, x1 = r0 * BLOCK_PX, c0 * BLOCK_PX, r1 * BLOCK_PX, c1 * BLOCK_PX
+    m = _BLUR_MARGIN_PX
+    return (y0, x0, y1, x1), (max(y0 - m, 0), max(x0 - m, 0), min(y1 + m, height),
+                              min(x1 + m, width))  # fmt: skip
+
+
+def _candidates(shown, plate, reference, window) -> list[np.ndarray]:
+    """The window's luma in each of `CHOICES` (uint8 crops, in order)."""
+    import cv2
+
+    height = shown.shape[0] * 2 // 3
+    (y0, x0, y1, x1), (by0, bx0, by1, bx1) = _margin_box(window, (shown.shape[1], height))
+    pictures = {"plate": plate, "reference": reference}
+    out = [pictures.get(name, shown)[y0:y1, x0:x1] for name in CHOICES]
+    for k, sigma in enumerate(BLUR_SIGMAS_PX, start=1):
+        blurred = cv2.GaussianBlur(shown[by0:by1, bx0:bx1], (0, 0), sigma)
+        out[k] = blurred[y0 - by0 : y1 - by0, x0 - bx0 : x1 - bx0]
+    return out
+
+
+def _chroma(k: int, shown, plate, reference, window) -> np.ndarray:
+    """(2, h/2, w/2): the window's chroma planes in choice `k`."""
+    import cv2
+
+    height = shown.shape[0] * 2 // 3
+    width = shown.shape[1]
+    (y0, x0, y1, x1), (by0, bx0, by1, bx1) = _margin_box(window, (width, height))
+    rows, cols = slice(y0 // 2, y1 // 2), slice(x0 // 2, x1 // 2)
+    if CHOICES[k] in ("plate", "reference"):
+        picture = plate if CHOICES[k] == "plate" else reference
+        return picture[height:].reshape(2, height // 2, width // 2)[:, rows, cols]
+    sigma = max(BLUR_SIGMAS_PX[k - 1] / 2, 0.5)
+    out = []
+    for plane in shown[height:].reshape(2, height // 2, width // 2):
+        blurred = cv2.GaussianBlur(plane[by0 // 2 : by1 // 2, bx0 // 2 : bx1 // 2], (0, 0), sigma)
+        out.append(blurred[(y0 - by0) // 2 : (y1 - by0) // 2, (x0 - bx0) // 2 : (x1 - bx0) // 2])
+    return np.stack(out)
+
+
+def _compose(shown, lumas, state, window, plate, reference) -> np.ndarray:
+    """`shown` with each block of the window drawn from its chosen candidate, the blocks'
+    edges faded over `FEATHER_SIGMA_PX` (a copy when any block is not the rendering)."""
+    if not state.any():
+        return shown
+    height = shown.shape[0] * 2 // 3
+    width = shown.shape[1]
+    (y0, x0, y1, x1), _ = _margin_box(window, (width, height))
+    out = shown.copy()
+    luma = out[y0:y1, x0:x1]
+    chroma = out[height:].reshape(2, height // 2, width // 2)[
+        :, y0 // 2 : y1 // 2, x0 // 2 : x1 // 2
+    ]
+    base_luma = luma.astype(np.float32)
+    base_chroma = chroma.astype(np.float32)
+    mixed_luma, mixed_chroma = base_luma.copy(), base_chroma.copy()
+    for k in range(1, len(CHOICES)):
+        chosen = state == k
+        if not chosen.any():
+            continue
+        half = np.repeat(np.repeat(chosen, BLOCK_PX // 2, axis=0), BLOCK_PX // 2, axis=1)
+        whole = np.repeat(np.repeat(half, 2, axis=0), 2, axis=1)
+        weight = _feathered(whole, FEATHER_SIGMA_PX)
+        mixed_luma += weight * (lumas[k].astype(np.float32) - base_luma)
+        half_weight = _feathered(half, FEATHER_SIGMA_PX / 2)[None]
+        candidate = _chroma(k, shown, plate, reference, window).astype(np.float32)
+        mixed_chroma += half_weight * (candidate - base_chroma)
+    luma[:] = np.clip(np.rint(mixed_luma), 0, 255)
+    chroma[:] = np.clip(np.rint(mixed_chroma), 0, 255)
+    return out
+
+
+def _feathered(mask: np.ndarray, sigma_px: float) -> np.ndarray:
+    """`mask` (bool) as float32 weights faded over `sigma_px` at its edges (0: hard)."""
+    import cv2
+
+    weight = mask.astype(np.float32)
+    if sigma_px <= 0:
+        return weight
+    return cv2.GaussianBlur(weight, (0, 0), sigma_px, borderType=cv2.BORDER_REPLICATE)
