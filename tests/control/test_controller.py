@@ -265,19 +265,3 @@ def test_an_empty_report_while_a_packet_was_due_is_no_news_from_the_link(due):
     assert (controller.on_silence(392.0).reason == "silence") is overdue
     controller.on_report(_arrived(90.0, 400.0, 400.0))  # it came: news again
     assert not controller.paused(400.0)
-
-
-@pytest.mark.parametrize("due", [None, (1150.0, 9600), (1090.0, 9600)])
-def test_no_probe_goes_into_a_link_that_owes_packets(due):
-    """An empty report while a packet was due (the link delivers nothing: a downlink outage
-    with a live uplink) reads as application-limited (nothing arrived) and unmeasured, but a
-    probe there only queues behind what the link owes: none is asked for. With nothing due
-    (the sender idle, or its packet not due yet) the empty report probes as before."""
-    controller = UmaController(UmaSettings(initial_kbps=300.0))
-    controller.on_report(_arrived(0.0, 20.0, 100.0))
-    probe = controller.on_report(_report(1100.0, 1200.0, bits=0, queue_ms=()), due=due).probe
-    owed = due == (1090.0, 9600)  # due at 1,142 ms; the other at 1,202
-    assert (probe is None) is owed
-    if owed:  # once the link delivers again, the probe comes
-        later = controller.on_report(_arrived(1090.0, 1250.0, 2300.0), due=None)
-        assert later.probe is not None

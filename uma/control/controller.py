@@ -19,8 +19,6 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
   application-limited (received below `alr_fraction` of the target) or the queue is short (a
   low target fills its own small frames, which make no trains), a probe of padding packets
   sent back to back, whose spacing measures the link, sized to queue about `probe_ms`;
-  never while the link owes a packet (an empty report after one was due: an outage reads as
-  application-limited, and a probe sent into it only waits behind what is stuck);
 - **pause**: no report for `pause_ms` (1.5 report intervals): `paused` says the sender should
   code nothing new until one comes (the skip rule's caller asks), so a handover's gap or an
   outage gets little of the stream, and a lost report costs a frame or two, not a rate. A
@@ -134,7 +132,6 @@ class UmaController:
         self._base_ms: float | None = None  # the path's one-way delay with no queue
         self._last_arrival_ms = float("-inf")
         self._overdue = False  # the last report was empty with a packet overdue
-        self._owed = False  # the last report was empty with a packet due before its end
 
     def _reset_trend(self) -> None:
         self.groups = InterArrival()
@@ -193,7 +190,6 @@ class UmaController:
             since_ms = min(since_ms, start_ms + service_ms)
             grace_ms = max(grace_ms, service_ms)
         self._overdue = report.end_ms - since_ms >= grace_ms
-        self._owed = since_ms < report.end_ms
         if self._quiet_since_ms is None or since_ms > self._quiet_since_ms:
             self._quiet_since_ms, self._silences = since_ms, 0
 
@@ -280,7 +276,7 @@ class UmaController:
         limited = report.received_kbps < s.alr_fraction * self.target_kbps
         unmeasured = now_ms - self._last_train_ms >= s.probe_interval_ms
         idle = self.queue_ms < s.queue_target_ms
-        if not ((limited or idle) and unmeasured) or self._owed:
+        if not ((limited or idle) and unmeasured):
             return None
         if now_ms - self._last_probe_ms < s.probe_interval_ms:
             return None
