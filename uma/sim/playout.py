@@ -6,12 +6,12 @@ decodes.
 
 `AdaptivePlayout` behaves as WebRTC's video jitter buffer does in outline: a target delay from
 the recent frames' capture-to-decoded delays (a high percentile over a time window, plus a
-margin, within bounds), which the current delay approaches at a bounded slope, so a change plays as slow or fast motion rather than a jump: down by at most
-`max_decrease_ms_per_s` (WebRTC's VCMTiming: 100 ms per second), up by at most
-`max_increase_ms_per_s`. WebRTC also lets a late frame raise the delay at once by its lateness;
-here it may not (on cellular traces one frame queued through an outage would set seconds of
-delay in one step), so the delay stays smooth. With no frame decoded within the window the
-delay holds.
+margin, within bounds), which the current delay approaches at a bounded slope, so a change
+plays as slow or fast motion rather than a jump: down by at most `max_decrease_ms_per_s`
+(WebRTC's VCMTiming: 100 ms per second), up by at most `max_increase_ms_per_s`. WebRTC also
+lets a late frame raise the delay at once by its lateness; here it may not (on cellular traces
+one frame queued through an outage would set seconds of delay in one step), so the delay stays
+smooth. With no frame decoded within the window the delay holds.
 
 With `reject_bursts` (off by default: measured in docs/rate-control.md, section `rc7`) the
 target, as WebRTC separates a change of the path's delay (its timestamp extrapolator, which
@@ -100,7 +100,10 @@ class AdaptivePlayout:
     def on_decoded(self, capture_s: float, arrival_s: float) -> None:
         delay = arrival_s - capture_s
         self._expire(arrival_s)
-        if self.config.reject_bursts and self._recent:
+        if not self.config.reject_bursts:  # the percentile alone: no floor to keep
+            self._samples.append((arrival_s, delay, 0.0))
+            return
+        if self._recent:
             self._judge(delay, arrival_s)
         floor_start_s = arrival_s - self.config.floor_window_s
         while self._recent and self._recent[0][0] < floor_start_s:
