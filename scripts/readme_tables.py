@@ -8,10 +8,13 @@ opening marker ends its line the block is a table or paragraph (scripts/readme_b
 rebuilt whole and followed by a line naming the command and commit of each record it reads.
 Otherwise it is inline on one line: `<!-- fig value FILE.json PATH [FORMAT] -->` is one number
 of the record's `result` (dotted PATH, Python format spec), and `<!-- fig source FILE.json... -->`
-in the same paragraph names the records' commands and commits. The records
-are written by scripts/record_bench.py; each must hold `command`, `commit` and `result`.
-Exit 0 up to date (or written); 1 a block differs, a record is missing or incomplete, or a
-table row with measured figures stands outside any block; 2 bad usage.
+in the same paragraph names the records' commands and commits. `<!-- fig records -->` (a
+block naming no record) is the table of every record in docs/results/: its command, commit,
+load, wall time and date. The records are written by scripts/record_bench.py; each must hold
+`command`, `commit` and `result`. docs/measured.md is rendered the same way, except that its
+hand-made tables of older measurements may stand outside blocks (they quote sessions, not
+records). Exit 0 up to date (or written); 1 a block differs, a record is missing or
+incomplete, or a README table row with measured figures stands outside any block; 2 bad usage.
 """
 
 from __future__ import annotations
@@ -27,10 +30,22 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import readme_blocks  # noqa: E402  (beside this file)
 
-__all__ = ["FiguresError", "Record", "check", "load_record", "main", "render", "value_at"]
+__all__ = [
+    "FiguresError",
+    "Record",
+    "check",
+    "load_record",
+    "main",
+    "records_table",
+    "render",
+    "value_at",
+]
 
 ROOT = Path(__file__).resolve().parent.parent
 RESULTS = "docs/results"
+# The documents rendered: path, whether a figure row outside a block is an error in it, and
+# the records' folder as its links reach it.
+DOCUMENTS = (("README.md", True, RESULTS), ("docs/measured.md", False, "results"))
 _BLOCK = re.compile(r"<!-- fig (?P<spec>[^>]*?) -->(?P<body>.*?)<!-- /fig -->", re.S)
 _COMMIT = re.compile(r"^[0-9a-f]{40}$")
 # A markdown table row holding a decimal figure (0.159, 3,116, 29.5 / 0.862): measured-looking.
@@ -55,9 +70,9 @@ class Record:
     result: dict[str, Any]
     raw: dict[str, Any]
 
-    def provenance(self) -> str:
+    def provenance(self, results_link: str = RESULTS) -> str:
         """`command` on commit abc1234, linked to the record (which holds date, load, time)."""
-        return f"`{self.command}` on `{self.commit[:7]}` ([record]({RESULTS}/{self.name}))"
+        return f"`{self.command}` on `{self.commit[:7]}` ([record]({results_link}/{self.name}))"
 
 
 def load_record(results_dir: Path, name: str, where: str) -> Record:
@@ -105,12 +120,16 @@ def _parse_spec(spec: str, where: str) -> tuple[str, list[str], list[str], dict[
     files = [w for w in words[1:] if w.endswith(".json") and "=" not in w]
     args = dict(w.split("=", 1) for w in words[1:] if "=" in w)
     rest = [w for w in words[1:] if w not in files and "=" not in w]
+    if words[0] == "records":
+        if len(words) > 1:
+            raise FiguresError(f"{where}: `<!-- fig records -->` names no record, got {spec!r}")
+        return words[0], files, rest, args
     if not files:
         raise FiguresError(f"{where}: names no record (FILE.json): {spec!r}")
     return words[0], files, rest, args
 
 
-def _inline(renderer: str, records: list[Record], rest: list[str], where: str) -> str:
+def _inline(renderer: str, records: list[Record], rest: list[str], where: str, link: str) -> str:
     if renderer == "value":
         if len(records) != 1 or len(rest) not in (1, 2):
             raise FiguresError(f"{where}: expected `value FILE.json PATH [FORMAT]`")
@@ -119,20 +138,47 @@ def _inline(renderer: str, records: list[Record], rest: list[str], where: str) -
             raise FiguresError(f"{where}: {rest[0]!r} is {value!r}, not a number")
         return format(value, rest[1] if len(rest) == 2 else "")
     if renderer == "source":
-        return "; ".join(r.provenance() for r in records)
+        return "; ".join(r.provenance(link) for r in records)
     raise FiguresError(f"{where}: unknown inline renderer {renderer!r} (value, source)")
 
 
-def _render_block(match: re.Match, text: str, results_dir: Path, readme: str) -> str:
+def _load(record: Record) -> str:
+    load = record.load_1m if isinstance(record.load_1m, dict) else {}
+    return f"{load.get('before', '?')} -> {load.get('after', '?')}"
+
+
+def records_table(results_dir: Path, where: str, results_link: str = RESULTS) -> str:
+    """The table of every record in `results_dir`: command, commit, load, wall s, date."""
+    names = sorted(path.name for path in results_dir.glob("*.json"))
+    if not names:
+        raise FiguresError(f"{where}: {RESULTS} holds no records")
+    rows = [
+        "| record | command | commit | load | wall s | date |",
+        "|---|---|---|---|---|---|",
+    ]
+    for name in names:
+        record = load_record(results_dir, name, where)
+        wall_s = record.duration_s
+        wall = f"{wall_s:.0f}" if isinstance(wall_s, (int, float)) else "?"
+        rows.append(
+            f"| [`{name}`]({results_link}/{name}) | `{record.command}` "
+            f"| {record.commit[:7]} | {_load(record)} | {wall} | {record.date_utc[:10]} |"
+        )
+    return "\n".join(rows)
+
+
+def _render_block(match: re.Match, text: str, results_dir: Path, readme: str, link: str) -> str:
     line = text.count("\n", 0, match.start()) + 1
     where = f"{readme}:{line}"
     renderer, files, rest, args = _parse_spec(match["spec"], where)
-    records = [load_record(results_dir, name, where) for name in files]
     opening = match.group(0)[: match.start("body") - match.start()]
+    if renderer == "records":
+        return f"{opening}\n{records_table(results_dir, where, link)}\n<!-- /fig -->"
+    records = [load_record(results_dir, name, where) for name in files]
     if not match["body"].startswith("\n"):
         if "\n" in match["body"]:
             raise FiguresError(f"{where}: an inline figure must end on its own line")
-        body = _inline(renderer, records, rest, where)
+        body = _inline(renderer, records, rest, where, link)
         return f"{opening}{body}<!-- /fig -->"
     if rest:
         raise FiguresError(f"{where}: expected FILE.json names and key=value, got {rest}")
@@ -144,14 +190,25 @@ def _render_block(match: re.Match, text: str, results_dir: Path, readme: str) ->
         body = render_fn([r.result for r in records], args)
     except (KeyError, TypeError, ValueError) as exc:
         raise FiguresError(f"{where}: {renderer} cannot render {files}: {exc!r}") from exc
-    sources = "; ".join(r.provenance() for r in records)
+    sources = "; ".join(r.provenance(link) for r in records)
     return f"{opening}\n{body.rstrip()}\n\nFrom {sources}.\n<!-- /fig -->"
 
 
-def render(text: str, results_dir: Path, readme: str = "README.md") -> str:
-    """`text` with every block regenerated from the records in `results_dir`."""
-    _check_rows_outside_blocks(text, readme)
-    return _BLOCK.sub(lambda m: _render_block(m, text, results_dir, readme), text)
+def render(
+    text: str,
+    results_dir: Path,
+    readme: str = "README.md",
+    strict: bool = True,
+    results_link: str = RESULTS,
+) -> str:
+    """`text` with every block regenerated from the records in `results_dir`.
+
+    `strict` refuses a table row with figures outside any block (the README's rule);
+    `results_link` is the records' folder as the document's links reach it.
+    """
+    if strict:
+        _check_rows_outside_blocks(text, readme)
+    return _BLOCK.sub(lambda m: _render_block(m, text, results_dir, readme, results_link), text)
 
 
 def _check_rows_outside_blocks(text: str, readme: str) -> None:
@@ -164,11 +221,13 @@ def _check_rows_outside_blocks(text: str, readme: str) -> None:
             )
 
 
-def check(readme_path: Path, results_dir: Path) -> str | None:
-    """None when README.md is what its records render; else the first difference, one line."""
+def check(
+    readme_path: Path, results_dir: Path, strict: bool = True, results_link: str = RESULTS
+) -> str | None:
+    """None when a document is what its records render; else the first difference, one line."""
     text = readme_path.read_text(encoding="utf-8")
     try:
-        wanted = render(text, results_dir, readme_path.name)
+        wanted = render(text, results_dir, readme_path.name, strict, results_link)
     except FiguresError as exc:
         return str(exc)
     if wanted == text:
@@ -186,24 +245,30 @@ def main(argv: list[str] | None = None) -> int:
     if len(args) != 1 or args[0] not in ("write", "check"):
         print("usage: readme_tables.py write|check", file=sys.stderr)
         return 2
-    readme, results_dir = ROOT / "README.md", ROOT / RESULTS
-    if args[0] == "check":
-        problem = check(readme, results_dir)
-        if problem:
-            print(f"readme_tables: {problem}", file=sys.stderr)
+    results_dir = ROOT / RESULTS
+    for name, strict, link in DOCUMENTS:
+        if args[0] == "check":
+            problem = check(ROOT / name, results_dir, strict, link)
+            if problem:
+                print(f"readme_tables: {name}: {problem}", file=sys.stderr)
+                return 1
+        elif not _write(ROOT / name, results_dir, strict, link):
             return 1
-        return 0
-    text = readme.read_text(encoding="utf-8")
+    return 0
+
+
+def _write(document: Path, results_dir: Path, strict: bool, link: str) -> bool:
+    text = document.read_text(encoding="utf-8")
     try:
-        wanted = render(text, results_dir, readme.name)
+        wanted = render(text, results_dir, document.name, strict, link)
     except FiguresError as exc:
         print(f"readme_tables: {exc}", file=sys.stderr)
-        return 1
+        return False
     if wanted != text:
-        tmp = readme.with_name(f".{readme.name}.tmp")
+        tmp = document.with_name(f".{document.name}.tmp")
         tmp.write_text(wanted, encoding="utf-8")
-        tmp.replace(readme)
-    return 0
+        tmp.replace(document)
+    return True
 
 
 if __name__ == "__main__":

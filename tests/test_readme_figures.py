@@ -26,6 +26,16 @@ def test_the_readme_is_what_its_records_render():
     assert problem is None, f"{problem}\n(run: python scripts/readme_tables.py write)"
 
 
+def test_measured_md_is_what_its_records_render_and_lists_every_record():
+    document = ROOT / "docs" / "measured.md"
+    problem = readme_tables.check(document, RESULTS, strict=False, results_link="results")
+    assert problem is None, f"{problem}\n(run: python scripts/readme_tables.py write)"
+    text = document.read_text(encoding="utf-8")
+    assert "<!-- fig records -->" in text
+    for path in RESULTS.glob("*.json"):
+        assert f"[`{path.name}`](results/{path.name})" in text
+
+
 def test_the_readme_quotes_every_bench_it_names_through_blocks():
     text = (ROOT / "README.md").read_text(encoding="utf-8")
     named = {match["spec"].split()[0] for match in readme_tables._BLOCK.finditer(text)}
@@ -158,8 +168,12 @@ def test_write_fills_the_blocks(toy, monkeypatch):
     readme.write_text(TOY.replace(">12.3<", ">?<").replace("| 0.154 |", "| ? |"))
     monkeypatch.setattr(readme_tables, "ROOT", toy)
     monkeypatch.setattr(readme_tables, "RESULTS", "results")
+    documents = (("README.md", True, "docs/results"), ("measured.md", False, "results"))
+    monkeypatch.setattr(readme_tables, "DOCUMENTS", documents)
+    (toy / "measured.md").write_text("<!-- fig records -->\n| ? |\n<!-- /fig -->\n| 0.5 |\n")
     assert readme_tables.main(["write"]) == 0
     assert readme_tables.main(["check"]) == 0
+    assert "(results/toy.json) | `uma bench toy --json`" in (toy / "measured.md").read_text()
 
 
 def test_the_repository_readme_fails_when_a_figure_is_tampered(tmp_path):
@@ -187,3 +201,24 @@ def test_record_bench_names_files_by_bench_and_variant(tmp_path):
     assert record_bench.result_path("sim", "cif", tmp_path) == tmp_path / "sim-cif.json"
     with pytest.raises(record_bench.RecordError, match="--variant"):
         record_bench.result_path("sim", "../x", tmp_path)
+
+
+def test_the_records_table_follows_each_record_and_fails_when_one_changes(toy):
+    record = _record(TOY_RESULT, load_1m={"before": 1.5, "after": 2.25}, duration_s=61.4)
+    (toy / "results" / "toy.json").write_text(json.dumps(record | {"date_utc": "2026-12-03T1"}))
+    table = readme_tables.records_table(toy / "results", "test", "results")
+    assert "| [`toy.json`](results/toy.json) | `uma bench toy --json` | 0123456 " in table
+    assert "| 1.5 -> 2.25 | 61 | 2026-12-03 |" in table
+    document = toy / "measured.md"
+    document.write_text(f"# m\n\n<!-- fig records -->\n{table}\n<!-- /fig -->\n\n| 0.5 | old |\n")
+    assert readme_tables.check(document, toy / "results", False, "results") is None
+    (toy / "results" / "toy.json").write_text(json.dumps(record | {"duration_s": 99.0}))
+    problem = readme_tables.check(document, toy / "results", False, "results")
+    assert problem.startswith("measured.md:6:"), problem
+
+
+def test_a_records_block_naming_a_record_is_refused(toy):
+    document = toy / "measured.md"
+    document.write_text("<!-- fig records toy.json -->\n<!-- /fig -->\n")
+    problem = readme_tables.check(document, toy / "results", strict=False)
+    assert "names no record" in problem
