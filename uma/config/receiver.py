@@ -50,6 +50,7 @@ class AdaptivePlayoutConfig(Section):
     outlier_min_ms: NonNeg = 150.0
     outlier_jitters: NonNeg = 3.0
     calm_s: NonNeg = 10.0
+    turbulent_calm_s: NonNeg = 20.0
     burst_gap_ms: NonNeg = 500.0
     drain_window_ms: PosNum = 250.0
     drain_drop_ms: NonNeg = 100.0
@@ -60,6 +61,16 @@ class AdaptivePlayoutConfig(Section):
             raise ValueError(
                 f"drain_window_ms ({self.drain_window_ms:g}) must be at most half of window_s "
                 f"({self.window_s:g} s): the floor's fall is read from the window's frames"
+            )
+        if 2 * self.floor_window_s > self.window_s:
+            raise ValueError(
+                f"floor_window_s ({self.floor_window_s:g}) must be at most half of window_s "
+                f"({self.window_s:g} s): a burst's end compares the floor of two floor windows"
+            )
+        if self.turbulent_calm_s < self.calm_s:
+            raise ValueError(
+                f"turbulent_calm_s ({self.turbulent_calm_s:g}) must be at least calm_s "
+                f"({self.calm_s:g}): a turbulent link needs at least a calm link's calm"
             )
         return self
 
