@@ -13,20 +13,27 @@ lets a late frame raise the delay at once by its lateness; here it may not (on c
 one frame queued through an outage would set seconds of delay in one step), so the delay stays
 smooth. With no frame decoded within the window the delay holds.
 
-With `reject_bursts` (off by default: measured in docs/rate-control.md, section `rc7`) the
-target, as WebRTC separates a change of the path's delay (its timestamp extrapolator, which
+With `reject_bursts` (off by default: measured in docs/rate-control.md, sections `rc8` and `rc7`)
+the target, as WebRTC separates a change of the path's delay (its timestamp extrapolator, which
 moves to a new offset only when frames keep arriving off it) from jitter (its jitter estimator,
 which clamps a frame delay beyond a number of standard deviations as an outlier): the path's
 *floor* is the least delay of the frames decoded in the last `floor_window_s` (it follows a
 lasting change of the path's delay within that time, and any fall at once), the *jitter* the
-`percentile` of the window's delays above the floor each met. A frame later than the floor by
-more than `outlier_min_ms` and `outlier_jitters` jitters starts a *burst* (late frames closer
-than `burst_gap_ms` are one). A burst that comes `calm_s` after the last late frame or later is
-one-off: until the next burst the target is floor + jitter + margin, and the delay does not
-rise while the floor falls (the burst's own queue draining). A burst sooner than that marks the
-link as turbulent: until the next burst the target is the window's percentile of the delays
-themselves plus the margin (the playout without `reject_bursts`), so repeated late bursts hold
-the delay up as before.
+`percentile` of the window's delays above the higher of the floor each frame met and the floor
+now (so a step of the path, first measured against the old floor, is not counted again once the
+floor has risen). A frame later than the floor by more than `outlier_min_ms` and
+`outlier_jitters` jitters starts a *burst* (late frames closer than `burst_gap_ms` are one). A
+burst that comes `calm_s` after the last late frame or later is one-off (`turbulent_calm_s` if
+the link was turbulent; the start counts as a late frame on a turbulent link, so calm must be
+seen first): until the next burst the target is the higher of floor + jitter and the percentile
+of the delays of the frames outside a burst's *episode*, plus the margin, and the delay does not
+rise while the floor falls (the burst's own queue draining). An episode runs from a burst's first
+late frame (taking back the frames of the floor window before it: the floor lags a burst by that
+long, so its first frames may not look late) until, two floor windows on at the least and
+`burst_gap_ms` after its last late frame, the floor stops falling. A burst sooner than `calm_s`
+marks the link as turbulent: until the next burst the target is the window's percentile of the
+delays themselves plus the margin (the playout without `reject_bursts`), so repeated late bursts
+hold the delay up as before.
 """
 
 from __future__ import annotations
