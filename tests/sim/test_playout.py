@@ -118,6 +118,60 @@ def test_bursts_in_quick_succession_are_followed_as_the_percentile_says():
     assert kept[500:575].max() < 0.25 and kept[575:].max() > 1.0
 
 
+def test_a_step_of_the_path_is_counted_once():
+    # A lasting step from 90 ms to a jittery 400-650 ms path (a handover to a slower one): the
+    # first frames after it are far above the old floor, and once the floor has risen they must
+    # not count again on top of it. The target then is never above the percentile's.
+    rng = np.random.default_rng(2)
+    delays = np.r_[np.full(600, 0.09), 0.4 + rng.uniform(0.0, 0.25, 600)]
+    kept = drive(AdaptivePlayout(REJECT, initial_delay_s=0.3), delays)
+    sized = drive(AdaptivePlayout(AdaptivePlayoutConfig(), initial_delay_s=0.3), delays)
+    assert sized[600:].max() < 0.7
+    assert kept[600:].max() <= sized[600:].max() + 1e-9
+
+
+def test_after_a_one_off_burst_the_delays_outside_it_still_set_a_lower_bound():
+    # A one-off burst on a jittery path: the frames outside the burst keep their percentile as
+    # the lower bound of the target, so once the burst has left the window the delay is where
+    # the percentile playout settles, and no lower (the floor + jitter alone may sit below it).
+    rng = np.random.default_rng(3)
+    delays = burst(0.1 + rng.uniform(0.0, 0.1, 1500), 750, 1.5, 0.2)
+    kept = drive(AdaptivePlayout(REJECT, initial_delay_s=0.3), delays)
+    sized = drive(AdaptivePlayout(AdaptivePlayoutConfig(), initial_delay_s=0.3), delays)
+    assert kept[750:].max() < 0.4 < 1.0 < sized[750:].max()  # not sized to the burst
+    late = 750 + int(20 * FPS)  # the burst long gone from both playouts' memory
+    assert kept[late:].min() >= sized[late:].min() - 1e-9
+
+
+def test_no_calm_seen_yet_means_turbulent():
+    # The start counts as turbulent: a burst 5 s in is followed as the percentile says.
+    delays = burst(np.full(500, 0.1), 125, 1.5, 0.1)
+    kept = drive(AdaptivePlayout(REJECT, initial_delay_s=0.3), delays)
+    assert kept.max() > 1.0
+
+
+def test_a_turbulent_link_needs_the_longer_calm_before_a_burst_is_one_off():
+    # Bursts at 25 s and 28 s make the link turbulent; one 15 s later (beyond calm_s, within
+    # turbulent_calm_s) is followed as the percentile says, one 25 s after that is one-off.
+    delays = np.full(2500, 0.1)
+    for start_s in (25, 28, 43, 68):
+        delays = burst(delays, int(start_s * FPS), 1.5, 0.1)
+    kept = drive(AdaptivePlayout(REJECT, initial_delay_s=0.3), delays)
+    assert kept[int(25 * FPS) : int(28 * FPS)].max() < 0.25  # the first: calm before it
+    assert kept[int(43 * FPS) : int(48 * FPS)].max() > 1.0
+    assert kept[int(68 * FPS) :].max() < 0.25
+
+
+def test_the_floor_window_must_fit_the_window_twice():
+    with pytest.raises(ValidationError, match=r"floor_window_s \(1.5\) must be at most half"):
+        AdaptivePlayoutConfig(window_s=2.0, floor_window_s=1.5)
+
+
+def test_a_turbulent_link_needs_at_least_a_calm_links_calm():
+    with pytest.raises(ValidationError, match=r"turbulent_calm_s \(5\) must be at least calm_s"):
+        AdaptivePlayoutConfig(calm_s=10.0, turbulent_calm_s=5.0)
+
+
 def test_the_drain_window_must_fit_the_window_twice():
     with pytest.raises(ValidationError, match=r"drain_window_ms \(1500\) must be at most half"):
         AdaptivePlayoutConfig(window_s=2.0, drain_window_ms=1500.0)

@@ -27,10 +27,12 @@ class AdaptivePlayoutConfig(Section):
     margin. With `reject_bursts` (off by default), a one-off burst of late frames does not set
     it: a frame later than the path's floor (the least delay of the last `floor_window_s`) by
     more than `outlier_min_ms` and `outlier_jitters` x the jitter (the percentile of the delays
-    above that floor) starts a burst; a burst that comes `calm_s` or more after the last late
-    frame is one-off, and until the next burst the target is the floor plus the jitter and the
-    delay does not rise while the floor falls (by `drain_drop_ms` within `drain_window_ms`: the
-    burst's queue draining). Late frames closer than `burst_gap_ms` are one burst.
+    above the higher of the floor each frame met and the floor now) starts a burst; a burst that
+    comes `calm_s` or more after the last late frame (`turbulent_calm_s` if the link was
+    turbulent, and from the start) is one-off, and until the next burst the target is the
+    higher of floor + jitter and the percentile of the frames outside the burst's episode, and
+    the delay does not rise while the floor falls (by `drain_drop_ms` within `drain_window_ms`:
+    the burst's queue draining). Late frames closer than `burst_gap_ms` are one burst.
     """
 
     window_s: PosNum = 2.0
@@ -43,13 +45,14 @@ class AdaptivePlayoutConfig(Section):
         100.0
     )
     max_increase_ms_per_s: PosNum = 500.0
-    # Off: measured on the commute and on measured traces, it did not hold (docs/rate-control.md,
-    # `rc7`): the commute's p95 fell below 1,000 ms, the measured traces froze a little more.
+    # Off: measured on the commute and on measured traces (docs/rate-control.md, `rc8`, `rc7`):
+    # the commute's p95 falls below 1,000 ms, held-out traces froze 1-2 display instants more.
     reject_bursts: Bool = False
     floor_window_s: PosNum = 1.0
     outlier_min_ms: NonNeg = 150.0
     outlier_jitters: NonNeg = 3.0
     calm_s: NonNeg = 10.0
+    turbulent_calm_s: NonNeg = 20.0
     burst_gap_ms: NonNeg = 500.0
     drain_window_ms: PosNum = 250.0
     drain_drop_ms: NonNeg = 100.0
@@ -60,6 +63,16 @@ class AdaptivePlayoutConfig(Section):
             raise ValueError(
                 f"drain_window_ms ({self.drain_window_ms:g}) must be at most half of window_s "
                 f"({self.window_s:g} s): the floor's fall is read from the window's frames"
+            )
+        if 2 * self.floor_window_s > self.window_s:
+            raise ValueError(
+                f"floor_window_s ({self.floor_window_s:g}) must be at most half of window_s "
+                f"({self.window_s:g} s): a burst's end compares the floor of two floor windows"
+            )
+        if self.turbulent_calm_s < self.calm_s:
+            raise ValueError(
+                f"turbulent_calm_s ({self.turbulent_calm_s:g}) must be at least calm_s "
+                f"({self.calm_s:g}): a turbulent link needs at least a calm link's calm"
             )
         return self
 

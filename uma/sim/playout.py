@@ -13,20 +13,27 @@ lets a late frame raise the delay at once by its lateness; here it may not (on c
 one frame queued through an outage would set seconds of delay in one step), so the delay stays
 smooth. With no frame decoded within the window the delay holds.
 
-With `reject_bursts` (off by default: measured in docs/rate-control.md, section `rc7`) the
-target, as WebRTC separates a change of the path's delay (its timestamp extrapolator, which
+With `reject_bursts` (off by default: measured in docs/rate-control.md, sections `rc8` and `rc7`)
+the target, as WebRTC separates a change of the path's delay (its timestamp extrapolator, which
 moves to a new offset only when frames keep arriving off it) from jitter (its jitter estimator,
 which clamps a frame delay beyond a number of standard deviations as an outlier): the path's
 *floor* is the least delay of the frames decoded in the last `floor_window_s` (it follows a
 lasting change of the path's delay within that time, and any fall at once), the *jitter* the
-`percentile` of the window's delays above the floor each met. A frame later than the floor by
-more than `outlier_min_ms` and `outlier_jitters` jitters starts a *burst* (late frames closer
-than `burst_gap_ms` are one). A burst that comes `calm_s` after the last late frame or later is
-one-off: until the next burst the target is floor + jitter + margin, and the delay does not
-rise while the floor falls (the burst's own queue draining). A burst sooner than that marks the
-link as turbulent: until the next burst the target is the window's percentile of the delays
-themselves plus the margin (the playout without `reject_bursts`), so repeated late bursts hold
-the delay up as before.
+`percentile` of the window's delays above the higher of the floor each frame met and the floor
+now (so a step of the path, first measured against the old floor, is not counted again once the
+floor has risen). A frame later than the floor by more than `outlier_min_ms` and
+`outlier_jitters` jitters starts a *burst* (late frames closer than `burst_gap_ms` are one). A
+burst that comes `calm_s` after the last late frame or later is one-off (`turbulent_calm_s` if
+the link was turbulent; the start counts as a late frame on a turbulent link, so calm must be
+seen first): until the next burst the target is the higher of floor + jitter and the percentile
+of the delays of the frames outside a burst's *episode*, plus the margin, and the delay does not
+rise while the floor falls (the burst's own queue draining). An episode runs from a burst's first
+late frame (taking back the frames of the floor window before it: the floor lags a burst by that
+long, so its first frames may not look late) until, two floor windows on at the least and
+`burst_gap_ms` after its last late frame, the floor stops falling. A burst sooner than `calm_s`
+marks the link as turbulent: until the next burst the target is the window's percentile of the
+delays themselves plus the margin (the playout without `reject_bursts`), so repeated late bursts
+hold the delay up as before.
 """
 
 from __future__ import annotations
@@ -61,24 +68,32 @@ class AdaptivePlayout:
         self.min_s = config.min_delay_ms / 1000.0
         self.max_s = max(self.min_s, config.max_delay_ms / 1000.0)
         self.current_s = min(max(initial_delay_s, self.min_s), self.max_s)
-        # (arrival_s, delay_s, delay above the floor it met) of the frames within `window_s`
+        # (arrival_s, delay_s, the floor it met) of the frames within `window_s`
         self._samples: deque[tuple[float, float, float]] = deque()
         # (arrival_s, delay_s) of the frames within `floor_window_s` of the last one decoded
         self._recent: deque[tuple[float, float]] = deque()
+        # (arrival_s, delay_s) of the frames within `window_s` outside a burst's episode
+        self._clean: deque[tuple[float, float]] = deque()
         self._last_late_s = -math.inf  # arrival of the last frame late beyond the jitter
-        self.turbulent = not config.reject_bursts
+        self._episode_s: float | None = None  # arrival of the first late frame of a burst
+        # Until a calm spell is seen, the link counts as turbulent (the start included).
+        self.turbulent = True
         self._last_s: float | None = None
 
     def _expire(self, now_s: float) -> None:
         window_start_s = now_s - self.config.window_s
-        while self._samples and self._samples[0][0] < window_start_s:
-            self._samples.popleft()
+        for window in (self._samples, self._clean):
+            while window and window[0][0] < window_start_s:
+                window.popleft()
 
     def jitter_s(self) -> float:
-        """The window's `percentile` of the delays above the floor each frame met (0 if none)."""
+        """The window's `percentile` of the delays above the floor: each frame's delay above the
+        higher of the floor it met and the floor now (a step of the path is counted once)."""
         if not self._samples:
             return 0.0
-        return percentile([above for _, _, above in self._samples], self.config.percentile)
+        floor = self.floor_s()
+        above = [max(0.0, d - max(met, floor)) for _, d, met in self._samples]
+        return percentile(above, self.config.percentile)
 
     def target_s(self, now_s: float) -> float | None:
         """The delay the recent frames ask for; None when no frame arrived within the window."""
@@ -89,6 +104,9 @@ class AdaptivePlayout:
             wanted = percentile([d for _, d, _ in self._samples], self.config.percentile)
         else:
             wanted = self.floor_s() + self.jitter_s()
+            if self._clean:
+                clean = percentile([d for _, d in self._clean], self.config.percentile)
+                wanted = max(wanted, clean)
         wanted += self.config.margin_ms / 1000.0
         return min(max(wanted, self.min_s), self.max_s)
 
@@ -103,33 +121,68 @@ class AdaptivePlayout:
         if not self.config.reject_bursts:  # the percentile alone: no floor to keep
             self._samples.append((arrival_s, delay, 0.0))
             return
-        if self._recent:
-            self._judge(delay, arrival_s)
+        if not self._recent and self._last_late_s == -math.inf:
+            self._last_late_s = arrival_s  # the first frame: no calm seen before it
+        late = bool(self._recent) and self._judge(delay, arrival_s)
         floor_start_s = arrival_s - self.config.floor_window_s
         while self._recent and self._recent[0][0] < floor_start_s:
             self._recent.popleft()
         self._recent.append((arrival_s, delay))
-        self._samples.append((arrival_s, delay, delay - self.floor_s()))
+        self._samples.append((arrival_s, delay, self.floor_s()))
+        self._follow_episode(late, arrival_s)
+        if self._episode_s is None:
+            self._clean.append((arrival_s, delay))
 
-    def _judge(self, delay: float, arrival_s: float) -> None:
-        """A frame late beyond the jitter: the start of a burst, one-off after a calm spell."""
+    def _judge(self, delay: float, arrival_s: float) -> bool:
+        """Whether a frame is late beyond the jitter; the first of a burst says whether the link
+        is turbulent (`calm_s` since the last late frame, `turbulent_calm_s` if it was)."""
         limit_s = max(
             self.config.outlier_min_ms / 1000.0, self.config.outlier_jitters * self.jitter_s()
         )
         if delay - self.floor_s() <= limit_s:
-            return
+            return False
         since_s = arrival_s - self._last_late_s
         if since_s > self.config.burst_gap_ms / 1000.0:
-            self.turbulent = since_s < self.config.calm_s
+            calm_s = self.config.turbulent_calm_s if self.turbulent else self.config.calm_s
+            self.turbulent = since_s < calm_s
         self._last_late_s = arrival_s
+        return True
 
-    def draining(self, now_s: float) -> bool:
-        """Whether the floor fell by `drain_drop_ms` within the last `drain_window_ms`."""
-        window_s = self.config.drain_window_ms / 1000.0
+    def _follow_episode(self, late: bool, arrival_s: float) -> None:
+        """A burst's episode: from its first late frame (taking back the frames of the floor
+        window before it, which the lagging floor may not have judged late) until, at least two
+        floor windows on and `burst_gap_ms` after its last late frame, the floor stops falling."""
+        if late:
+            if self._episode_s is None:
+                self._episode_s = arrival_s
+                start_s = arrival_s - self.config.floor_window_s
+                while self._clean and self._clean[-1][0] >= start_s:
+                    self._clean.pop()
+            return
+        if (
+            self._episode_s is not None
+            and arrival_s - self._episode_s >= 2 * self.config.floor_window_s
+            and arrival_s - self._last_late_s > self.config.burst_gap_ms / 1000.0
+            and not self.falling(arrival_s)
+            and not self.draining(arrival_s)
+        ):
+            self._episode_s = None
+
+    def _fell(self, now_s: float, window_s: float) -> bool:
+        """Whether the least delay of the last `window_s` is `drain_drop_ms` below the least of
+        the `window_s` before it."""
         newer = [d for a, d, _ in self._samples if a >= now_s - window_s]
         older = [d for a, d, _ in self._samples if now_s - 2 * window_s <= a < now_s - window_s]
         drop_s = self.config.drain_drop_ms / 1000.0
         return bool(newer and older) and min(newer) < min(older) - drop_s
+
+    def draining(self, now_s: float) -> bool:
+        """Whether the floor fell by `drain_drop_ms` within the last `drain_window_ms`."""
+        return self._fell(now_s, self.config.drain_window_ms / 1000.0)
+
+    def falling(self, now_s: float) -> bool:
+        """Whether the floor fell by `drain_drop_ms` from one `floor_window_s` to the next."""
+        return self._fell(now_s, self.config.floor_window_s)
 
     def delay_s(self, now_s: float) -> float:
         elapsed_s = 0.0 if self._last_s is None else max(0.0, now_s - self._last_s)
