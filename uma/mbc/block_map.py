@@ -81,6 +81,9 @@ class BlockMap:
                 f"frame rate, got size {size} at {fps} frames/s"
             )
         self.grid = (height // BLOCK_PX, width // BLOCK_PX)
+        # The window's blocks: a change's index is coded among these (`uma.mbc.coding`).
+        self.map_blocks = min(WINDOW_BLOCKS, self.grid[0]) * min(WINDOW_BLOCKS, self.grid[1])
+        self.sent = np.zeros((0, 2), np.int64)  # the last frame's changes: block index, code
         self.state = np.zeros(self.grid, np.int8)
         # Where the face's centre was when each block took its choice (x, y px).
         self.anchor = np.zeros((2, *self.grid), np.float32)
@@ -106,16 +109,22 @@ class BlockMap:
         c0, r0 = min(max(c0, 0), cols - side_c), min(max(r0, 0), rows - side_r)
         return c0, r0, c0 + side_c, r0 + side_r
 
-    def step(self, shown, face, plate, reference, source=None, stream_bits=0.0, plate_known=None):
+    def step(self, shown, face, plate, reference, source=None, stream_bits=0.0, plate_known=None,
+             changes=None):  # fmt: skip
         """The picture shown for a frame whose rendering is `shown` with the face at `face`;
         `plate`, `reference` the receiver's (`plate_known`: the pixels the plate has seen;
-        None: all); with `source` (the engine's frame) the frame's changes are chosen and sent
-        within the allowance left by `stream_bits`."""
+        None: all); with `source` (the engine's frame) the frame's changes are chosen within
+        the allowance left by `stream_bits` and kept in `sent` (block index in the window,
+        choice code: which of the block's other choices); a receiver passes the decoded
+        `changes` instead (a change the map cannot take: `SceneError`)."""
         window = self.window(face)
         self.bucket = float(np.clip(self.bucket + self.frame_bits - stream_bits,
                                     -BUCKET_MAX_BITS, BUCKET_MAX_BITS))  # fmt: skip
+        self.sent = np.zeros((0, 2), np.int64)
         if window is None:
             self.state[:] = 0
+            if changes is not None and len(changes):
+                raise SceneError(f"block map: {len(changes)} changes for a frame without a face")
             return shown
         c0, r0, c1, r1 = window
         outside = np.ones(self.grid, bool)
@@ -131,6 +140,8 @@ class BlockMap:
         lumas = _candidates(shown, plate, reference, window, on_face)
         if source is not None:
             self._choose(lumas, source, window, barred)
+        elif changes is not None:
+            self._take(np.asarray(changes, np.int64).reshape(-1, 2), window, barred)
         state = self.state[r0:r1, c0:c1]
         return _compose(shown, lumas, state, window, (plate, reference), on_face)
 
@@ -154,13 +165,35 @@ class BlockMap:
         n = 0
         while n < len(order) and count_bits(n + 1) + (n + 1) * cost <= self.bucket:
             n += 1
+        sent = []
         for k in order[:n]:
+            others = [c for c in range(len(CHOICES)) if c != state[k // cols, k % cols]]
+            sent.append((k, others.index(best[k])))
             state[k // cols, k % cols] = best[k]
             self.anchor[:, r0 + k // cols, c0 + k % cols] = self._centre
+        self.sent = np.array(sent, np.int64).reshape(-1, 2)
         spent = count_bits(n) + n * cost
         self.bucket -= spent
         self.bits += spent
         self.changes += n
+
+    def _take(self, changes: np.ndarray, window, barred: np.ndarray) -> None:
+        """The receiver's side: the decoded `changes` taken (their bits counted as sent)."""
+        c0, r0, c1, r1 = window
+        rows, cols = r1 - r0, c1 - c0
+        state = self.state[r0:r1, c0:c1]
+        for k, code in changes:
+            if not (0 <= k < rows * cols and 0 <= code < len(CHOICES) - 1):
+                raise SceneError(f"block map: change {(k, code)} outside a {rows}x{cols} window")
+            r, c = divmod(int(k), cols)
+            new = [n for n in range(len(CHOICES)) if n != state[r, c]][code]
+            if barred[new, r, c]:
+                raise SceneError(f"block map: block {k} may not show the {CHOICES[new]} now")
+            state[r, c] = new
+            self.anchor[:, r0 + r, c0 + c] = self._centre
+        spent = count_bits(len(changes)) + len(changes) * change_bits(rows * cols)
+        self.bits += spent
+        self.changes += len(changes)
 
 
 def _barred(face: np.ndarray, plate_known, window) -> np.ndarray:
