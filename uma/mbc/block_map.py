@@ -145,6 +145,15 @@ class BlockMap:
         state = self.state[r0:r1, c0:c1]
         return _compose(shown, lumas, state, window, (plate, reference), on_face)
 
+    def step_with(self, renderer, shown, face, source=None, stream_bits=0.0, changes=None):
+        """`step` with the plate and the reference of `renderer` (a `uma.mbc.SceneRenderer`;
+        without a plate, the reference serves as one)."""
+        plate = renderer.plate_picture()
+        known = None if renderer.plate is None or plate is None else renderer.plate.known
+        plate = renderer.reference if plate is None else plate
+        return self.step(shown, face, plate, renderer.reference, source, stream_bits, known,
+                         changes)  # fmt: skip
+
     def _choose(self, lumas, source: np.ndarray, window, barred: np.ndarray) -> None:
         """The engine's changes for this frame, taken; their bits counted."""
         c0, r0, c1, r1 = window

@@ -72,7 +72,8 @@ class ParameterEncoder:
 
     def push(self, frame: int, params: np.ndarray | None, changes=None) -> list[Packet]:
         """Add one frame's parameters (None: the tracker has none) and its block map `changes`
-        ((n, 2): block index, choice code; None: none); returns finished packets."""
+        ((n, 2): block index, choice code; None: none; a callable: called with the set as
+        the decoder will see it, returns them); returns finished packets."""
         out: list[Packet] = []
         if params is None or (self._next is not None and frame != self._next):
             out += self.flush()
@@ -98,12 +99,15 @@ class ParameterEncoder:
         if self._reference is None:
             indices = self.quantiser.intra(values, code)
             self._reference = self.quantiser.dequantise_intra(indices, code)
-            self._pending.append((True, indices, changes))
+            intra = True
         else:
             indices = self.quantiser.predict(values, self._reference, code)
             self._reference = self.quantiser.dequantise_predictive(indices, self._reference, code)
-            self._pending.append((False, indices, changes))
+            intra = False
         self.decoded = self.units.from_units(self._reference)
+        self._pending.append(
+            (intra, indices, changes(self.decoded) if callable(changes) else changes)
+        )
         self._since_intra += 1
         self._next = frame + 1
         if len(self._pending) >= self.config.frames_per_packet:
