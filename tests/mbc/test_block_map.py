@@ -168,3 +168,20 @@ def test_a_block_on_the_outline_shows_the_plate_only_outside_the_face():
     outside = np.abs(shown[40:44, 72:104].astype(int) - truth[40:44, 72:104]).mean()
     before = np.abs(rendering[40:44, 72:104].astype(int) - truth[40:44, 72:104]).mean()
     assert outside < 0.5 * before
+
+
+def test_an_idle_frame_is_what_step_would_have_done_without_drawing():
+    rng = np.random.default_rng(8)
+    stepped, idled = BlockMap(SIZE, FPS), BlockMap(SIZE, FPS)
+    idle_frames = 0
+    for stream_bits in [200.0] * 6 + [0.0] * 6:  # over the allowance, then under it
+        truth, rendering = _picture(rng), _picture(rng)
+        args = (rendering, _face(), truth, truth, truth[: SIZE[1]], stream_bits)
+        stepped.step(*args)
+        if idled.idle(stream_bits):
+            idle_frames += 1
+        else:
+            idled.step(*args)
+        assert idled.bits == stepped.bits and idled.bucket == stepped.bucket
+        np.testing.assert_array_equal(idled.state, stepped.state)
+    assert 6 <= idle_frames < 12 and stepped.changes > 0  # owed bits paid back first

@@ -181,10 +181,9 @@ def test_the_simulation_and_the_bench_code_one_refresh(head, monkeypatch):
 def test_both_ends_keep_one_block_map_and_its_changes_ride_in_the_packets(head):
     """The engine draws each decoded set on its mirror and sends the map's changes in the
     set's packet; the receiver takes them into the same map (`BlockMap.step` at both ends)."""
+    from uma.mbc import StreamConfig
     from uma.mbc.packets import parse_packet
     from uma.sim.mbc_codecs import MbcUnitDecoder
-
-    from uma.mbc import StreamConfig
 
     source, picture = head
     context = _context(source) | {"stream": StreamConfig(frames_per_packet=4)}

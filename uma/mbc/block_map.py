@@ -145,6 +145,20 @@ class BlockMap:
         state = self.state[r0:r1, c0:c1]
         return _compose(shown, lumas, state, window, (plate, reference), on_face)
 
+    def idle(self, stream_bits: float = 0.0) -> bool:
+        """The engine's shortcut: True when the map holds no choice and its allowance after
+        this frame cannot pay for one change: the frame's (empty) change count is counted and
+        nothing need be drawn or chosen (the receiver's `step` with no changes keeps the same
+        state); False, changing nothing, otherwise."""
+        bucket = float(np.clip(self.bucket + self.frame_bits - stream_bits,
+                               -BUCKET_MAX_BITS, BUCKET_MAX_BITS))  # fmt: skip
+        if self.state.any() or bucket >= count_bits(1) + change_bits(self.map_blocks):
+            return False
+        self.bucket = bucket - count_bits(0)
+        self.bits += count_bits(0)
+        self.sent = np.zeros((0, 2), np.int64)
+        return True
+
     def step_with(self, renderer, shown, face, source=None, stream_bits=0.0, changes=None):
         """`step` with the plate and the reference of `renderer` (a `uma.mbc.SceneRenderer`;
         without a plate, the reference serves as one)."""

@@ -33,7 +33,11 @@ class MapSender:
         """The frame's changes ((n, 2)) for the decoded set `decoded` (`units`' values) drawn
         by `mirror` (the receiver's renderer as the engine mirrors it) against the source
         luma `source`; None when the mirror cannot draw the set (the receiver keeps its last
-        picture)."""
+        picture). Nothing is drawn while the map holds no choice and cannot pay for one."""
+        before = self.block_map.bits
+        if self.block_map.idle(self.stream_bits):
+            self._map_bits_open += self.block_map.bits - before
+            return self.block_map.sent
         params, light = units.split(decoded)
         try:
             shown, face = mirror.render(params, light, units.body_of(decoded))
