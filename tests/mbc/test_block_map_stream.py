@@ -128,3 +128,13 @@ def test_a_corrupt_map_field_decodes_or_raises_the_typed_error(words, intra, cou
     for changes in out.changes:
         assert len(changes) <= 256 and len(np.unique(changes[:, 0])) == len(changes)
         assert np.all((changes[:, 0] < 256) & (changes[:, 1] < MAP_CODES))
+
+
+def test_a_packet_without_a_change_goes_without_the_map():
+    mapped, plain = ParameterEncoder(UNITS, CONFIG, map_blocks=256), ParameterEncoder(UNITS, CONFIG)
+    for frame in range(4):
+        (got,) = mapped.push(frame, START, np.zeros((0, 2))) or [None]
+        (want,) = plain.push(frame, START) or [None]
+    assert not got.block_map and got.to_bytes() == want.to_bytes()  # not a bit spent
+    out = ParameterDecoder(UNITS, CONFIG, map_blocks=256).decode(got.to_bytes())
+    assert len(out.changes) == 4 and all(len(c) == 0 for c in out.changes)

@@ -105,13 +105,13 @@ class ParameterDecoder:
         return Decoded(tuple(frames), tuple(events), tuple(changes))
 
     def _check_layout(self, packet, where: str) -> None:
-        """A packet whose light or body motion flag disagrees with the stream's set-up is a
-        `PacketError`."""
+        """A packet whose light, body motion or block map flag disagrees with the stream's
+        set-up is a `PacketError` (a map stream's packet without a change goes without it)."""
         for name, present, expected in (("light", packet.light, self.units.light),
                                         ("body motion", packet.body, self.units.body),
                                         ("camera motion", packet.camera, self.units.camera),
                                         ("block map", packet.block_map, self.map_blocks > 0)):  # fmt: skip
-            if present != expected:
+            if present != expected and not (name == "block map" and expected):  # none: no change
                 raise PacketError(
                     f"{where} (seq {packet.seq}): {name} {'present' if present else 'absent'}, "
                     f"the stream was set up {'with' if expected else 'without'} it"
@@ -123,7 +123,10 @@ class ParameterDecoder:
         loses sync."""
         kinds = [packet.intra] + [False] * (packet.count - 1)
         try:
-            indices = decode_sets(packet.words, kinds, self.models, self.map_blocks, changes)
+            blocks = self.map_blocks if packet.block_map else 0
+            indices = decode_sets(packet.words, kinds, self.models, blocks, changes)
+            if self.map_blocks and not packet.block_map:  # a packet without a change
+                changes += [np.zeros((0, 2), np.int64)] * packet.count
         except PacketError as err:
             self._lose_sync()
             raise PacketError(f"{where} (seq {packet.seq}): {err}") from None

@@ -10,7 +10,8 @@ intra when the intra period is due, after `request_intra()` (the receiver's requ
 frame without parameters (`push(frame, None)`: the tracker failed; the open packet is sent
 short and the next set is intra), and on the first frame. Intra sets only open packets, so a
 decoder can join at any intra packet. With `map_blocks` > 0 (the block map's window, `uma.mbc.block_map`) each set
-carries its frame's block map changes (`push(frame, params, changes)`) in the same packet.
+carries its frame's block map changes (`push(frame, params, changes)`) in the same packet; a
+packet none of whose frames changes the map goes without them (its flag clear: no bit spent).
 """
 
 from __future__ import annotations
@@ -118,7 +119,10 @@ class ParameterEncoder:
         """The open packet, even if short."""
         if not self._pending:
             return []
-        words, _ = encode_sets(self._pending, self.models, self.map_blocks)
+        with_map = self.map_blocks > 0 and any(
+            changes is not None and len(changes) for _, _, changes in self._pending
+        )
+        words, _ = encode_sets(self._pending, self.models, self.map_blocks if with_map else 0)
         packet = Packet(
             seq=self._seq,
             first_frame=self._first,
@@ -129,7 +133,7 @@ class ParameterEncoder:
             light=self.units.light,
             body=self.units.body,
             camera=self.units.camera,
-            block_map=self.map_blocks > 0,
+            block_map=with_map,
         )
         self._seq = (self._seq + 1) % SEQ_MODULUS
         self._pending = []
