@@ -221,9 +221,8 @@ def run_clip(
     ring = clip.description.head_ring_outlines or profile.head_ring_outlines
     *renderers, receiver = _renderers(clip, results, reference, profile)
     coded = encode(lumas, results, units, stream_config, renderers, clock)
-    map_changes: dict = {}
     decoded, shares = decode(units, stream_config, coded.packets, clock, coded.map_blocks,
-                             map_changes)  # fmt: skip
+                             map_changes := {})  # fmt: skip
     displays = _full_frame_displays(clip)
     # The refresh spends the rung's rate minus the plain stream's, both at the clip's own rate.
     refresh = DEFAULT_REFRESH if refresh is None else refresh
