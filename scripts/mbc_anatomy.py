@@ -93,7 +93,7 @@ def coded_run(clip, seed: int = 0):
     results[0] = mbc._as_decoded(results[0], units, config)
     *renderers, receiver = mbc._renderers(clip, results, "picture", MbcConfig())
     coded = encode(lumas, results, units, config, renderers, clock)
-    decoded, _ = decode(units, config, coded.packets, clock)
+    decoded, _ = decode(units, config, coded.packets, clock, coded.map_blocks)
     h264 = codec_display(clip.frames, clip.fps, 0, "h264")[0]
     return lumas, results, units, receiver, decoded, h264
 

@@ -148,3 +148,40 @@ def test_a_choice_ends_when_the_face_moves_away_from_where_it_was_taken():
     assert engine.state[2, 2] != 0
     shown = engine.step(rendering, _face(36, 24, 16), truth, truth)  # 12 px: ended
     assert engine.state[2, 2] == 0 and shown is rendering
+
+
+def test_a_block_on_the_outline_shows_the_plate_only_outside_the_face():
+    rng = np.random.default_rng(7)
+    truth = _picture(rng)
+    height = SIZE[1]
+    face = _face(64, 48, 48)
+    face[44:48, 64:112] = True  # the face reaches 4 px into the row of blocks above it
+    rendering = truth.copy()
+    rendering[40:44, 64:112] = 255 - truth[40:44, 64:112]  # that row wrong outside the face
+    plate = truth.copy()
+    plate[:height][face] = 255 - truth[:height][face]  # the plate's guess over the face: wrong
+    engine = BlockMap(SIZE, FPS)
+    for _ in range(20):
+        shown = engine.step(rendering, face, plate, plate, truth[:height], 0.0)
+    assert (engine.state[5, 8:14] == CHOICES.index("plate")).all()
+    np.testing.assert_array_equal(shown[44:48, 72:104], truth[44:48, 72:104])  # the face kept
+    outside = np.abs(shown[40:44, 72:104].astype(int) - truth[40:44, 72:104]).mean()
+    before = np.abs(rendering[40:44, 72:104].astype(int) - truth[40:44, 72:104]).mean()
+    assert outside < 0.5 * before
+
+
+def test_an_idle_frame_is_what_step_would_have_done_without_drawing():
+    rng = np.random.default_rng(8)
+    stepped, idled = BlockMap(SIZE, FPS), BlockMap(SIZE, FPS)
+    idle_frames = 0
+    for stream_bits in [200.0] * 6 + [0.0] * 6:  # over the allowance, then under it
+        truth, rendering = _picture(rng), _picture(rng)
+        args = (rendering, _face(), truth, truth, truth[: SIZE[1]], stream_bits)
+        stepped.step(*args)
+        if idled.idle(stream_bits):
+            idle_frames += 1
+        else:
+            idled.step(*args)
+        assert idled.bits == stepped.bits and idled.bucket == stepped.bucket
+        np.testing.assert_array_equal(idled.state, stepped.state)
+    assert 6 <= idle_frames < 12 and stepped.changes > 0  # owed bits paid back first

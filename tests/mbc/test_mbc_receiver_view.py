@@ -22,7 +22,7 @@ def test_receiver_renders_colour_from_the_last_picture() -> None:
     decoder = MbcUnitDecoder(context=context)
     units = decoder.units  # the simulation's: geometry, body motion, light
     assert units.body and units.light
-    encoder = ParameterEncoder(units, context["stream"])
+    encoder = ParameterEncoder(units, context["stream"], decoder.block_map.map_blocks)
     packets = []
     for i in range(1, 9):
         packets += encoder.push(i, np.concatenate([head.params_at(i), np.zeros(3), (1.0, 0.0)]))

@@ -136,7 +136,7 @@ def test_the_model_codecs_receiver_renders_from_each_refresh_taken(head):
     chain = RefreshChain(mbc.refresh, source_size=SIZE)
     units = decoder.units
     assert units.body  # the layered scene: the body motion travels with the face
-    stream = ParameterEncoder(units, context["stream"])
+    stream = ParameterEncoder(units, context["stream"], decoder.block_map.map_blocks)
     packets = []
     for i in range(1, 13):
         packets += stream.push(i, _values(source, i, units))

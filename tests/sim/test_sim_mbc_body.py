@@ -176,3 +176,27 @@ def test_the_simulation_and_the_bench_code_one_refresh(head, monkeypatch):
     height, width = patch.shape[0] * 2 // 3, patch.shape[1]
     inner = (slice(y0 + 8, y0 + height - 8), slice(x0 + 8, x0 + width - 8))
     assert np.array_equal(encoder.mirror.reference[inner], decoder.renderer.reference[inner])
+
+
+def test_both_ends_keep_one_block_map_and_its_changes_ride_in_the_packets(head):
+    """The engine draws each decoded set on its mirror and sends the map's changes in the
+    set's packet; the receiver takes them into the same map (`BlockMap.step` at both ends)."""
+    from uma.mbc import StreamConfig
+    from uma.mbc.packets import parse_packet
+    from uma.sim.mbc_codecs import MbcUnitDecoder
+
+    source, picture = head
+    context = _context(source) | {"stream": StreamConfig(frames_per_packet=4)}
+    encoder, decoder = _encoder(context), MbcUnitDecoder(context=context)
+    assert encoder.initialise(picture, frame=0)
+    pictures = [picture] + [_shifted(picture, 2 * min(k, 4)) for k in range(1, 40)]
+    flagged = 0
+    for i, p in enumerate(pictures):
+        unit = encoder.encode(p, intra=i == 0, frame=i)
+        if unit.data:  # a packet every four frames
+            flagged += parse_packet(unit.data).block_map
+            decoder.decode(EncodedUnit(i, i, "mbc", 0, *SIZE, False, unit.data, unit.frames))
+    sent, taken = encoder.map.block_map, decoder.block_map
+    assert flagged and sent.changes > 0 and taken.changes == sent.changes
+    assert taken.bits == sent.bits
+    assert np.array_equal(taken.state, sent.state)

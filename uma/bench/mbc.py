@@ -48,7 +48,7 @@ __all__ = [
 BASE_DISPLAYS = (
     "unquantised",
     "quantised",
-    "mbc_map",
+    "unmapped",
     "frozen",
     "h264_lowest",
     "h264_second",
@@ -221,7 +221,8 @@ def run_clip(
     ring = clip.description.head_ring_outlines or profile.head_ring_outlines
     *renderers, receiver = _renderers(clip, results, reference, profile)
     coded = encode(lumas, results, units, stream_config, renderers, clock)
-    decoded, shares = decode(units, stream_config, coded.packets, clock)
+    decoded, shares = decode(units, stream_config, coded.packets, clock, coded.map_blocks,
+                             map_changes := {})  # fmt: skip
     displays = _full_frame_displays(clip)
     # The refresh spends the rung's rate minus the plain stream's, both at the clip's own rate.
     refresh = DEFAULT_REFRESH if refresh is None else refresh
@@ -232,8 +233,8 @@ def run_clip(
         )
         for name, spec in refresh.items()
     }
-    scored = _score(clip, results, units, coded, decoded, shares, (receiver, *renderers[1:]),
-                    displays, refreshed, clock, keep_frame, kept)  # fmt: skip
+    scored = _score(clip, results, units, coded, (decoded, shares, map_changes),
+                    (receiver, *renderers[1:]), displays, refreshed, clock, keep_frame, kept)  # fmt: skip
     out = {"frames": len(lumas), "kept_frame": keep_frame, "reference": reference,
            "head_ring_outlines": ring, "fps": round(clip.fps, 3)}  # fmt: skip
     out.update(rates(lumas, coded.packets, stream_config, scored))
@@ -248,7 +249,7 @@ def _scored(rate_kbps: float, sums, displays, refreshed, block_map: dict) -> dic
     """Every display's means per region (with its rate), the codecs' rungs, the refreshes'
     figures, and the quantisation's loss on the face."""
     display_kbps = {"unquantised": None, "quantised": rate_kbps, "frozen": 0.0,
-                    "mbc_map": rate_kbps + block_map["kbps"],
+                    "unmapped": rate_kbps - block_map["kbps"],
                     "other_reference": rate_kbps, "description_face": rate_kbps,
                     **{name: displays[name][1] for name in displays},
                     **{name: refreshed[name][1] for name in refreshed}}  # fmt: skip
@@ -260,11 +261,11 @@ def _scored(rate_kbps: float, sums, displays, refreshed, block_map: dict) -> dic
         **{region: {d: means[d][region] for d in means} for region in REGIONS},
     }  # fmt: skip
     face = out["face"]
-    out["psnr_loss_db"] = round(face["unquantised"]["psnr_db"] - face["quantised"]["psnr_db"], 3)
+    out["psnr_loss_db"] = round(face["unquantised"]["psnr_db"] - face["unmapped"]["psnr_db"], 3)
     return out
 
 
-def _score(clip, results, units, coded, decoded, shares, renderers, displays, refreshed,
+def _score(clip, results, units, coded, received, renderers, displays, refreshed,
            clock, keep_frame, kept) -> dict:  # fmt: skip
     """Every display of every frame but the first scored; the receiver's rendering timed
     ("decode_render": its share of decoding and its drawing); `kept` gets frame `keep_frame`'s
@@ -274,15 +275,15 @@ def _score(clip, results, units, coded, decoded, shares, renderers, displays, re
     from uma.fit.mde import mde_px
 
     receiver, other, mixed = renderers
+    decoded, shares, map_changes = received
     names = BASE_DISPLAYS + tuple(refreshed)
     sums = {d: RegionSums() for d in names}
     shown = {d: clip.frames[0] for d in ("unquantised", "quantised", "other_reference",
-                                         "description_face", "mbc_map")}  # fmt: skip
+                                         "description_face", "unmapped")}  # fmt: skip
     height = clip.frames[0].shape[0] * 2 // 3
     model_mask = np.zeros((height, clip.frames[0].shape[1]), bool)
     mde, box = [], None
     block_map = BlockMap((clip.frames[0].shape[1], height), SCALED_FPS)  # rates at 25 frames/s
-    stream_bits = _stream_bits(coded.packets)
     for index, result in enumerate(results):
         if result:  # no face: the last good picture stays (no mask in the wrong place)
             shown["unquantised"], model_mask = receiver.render(
@@ -291,15 +292,9 @@ def _score(clip, results, units, coded, decoded, shares, renderers, displays, re
         if index in decoded:
             face = _render_decoded(index, decoded[index], shares[index], units, coded, shown,
                                    (receiver, other, mixed), clock)  # fmt: skip
-            with clock("block_map"):
-                shown["mbc_map"] = block_map.step(
-                    shown["quantised"],
-                    face,
-                    receiver.plate_picture(),
-                    receiver.reference,
-                    clip.frames[index][:height],
-                    stream_bits.get(index, 0.0),
-                    None if receiver.plate is None else receiver.plate.known,
+            with clock("block_map"):  # the receiver takes the stream's changes
+                shown["quantised"] = block_map.step_with(
+                    receiver, shown["unmapped"], face, changes=map_changes.get(index)
                 )
         truth_points = None
         if clip.truth is not None:
@@ -322,21 +317,15 @@ def _score(clip, results, units, coded, decoded, shares, renderers, displays, re
 
 
 def _map_figures(block_map, frames: int, clock) -> dict:
-    """The block map's bits (kbit/s at 25 frames/s, as the stream's `rates`) and times: a
-    measured display, not the codec's default, timed apart from the model path."""
+    """The block map's bits (kbit/s at 25 frames/s, as the stream's `rates`: inside its
+    packets) and times: the receiver's taking and drawing ("ms_median") and the engine's
+    mirror drawing and choice ("engine_ms_median")."""
     kbps = block_map.bits / (frames / SCALED_FPS) / 1000.0
     return {"kbps": round(kbps, 3), "bits": block_map.bits, "changes": block_map.changes,
             "ms_median": clock.median("block_map"),
-            "cpu_ms_median": clock.median("block_map", cpu=True)}  # fmt: skip
-
-
-def _stream_bits(packets) -> dict[int, float]:
-    """Each frame's share of the parameter stream's bits (a packet's spread over its frames)."""
-    out: dict[int, float] = {}
-    for packet in packets:
-        for frame in range(packet.first_frame, packet.first_frame + packet.count):
-            out[frame] = out.get(frame, 0.0) + packet.size_bytes * 8.0 / packet.count
-    return out
+            "cpu_ms_median": clock.median("block_map", cpu=True),
+            "engine_ms_median": clock.median("map_engine"),
+            "engine_cpu_ms_median": clock.median("map_engine", cpu=True)}  # fmt: skip
 
 
 def _render_decoded(index, values, share, units, coded, shown, renderers, clock) -> np.ndarray:
@@ -346,7 +335,7 @@ def _render_decoded(index, values, share, units, coded, shown, renderers, clock)
     begin, cpu = time.perf_counter(), time.process_time()
     params, light = units.split(values)
     body = units.body_of(values)
-    shown["quantised"], face = receiver.render(params, light, body)
+    shown["unmapped"], face = receiver.render(params, light, body)
     wall_ms = share[0] + (time.perf_counter() - begin) * 1000.0
     clock.add("decode_render", wall_ms, share[1] + (time.process_time() - cpu) * 1000.0)
     shown["other_reference"], _ = other.render(params, coded.other_lights[index])
@@ -376,7 +365,7 @@ def run_model_bench(
         if kept:
             tails = {
                 d: f"{result['face'][d]['kbps']:.1f} kbit/s"
-                for d in ("quantised", "mbc_map", "mbc_refresh_lowest", "h264_lowest", "av1_lowest")
+                for d in ("quantised", "mbc_refresh_lowest", "h264_lowest", "av1_lowest")
                 if d in result["face"]
             }
             rows.append((f"{clip.name} #{result['kept_frame']}", kept, tails))

@@ -13,11 +13,10 @@ import numpy as np
 
 __all__ = ["PANELS", "side_by_side", "save_side_by_side"]
 
-PANELS = ("source", "quantised", "mbc_map", "mbc_refresh_lowest", "h264_lowest", "av1_lowest")
+PANELS = ("source", "quantised", "mbc_refresh_lowest", "h264_lowest", "av1_lowest")
 _LABELS = {
     "source": "source",
     "quantised": "MBC",
-    "mbc_map": "MBC+map",
     "mbc_refresh_lowest": "MBC+refresh",
     "h264_lowest": "H.264 alone",
     "av1_lowest": "AV1 alone",

@@ -62,13 +62,17 @@ class Coded:
     mixed_lights: dict = field(default_factory=dict)
     bodies: dict = field(default_factory=dict)
     packets: list = field(default_factory=list)
+    map_blocks: int = 0  # the block map's window: its changes ride in the packets
 
 
 def encode(lumas, results, units, stream_config, renderers, clock: Clock) -> Coded:
     """The engine's side: light and body motion against its mirror (and the other renderers'
-    light), every set coded; `clock` gets "light" and "body"."""
+    light), every set coded with its block map changes (`uma.mbc.map_sender`: the set drawn
+    on the mirror, the choice against the source); `clock` gets "light", "body" and
+    "map_engine"."""
     from uma.mbc.body import BodyTracker
     from uma.mbc.light import measure_light
+    from uma.mbc.map_sender import MapSender
     from uma.mbc.stream import ParameterEncoder
 
     mirror, other, mixed = renderers
@@ -77,11 +81,20 @@ def encode(lumas, results, units, stream_config, renderers, clock: Clock) -> Cod
         clock.warm_up_s += warm_up(
             lambda: warm_model_path(mirror, lumas[first], results[first].params, units.camera)
         )
+    sender = MapSender(lumas[0].shape[::-1], SCALED_FPS)  # its rates at 25 frames/s
     encoder, body_tracker, coded = (
-        ParameterEncoder(units, stream_config),
+        ParameterEncoder(units, stream_config, sender.map_blocks),
         BodyTracker(camera=units.camera),
-        Coded(),
+        Coded(map_blocks=sender.map_blocks),
     )
+
+    def changes(index):
+        def chosen(decoded):
+            with clock("map_engine"):
+                return sender.changes(mirror, units, decoded, lumas[index])
+
+        return chosen
+
     for index, result in enumerate(results):
         values = None
         if result:
@@ -93,7 +106,9 @@ def encode(lumas, results, units, stream_config, renderers, clock: Clock) -> Cod
             coded.other_lights[index] = measure_light(other, lumas[index], result.params)
             coded.mixed_lights[index] = measure_light(mixed, lumas[index], result.params)
             values = np.concatenate([result.params, coded.bodies[index], coded.lights[index]])
-        coded.packets += encoder.push(index, values)
+        packets = encoder.push(index, values, changes(index) if result else None)
+        sender.count(packets)
+        coded.packets += packets
     coded.packets += encoder.flush()
     return coded
 
@@ -113,12 +128,13 @@ def warm_model_path(mirror, luma, params, camera: bool = False) -> None:
     mirror.render(moved, None, body if getattr(mirror, "layered", False) else None)
 
 
-def decode(units, stream_config, packets, clock: Clock):
+def decode(units, stream_config, packets, clock: Clock, map_blocks=0, changes=None):
     """Every packet decoded in order: the decoded set per frame and each frame's share of its
-    packet's decoding (wall and CPU ms)."""
+    packet's decoding (wall and CPU ms); with `map_blocks` (`Coded.map_blocks`) each frame's
+    block map changes go into the dict `changes`."""
     from uma.mbc.decoder import ParameterDecoder
 
-    decoder = ParameterDecoder(units, stream_config)
+    decoder = ParameterDecoder(units, stream_config, map_blocks)
     decoded: dict[int, np.ndarray] = {}
     shares: dict[int, tuple[float, float]] = {}
     for packet in packets:
@@ -130,8 +146,10 @@ def decode(units, stream_config, packets, clock: Clock):
             (time.perf_counter() - begin) * 1000.0 / n,
             (time.process_time() - cpu) * 1000.0 / n,
         )
-        for frame, values in out.frames:
+        for k, (frame, values) in enumerate(out.frames):
             decoded[frame], shares[frame] = values, share
+            if out.changes and changes is not None:
+                changes[frame] = out.changes[k]
     return decoded, shares
 
 
@@ -178,10 +196,11 @@ def tracking(results, clock: Clock, mde: list[float]) -> dict:
 
 def stages(clock: Clock, refreshed) -> dict:
     """The model path per frame, stage by stage (medians; the refresh's per frame of the clip
-    at the lowest rung): the engine's tracking, light (its measure against the mirror, the
-    mirror's only rendering) and body motion, the receiver's decoding and rendering, the
-    refresh's coding and composition; wall clock and this process's CPU time."""
-    names = ("track", "light", "body", "decode_render")
+    at the lowest rung): the engine's tracking, light (its measure against the mirror), body
+    motion and block map (the mirror's drawing of the decoded set and the choice), the
+    receiver's decoding and rendering and its block map, the refresh's coding and
+    composition; wall clock and this process's CPU time."""
+    names = ("track", "light", "body", "map_engine", "decode_render", "block_map")
     refresh = refreshed.get("mbc_refresh_lowest")
     refresh_ms = refresh[2]["ms_per_frame"] if refresh else None
     refresh_cpu = refresh[2].get("cpu_ms_per_frame") if refresh else None

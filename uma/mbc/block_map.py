@@ -14,9 +14,10 @@ together stay under it. Each frame costs an Exp-Golomb count of its changes and,
 the block's index in the window and which of the other choices (`change_bits`). Both ends draw
 the same picture from the same decoded parameters, so the engine's choice is exact at the
 receiver. Guards against seams, known to both ends from the drawn face: a choice ends once the
-face has moved `STALE_PX` from where it was taken; the plate and the reference never over the
-face (nor the plate where it has not seen), the face's interior never blurred; a block's edge
-fades into its neighbours. Measured in docs/mbc.md (session mbc7).
+face has moved `STALE_PX` from where it was taken; the plate and the reference are drawn only at
+a block's pixels outside the drawn face, the face's own pixels keep the rendering (and the
+plate is never chosen where it has not seen them); the face's interior never blurred; a block's
+edge fades into its neighbours. Measured in docs/mbc.md (sessions mbc7, mbc8).
 """
 
 from __future__ import annotations
@@ -80,6 +81,9 @@ class BlockMap:
                 f"frame rate, got size {size} at {fps} frames/s"
             )
         self.grid = (height // BLOCK_PX, width // BLOCK_PX)
+        # The window's blocks: a change's index is coded among these (`uma.mbc.coding`).
+        self.map_blocks = min(WINDOW_BLOCKS, self.grid[0]) * min(WINDOW_BLOCKS, self.grid[1])
+        self.sent = np.zeros((0, 2), np.int64)  # the last frame's changes: block index, code
         self.state = np.zeros(self.grid, np.int8)
         # Where the face's centre was when each block took its choice (x, y px).
         self.anchor = np.zeros((2, *self.grid), np.float32)
@@ -105,16 +109,22 @@ class BlockMap:
         c0, r0 = min(max(c0, 0), cols - side_c), min(max(r0, 0), rows - side_r)
         return c0, r0, c0 + side_c, r0 + side_r
 
-    def step(self, shown, face, plate, reference, source=None, stream_bits=0.0, plate_known=None):
+    def step(self, shown, face, plate, reference, source=None, stream_bits=0.0, plate_known=None,
+             changes=None):  # fmt: skip
         """The picture shown for a frame whose rendering is `shown` with the face at `face`;
         `plate`, `reference` the receiver's (`plate_known`: the pixels the plate has seen;
-        None: all); with `source` (the engine's frame) the frame's changes are chosen and sent
-        within the allowance left by `stream_bits`."""
+        None: all); with `source` (the engine's frame) the frame's changes are chosen within
+        the allowance left by `stream_bits` and kept in `sent` (block index in the window,
+        choice code: which of the block's other choices); a receiver passes the decoded
+        `changes` instead (a change the map cannot take: `SceneError`)."""
         window = self.window(face)
         self.bucket = float(np.clip(self.bucket + self.frame_bits - stream_bits,
                                     -BUCKET_MAX_BITS, BUCKET_MAX_BITS))  # fmt: skip
+        self.sent = np.zeros((0, 2), np.int64)
         if window is None:
             self.state[:] = 0
+            if changes is not None and len(changes):
+                raise SceneError(f"block map: {len(changes)} changes for a frame without a face")
             return shown
         c0, r0, c1, r1 = window
         outside = np.ones(self.grid, bool)
@@ -126,10 +136,37 @@ class BlockMap:
         barred = _barred(face, plate_known, window)
         state = self.state[r0:r1, c0:c1]
         state[np.take_along_axis(barred, state[None].astype(np.intp), 0)[0]] = 0
-        lumas = _candidates(shown, plate, reference, window)
+        on_face = _window_crop(face, window)
+        lumas = _candidates(shown, plate, reference, window, on_face)
         if source is not None:
             self._choose(lumas, source, window, barred)
-        return _compose(shown, lumas, self.state[r0:r1, c0:c1], window, plate, reference)
+        elif changes is not None:
+            self._take(np.asarray(changes, np.int64).reshape(-1, 2), window, barred)
+        state = self.state[r0:r1, c0:c1]
+        return _compose(shown, lumas, state, window, (plate, reference), on_face)
+
+    def idle(self, stream_bits: float = 0.0) -> bool:
+        """The engine's shortcut: True when the map holds no choice and its allowance after
+        this frame cannot pay for one change: the frame's (empty) change count is counted and
+        nothing need be drawn or chosen (the receiver's `step` with no changes keeps the same
+        state); False, changing nothing, otherwise."""
+        bucket = float(np.clip(self.bucket + self.frame_bits - stream_bits,
+                               -BUCKET_MAX_BITS, BUCKET_MAX_BITS))  # fmt: skip
+        if self.state.any() or bucket >= count_bits(1) + change_bits(self.map_blocks):
+            return False
+        self.bucket = bucket - count_bits(0)
+        self.bits += count_bits(0)
+        self.sent = np.zeros((0, 2), np.int64)
+        return True
+
+    def step_with(self, renderer, shown, face, source=None, stream_bits=0.0, changes=None):
+        """`step` with the plate and the reference of `renderer` (a `uma.mbc.SceneRenderer`;
+        without a plate, the reference serves as one)."""
+        plate = renderer.plate_picture()
+        known = None if renderer.plate is None or plate is None else renderer.plate.known
+        plate = renderer.reference if plate is None else plate
+        return self.step(shown, face, plate, renderer.reference, source, stream_bits, known,
+                         changes)  # fmt: skip
 
     def _choose(self, lumas, source: np.ndarray, window, barred: np.ndarray) -> None:
         """The engine's changes for this frame, taken; their bits counted."""
@@ -151,20 +188,43 @@ class BlockMap:
         n = 0
         while n < len(order) and count_bits(n + 1) + (n + 1) * cost <= self.bucket:
             n += 1
+        sent = []
         for k in order[:n]:
+            others = [c for c in range(len(CHOICES)) if c != state[k // cols, k % cols]]
+            sent.append((k, others.index(best[k])))
             state[k // cols, k % cols] = best[k]
             self.anchor[:, r0 + k // cols, c0 + k % cols] = self._centre
+        self.sent = np.array(sent, np.int64).reshape(-1, 2)
         spent = count_bits(n) + n * cost
         self.bucket -= spent
         self.bits += spent
         self.changes += n
 
+    def _take(self, changes: np.ndarray, window, barred: np.ndarray) -> None:
+        """The receiver's side: the decoded `changes` taken (their bits counted as sent)."""
+        c0, r0, c1, r1 = window
+        rows, cols = r1 - r0, c1 - c0
+        state = self.state[r0:r1, c0:c1]
+        for k, code in changes:
+            if not (0 <= k < rows * cols and 0 <= code < len(CHOICES) - 1):
+                raise SceneError(f"block map: change {(k, code)} outside a {rows}x{cols} window")
+            r, c = divmod(int(k), cols)
+            new = [n for n in range(len(CHOICES)) if n != state[r, c]][code]
+            if barred[new, r, c]:
+                raise SceneError(f"block map: block {k} may not show the {CHOICES[new]} now")
+            state[r, c] = new
+            self.anchor[:, r0 + r, c0 + c] = self._centre
+        spent = count_bits(len(changes)) + len(changes) * change_bits(rows * cols)
+        self.bits += spent
+        self.changes += len(changes)
+
 
 def _barred(face: np.ndarray, plate_known, window) -> np.ndarray:
     """(len(CHOICES), rows, cols): the choices a block of the window may not take: the plate
-    and the reference where the drawn face reaches into the block (an old face or the plate's
-    guess over the face: a patch that errs less than a face drawn wrong but looks like no
-    face), the plate where it has not seen every pixel of the block."""
+    and the reference where the drawn face fills the block (they are drawn only outside the
+    face: an old face or the plate's guess over the face errs less than a face drawn wrong but
+    looks like no face), the plate where it has not seen every pixel of the block outside the
+    face, blurs where the face fills the block."""
     c0, r0, c1, r1 = window
     rows, cols = r1 - r0, c1 - c0
     y0, x0 = r0 * BLOCK_PX, c0 * BLOCK_PX
@@ -174,11 +234,10 @@ def _barred(face: np.ndarray, plate_known, window) -> np.ndarray:
         return crop.reshape(rows, BLOCK_PX, cols, BLOCK_PX).any(axis=(1, 3))
 
     out = np.zeros((len(CHOICES), rows, cols), bool)
-    on_face = any_in_block(face)
-    unseen = on_face if plate_known is None else on_face | any_in_block(~plate_known)
+    inside = ~any_in_block(~face)  # the face's interior: drawn by the model, never replaced
+    unseen = inside if plate_known is None else inside | any_in_block(~plate_known & ~face)
     out[CHOICES.index("plate")] = unseen
-    out[CHOICES.index("reference")] = on_face
-    inside = ~any_in_block(~face)  # the face's interior: drawn by the model, never blurred
+    out[CHOICES.index("reference")] = inside
     out[CHOICES.index("softened")] = inside
     out[CHOICES.index("blurred")] = inside
     return out
@@ -194,22 +253,33 @@ def _margin_box(window, size) -> tuple[tuple, tuple]:
                               min(x1 + m, width))  # fmt: skip
 
 
-def _candidates(shown, plate, reference, window) -> list[np.ndarray]:
-    """The window's luma in each of `CHOICES` (uint8 crops, in order)."""
+def _window_crop(mask: np.ndarray, window) -> np.ndarray:
+    """`mask` (H, W) cut to the window's pixels."""
+    c0, r0, c1, r1 = window
+    return mask[r0 * BLOCK_PX : r1 * BLOCK_PX, c0 * BLOCK_PX : c1 * BLOCK_PX]
+
+
+def _candidates(shown, plate, reference, window, on_face) -> list[np.ndarray]:
+    """The window's luma in each of `CHOICES` (uint8 crops, in order): the plate and the
+    reference keep the rendering at the face's pixels `on_face` (the window's)."""
     import cv2
 
     height = shown.shape[0] * 2 // 3
     (y0, x0, y1, x1), (by0, bx0, by1, bx1) = _margin_box(window, (shown.shape[1], height))
     pictures = {"plate": plate, "reference": reference}
     out = [pictures.get(name, shown)[y0:y1, x0:x1] for name in CHOICES]
+    for name in pictures:
+        k = CHOICES.index(name)
+        out[k] = np.where(on_face, out[0], out[k])
     for k, sigma in enumerate(BLUR_SIGMAS_PX, start=1):
         blurred = cv2.GaussianBlur(shown[by0:by1, bx0:bx1], (0, 0), sigma)
         out[k] = blurred[y0 - by0 : y1 - by0, x0 - bx0 : x1 - bx0]
     return out
 
 
-def _chroma(k: int, shown, plate, reference, window) -> np.ndarray:
-    """(2, h/2, w/2): the window's chroma planes in choice `k`."""
+def _chroma(k: int, shown, held, window, on_face) -> np.ndarray:
+    """(2, h/2, w/2): the window's chroma planes in choice `k` (`held`: the plate and the
+    reference, kept off the face's pixels `on_face` as the luma is)."""
     import cv2
 
     height = shown.shape[0] * 2 // 3
@@ -217,8 +287,10 @@ def _chroma(k: int, shown, plate, reference, window) -> np.ndarray:
     (y0, x0, y1, x1), (by0, bx0, by1, bx1) = _margin_box(window, (width, height))
     rows, cols = slice(y0 // 2, y1 // 2), slice(x0 // 2, x1 // 2)
     if CHOICES[k] in ("plate", "reference"):
-        picture = plate if CHOICES[k] == "plate" else reference
-        return picture[height:].reshape(2, height // 2, width // 2)[:, rows, cols]
+        picture = held[0] if CHOICES[k] == "plate" else held[1]
+        mine = shown[height:].reshape(2, height // 2, width // 2)[:, rows, cols]
+        theirs = picture[height:].reshape(2, height // 2, width // 2)[:, rows, cols]
+        return np.where(on_face[0::2, 0::2][None], mine, theirs)
     sigma = max(BLUR_SIGMAS_PX[k - 1] / 2, 0.5)
     out = []
     for plane in shown[height:].reshape(2, height // 2, width // 2):
@@ -227,9 +299,10 @@ def _chroma(k: int, shown, plate, reference, window) -> np.ndarray:
     return np.stack(out)
 
 
-def _compose(shown, lumas, state, window, plate, reference) -> np.ndarray:
-    """`shown` with each block of the window drawn from its chosen candidate, the blocks'
-    edges faded over `FEATHER_SIGMA_PX` (a copy when any block is not the rendering)."""
+def _compose(shown, lumas, state, window, held, on_face) -> np.ndarray:
+    """`shown` with each block of the window drawn from its chosen candidate (`held`: the
+    plate and the reference), the blocks' edges faded over `FEATHER_SIGMA_PX` (a copy when
+    any block is not the rendering)."""
     if not state.any():
         return shown
     height = shown.shape[0] * 2 // 3
@@ -252,7 +325,7 @@ def _compose(shown, lumas, state, window, plate, reference) -> np.ndarray:
         weight = _feathered(whole, FEATHER_SIGMA_PX)
         mixed_luma += weight * (lumas[k].astype(np.float32) - base_luma)
         half_weight = _feathered(half, FEATHER_SIGMA_PX / 2)[None]
-        candidate = _chroma(k, shown, plate, reference, window).astype(np.float32)
+        candidate = _chroma(k, shown, held, window, on_face).astype(np.float32)
         mixed_chroma += half_weight * (candidate - base_chroma)
     luma[:] = np.clip(np.rint(mixed_luma), 0, 255)
     chroma[:] = np.clip(np.rint(mixed_chroma), 0, 255)

@@ -46,14 +46,16 @@ class Decoded:
 
     frames: tuple[tuple[int, np.ndarray], ...]
     events: tuple[DecodeEvent, ...]
+    changes: tuple[np.ndarray, ...] = ()  # each frame's block map changes (a map stream)
 
 
 class ParameterDecoder:
     """Mirror of `uma.mbc.stream.ParameterEncoder` with the same units and configuration."""
 
-    def __init__(self, units: FaceUnits, config: StreamConfig = StreamConfig()):
+    def __init__(self, units: FaceUnits, config: StreamConfig = StreamConfig(), map_blocks=0):
         self.units = units
         self.config = config
+        self.map_blocks = int(map_blocks)  # the block map's window (0: the stream has none)
         self.quantiser = Quantiser(units.kinds, config.quantiser)
         self.models = AdaptiveModels(units.unit.size, config.coder)
         self._expected_seq: int | None = None
@@ -96,29 +98,35 @@ class ParameterDecoder:
                 return Decoded((), tuple(events))
         elif self._reference is None and self.params is not None:
             events.append(DecodeEvent("resync", packet.seq))
-        frames = self._frames(packet, where)
+        changes: list[np.ndarray] = []
+        frames = self._frames(packet, where, changes)
         self._next_frame = (packet.first_frame + packet.count) % FRAME_MODULUS
         self.params = frames[-1][1]
-        return Decoded(tuple(frames), tuple(events))
+        return Decoded(tuple(frames), tuple(events), tuple(changes))
 
     def _check_layout(self, packet, where: str) -> None:
-        """A packet whose light or body motion flag disagrees with the stream's set-up is a
-        `PacketError`."""
+        """A packet whose light, body motion or block map flag disagrees with the stream's
+        set-up is a `PacketError` (a map stream's packet without a change goes without it)."""
         for name, present, expected in (("light", packet.light, self.units.light),
                                         ("body motion", packet.body, self.units.body),
-                                        ("camera motion", packet.camera, self.units.camera)):  # fmt: skip
-            if present != expected:
+                                        ("camera motion", packet.camera, self.units.camera),
+                                        ("block map", packet.block_map, self.map_blocks > 0)):  # fmt: skip
+            if present != expected and not (name == "block map" and expected):  # none: no change
                 raise PacketError(
                     f"{where} (seq {packet.seq}): {name} {'present' if present else 'absent'}, "
                     f"the stream was set up {'with' if expected else 'without'} it"
                 )
 
-    def _frames(self, packet, where: str) -> list[tuple[int, np.ndarray]]:
-        """The packet's sets decoded against the reference (the new reference kept); a set no
-        face has is a `PacketError` and loses sync."""
+    def _frames(self, packet, where: str, changes: list) -> list[tuple[int, np.ndarray]]:
+        """The packet's sets decoded against the reference (the new reference kept), each
+        frame's block map changes into `changes`; a set no face has is a `PacketError` and
+        loses sync."""
         kinds = [packet.intra] + [False] * (packet.count - 1)
         try:
-            indices = decode_sets(packet.words, kinds, self.models)
+            blocks = self.map_blocks if packet.block_map else 0
+            indices = decode_sets(packet.words, kinds, self.models, blocks, changes)
+            if self.map_blocks and not packet.block_map:  # a packet without a change
+                changes += [np.zeros((0, 2), np.int64)] * packet.count
         except PacketError as err:
             self._lose_sync()
             raise PacketError(f"{where} (seq {packet.seq}): {err}") from None

@@ -6,7 +6,7 @@ Layout (big-endian header, then the range coder's 32-bit words little-endian, th
 
 | bytes | field |
 |---|---|
-| 0 | version (high nibble, 1) and flags (bit 0: the first set is intra; bit 1: every set ends with the face's light, gain and offset; bit 2: the torso's motion, three values, comes before the light; bit 3: the camera's motion, two values, after the torso's) |
+| 0 | bit 7: every set is followed by its frame's block map changes (`uma.mbc.coding`, `uma.mbc.block_map`); bits 4-6: version (1); flags (bit 0: the first set is intra; bit 1: every set ends with the face's light, gain and offset; bit 2: the torso's motion, three values, comes before the light; bit 3: the camera's motion, two values, after the torso's) |
 | 1-2 | sequence number (uint16, wraps) |
 | 3-5 | first frame index (uint24, wraps after 7.7 days at 25 frames/s) |
 | 6 | frame count (1-255): frames first .. first + count - 1, one set each |
@@ -61,6 +61,7 @@ class Packet:
     light: bool = False  # the sets carry light (`uma.mbc.units.LIGHT_NAMES`)
     body: bool = False  # the sets carry the torso's motion (`uma.mbc.units.BODY_KINDS`)
     camera: bool = False  # and the camera's (`uma.mbc.units.CAMERA_KINDS`)
+    block_map: bool = False  # each set is followed by its frame's block map changes
 
     def __post_init__(self) -> None:
         if not 0 <= self.seq < SEQ_MODULUS or not 1 <= self.count <= 255:
@@ -77,7 +78,8 @@ class Packet:
             | int(self.intra)
             | (int(self.light) << 1)
             | (int(self.body) << 2)
-            | (int(self.camera) << 3),
+            | (int(self.camera) << 3)
+            | (int(self.block_map) << 7),
             self.seq,
             first,
             self.count,
@@ -113,7 +115,7 @@ def parse_packet(data: bytes, *, where: str = "packet") -> Packet:
     if (n - HEADER_BYTES - CRC_BYTES) % 4:
         raise PacketError(f"{where}: payload of {n - 12} bytes is not whole 32-bit words")
     flags, seq, first, count, code = _HEADER.unpack(data[:HEADER_BYTES])
-    if flags >> 4 != VERSION or (flags & 0x08 and not flags & 0x04):
+    if (flags >> 4) & 0x07 != VERSION or (flags & 0x08 and not flags & 0x04):
         raise PacketError(
             f"{where}: version/flags byte {flags:#04x}, expected version {VERSION} (and a "
             f"camera motion only with the body motion)"
@@ -131,4 +133,5 @@ def parse_packet(data: bytes, *, where: str = "packet") -> Packet:
         light=bool(flags & 2),
         body=bool(flags & 4),
         camera=bool(flags & 8),
+        block_map=bool(flags & 0x80),
     )

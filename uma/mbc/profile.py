@@ -22,7 +22,14 @@ import numpy as np
 
 from uma.mbc.scene_render import HEAD_RING_CHOICES, SceneRenderer
 
-__all__ = ["profile_renderer", "with_sender_ring", "describe_clip_with_ring", "RING_FRAMES"]
+__all__ = [
+    "profile_renderer",
+    "scene_renderer",
+    "face_from_description",
+    "with_sender_ring",
+    "describe_clip_with_ring",
+    "RING_FRAMES",
+]
 
 RING_FRAMES = 25  # the sender's look at the call's first second before it settles
 
@@ -81,3 +88,27 @@ def describe_clip_with_ring(points_file, *, seed: int = 0):
     first = points.frame or 0
     source = VideoFileSource(points.video, max_frames=first + RING_FRAMES + 1)
     return with_sender_ring(description, list(source.frames())[first:], seed=seed)
+
+
+def scene_renderer(description, size: tuple[int, int], mbc=None, *, layered: bool = True):
+    """The receiver's `uma.mbc.SceneRenderer` for `description` at `size`, as the `engine.mbc`
+    section `mbc` describes it (`uma.mbc.profile`, as `uma bench mbc` renders; None: the
+    section's defaults); layered or stretched."""
+    if mbc is None:
+        from uma.config.codecs import MbcConfig
+
+        mbc = MbcConfig()
+    return profile_renderer(description, size, mbc, layered=layered)
+
+
+def face_from_description(mbc, frame: int, refresh_frame: int, fps: float) -> bool:
+    """Whether the rendered face's own triangles come from the description's texture at
+    `frame`, rendering from the refresh of `refresh_frame` (-1: none; the `engine.mbc` section
+    `mbc` says where): the refresh picture's face while it is recent (`recent`: within
+    `face_recent_ms`; `picture`: always), else the description's (its pose there is exact)."""
+    refresh = getattr(mbc, "refresh", None)
+    if refresh_frame < 0 or refresh is None or refresh.face == "description":
+        return True
+    if refresh.face == "picture":
+        return False
+    return (frame - refresh_frame) * 1000.0 / fps > refresh.face_recent_ms

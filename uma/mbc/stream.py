@@ -9,7 +9,9 @@ decoded values) at once, so the reference is what the decoder will hold; every
 intra when the intra period is due, after `request_intra()` (the receiver's request), after a
 frame without parameters (`push(frame, None)`: the tracker failed; the open packet is sent
 short and the next set is intra), and on the first frame. Intra sets only open packets, so a
-decoder can join at any intra packet.
+decoder can join at any intra packet. With `map_blocks` > 0 (the block map's window, `uma.mbc.block_map`) each set
+carries its frame's block map changes (`push(frame, params, changes)`) in the same packet; a
+packet none of whose frames changes the map goes without them (its flag clear: no bit spent).
 """
 
 from __future__ import annotations
@@ -50,13 +52,14 @@ class StreamConfig:
 class ParameterEncoder:
     """Parameters in, packets out; the decoder (`uma.mbc.decoder.ParameterDecoder`) mirrors it."""
 
-    def __init__(self, units: FaceUnits, config: StreamConfig = StreamConfig()):
+    def __init__(self, units: FaceUnits, config: StreamConfig = StreamConfig(), map_blocks=0):
         self.units = units
         self.config = config
+        self.map_blocks = int(map_blocks)
         self.quantiser = Quantiser(units.kinds, config.quantiser)
         self.models = AdaptiveModels(units.unit.size, config.coder)
         self._seq = 0
-        self._pending: list[tuple[bool, np.ndarray]] = []
+        self._pending: list[tuple] = []  # (intra, indices, block map changes)
         self._first = 0
         self._next = None  # the frame expected next
         self._reference: np.ndarray | None = None  # decoded values (face animation units)
@@ -68,8 +71,10 @@ class ParameterEncoder:
         """The next packet starts with an intra set."""
         self._intra_due = True
 
-    def push(self, frame: int, params: np.ndarray | None) -> list[Packet]:
-        """Add one frame's parameters (None: the tracker has none); returns finished packets."""
+    def push(self, frame: int, params: np.ndarray | None, changes=None) -> list[Packet]:
+        """Add one frame's parameters (None: the tracker has none) and its block map `changes`
+        ((n, 2): block index, choice code; None: none; a callable: called with the set as
+        the decoder will see it, returns them); returns finished packets."""
         out: list[Packet] = []
         if params is None or (self._next is not None and frame != self._next):
             out += self.flush()
@@ -95,12 +100,15 @@ class ParameterEncoder:
         if self._reference is None:
             indices = self.quantiser.intra(values, code)
             self._reference = self.quantiser.dequantise_intra(indices, code)
-            self._pending.append((True, indices))
+            intra = True
         else:
             indices = self.quantiser.predict(values, self._reference, code)
             self._reference = self.quantiser.dequantise_predictive(indices, self._reference, code)
-            self._pending.append((False, indices))
+            intra = False
         self.decoded = self.units.from_units(self._reference)
+        self._pending.append(
+            (intra, indices, changes(self.decoded) if callable(changes) else changes)
+        )
         self._since_intra += 1
         self._next = frame + 1
         if len(self._pending) >= self.config.frames_per_packet:
@@ -111,7 +119,10 @@ class ParameterEncoder:
         """The open packet, even if short."""
         if not self._pending:
             return []
-        words, _ = encode_sets(self._pending, self.models)
+        with_map = self.map_blocks > 0 and any(
+            changes is not None and len(changes) for _, _, changes in self._pending
+        )
+        words, _ = encode_sets(self._pending, self.models, self.map_blocks if with_map else 0)
         packet = Packet(
             seq=self._seq,
             first_frame=self._first,
@@ -122,6 +133,7 @@ class ParameterEncoder:
             light=self.units.light,
             body=self.units.body,
             camera=self.units.camera,
+            block_map=with_map,
         )
         self._seq = (self._seq + 1) % SEQ_MODULUS
         self._pending = []

@@ -3,6 +3,11 @@ encoder (track, code, packetise), the receiver's decoder and renderer, and the s
 scheme's two halves (the sender's tracker, the engine's selecting encoder).
 
 Units: pictures are planar YUV 4:2:0 arrays (H * 3 // 2, W) uint8; sizes in pixels; bytes out.
+
+Both ends keep the block map (`uma.mbc.BlockMap`): the engine renders each decoded set as the
+receiver will (its mirror), chooses the frame's changes against the source and sends them in
+the set's packet; the receiver takes them (`BlockMap.step` at both ends). Its bits are in the
+MBC's packets, so in its rate.
 """
 
 from __future__ import annotations
@@ -10,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from uma.engine.points import OperatingPoint
+from uma.mbc.profile import face_from_description, scene_renderer
 from uma.sim.coded import Coded
 from uma.sim.context import as_context
 from uma.sim.packets import EncodedUnit
@@ -32,19 +38,6 @@ def _luma(picture: np.ndarray) -> np.ndarray:
     return picture[: picture.shape[0] * 2 // 3]
 
 
-def scene_renderer(description, size: tuple[int, int], mbc=None, *, layered: bool = True):
-    """The receiver's `uma.mbc.SceneRenderer` for `description` at `size`, as the `engine.mbc`
-    section `mbc` describes it (`uma.mbc.profile`, as `uma bench mbc` renders; None: the
-    section's defaults); layered or stretched."""
-    from uma.mbc.profile import profile_renderer
-
-    if mbc is None:
-        from uma.config.codecs import MbcConfig
-
-        mbc = MbcConfig()
-    return profile_renderer(description, size, mbc, layered=layered)
-
-
 def face_units(context):
     """The model codec's `uma.mbc.FaceUnits` in a run of `context`: the geometry, the body
     motion when the scene is layered, the light when `engine.mbc.light` is on."""
@@ -54,19 +47,6 @@ def face_units(context):
     return FaceUnits.of(
         description.model, description.params, light=_light_on(context), body=context.layered
     )
-
-
-def face_from_description(mbc, frame: int, refresh_frame: int, fps: float) -> bool:
-    """Whether the rendered face's own triangles come from the description's texture at
-    `frame`, rendering from the refresh of `refresh_frame` (-1: none; the `engine.mbc` section
-    `mbc` says where): the refresh picture's face while it is recent (`recent`: within
-    `face_recent_ms`; `picture`: always), else the description's (its pose there is exact)."""
-    refresh = getattr(mbc, "refresh", None)
-    if refresh_frame < 0 or refresh is None or refresh.face == "description":
-        return True
-    if refresh.face == "picture":
-        return False
-    return (frame - refresh_frame) * 1000.0 / fps > refresh.face_recent_ms
 
 
 def _light_on(context) -> bool:
@@ -94,6 +74,7 @@ class MbcPointEncoder:
 
     def __init__(self, point: OperatingPoint, *, source_size, source_fps, settings, context):
         from uma.mbc import BodyTracker, FaceTracker, ParameterEncoder
+        from uma.mbc.map_sender import MapSender
 
         context = as_context(context)
         description = context.description
@@ -106,10 +87,11 @@ class MbcPointEncoder:
         self.units = face_units(context)
         self.body = BodyTracker() if self.units.body else None
         self._body_sent: np.ndarray | None = None  # the body motion last sent
-        self.stream = ParameterEncoder(self.units, context.stream)
         self.description = description
         self.mbc = context.mbc
         self.fps = float(source_fps)
+        self.map = MapSender(source_size, self.fps)
+        self.stream = ParameterEncoder(self.units, context.stream, self.map.map_blocks)
         self.mirror = None  # the receiver's renderer as this encoder expects it
         self.refresh_frame = -1  # the refresh the mirror renders from (-1: none)
         self.first_params: np.ndarray | None = None  # the stream's first pose, as decoded
@@ -190,6 +172,7 @@ class MbcPointEncoder:
         if not result:
             # The open packet still goes out, short; then the engine leaves MBC.
             packets = self.stream.push(frame, None)
+            self.map.count(packets)
             return _packets_coded(
                 packets, self.width, self.height, evaluations=result.evaluations,
                 failure=result.reason,
@@ -197,7 +180,8 @@ class MbcPointEncoder:
         if intra:
             self.stream.request_intra()
         values = self._values(picture, result.params, frame)
-        packets = self.stream.push(frame, values)
+        packets = self.stream.push(frame, values, lambda decoded: self._map(picture, decoded))
+        self.map.count(packets)
         if self.first_params is None:
             self.first_params = self.decoded_params()
         return _packets_coded(
@@ -223,9 +207,17 @@ class MbcPointEncoder:
             body = self._body_sent
         return np.concatenate([params, body, light])
 
+    def _map(self, picture: np.ndarray, decoded: np.ndarray) -> np.ndarray | None:
+        """The frame's block map changes (`uma.mbc.map_sender`) against `picture`."""
+        if self.mirror is None:
+            self.set_reference(picture, self.units.split(decoded)[0])
+        return self.map.changes(self.mirror, self.units, decoded, _luma(picture))
+
     def flush(self) -> Coded:
         """The open packet, short (the engine leaves MBC)."""
-        return _packets_coded(self.stream.flush(), self.width, self.height)
+        packets = self.stream.flush()
+        self.map.count(packets)
+        return _packets_coded(packets, self.width, self.height)
 
 
 class SenderMbc:
@@ -293,13 +285,15 @@ class MbcUnitDecoder:
 
     def __init__(self, *, context) -> None:
         from uma.mbc import ParameterDecoder
+        from uma.mbc.block_map import BlockMap
         from uma.video import resize_yuv420
 
         context = as_context(context)
         description = context.description
         width, height = context.source_size
         self.units = face_units(context)
-        self.decoder = ParameterDecoder(self.units, context.stream)
+        self.block_map = BlockMap((width, height), float(context.fps))
+        self.decoder = ParameterDecoder(self.units, context.stream, self.block_map.map_blocks)
         size = (width, height)
         self.renderer = scene_renderer(description, size, context.mbc, layered=context.layered)
         self.mbc = context.mbc
@@ -360,13 +354,15 @@ class MbcUnitDecoder:
             self._face_from_description = wanted
             self.renderer.set_face_source(wanted)
 
-    def _render(self, params: np.ndarray, light, body) -> np.ndarray:
-        """The scene at the decoded set; one the renderer refuses (an absurd body motion or
-        light, a `uma.mbc.SceneError`) shows the last good picture again."""
+    def _render(self, params: np.ndarray, light, body, changes=None) -> np.ndarray:
+        """The scene at the decoded set with the block map's `changes` taken; one the renderer
+        or the map refuses (an absurd body motion or light, a change the map cannot take: a
+        `uma.mbc.SceneError`) shows the last good picture again."""
         from uma.mbc import SceneError
 
         try:
-            self._last, _ = self.renderer.render(params, light, body)
+            shown, face = self.renderer.render(params, light, body)
+            self._last = self.block_map.step_with(self.renderer, shown, face, changes=changes)
         except SceneError:
             if self._last is None:
                 self._last, _ = self.renderer.render(params, None, None)
@@ -382,7 +378,9 @@ class MbcUnitDecoder:
         # Packet frame numbers wrap (`uma.mbc.packets`); the unit knows the run's numbers.
         frames = unit.frames or (unit.frame,)
         pictures = {}
-        for frame, (_, values) in zip(frames[-len(out.frames) :], out.frames, strict=False):
+        changes = out.changes or (None,) * len(out.frames)
+        for frame, (_, values), sent in zip(frames[-len(out.frames) :], out.frames, changes,
+                                            strict=False):  # fmt: skip
             params, light = self.units.split(values)
             self.values_by_frame[frame] = values
             if self._pending is not None:
@@ -390,7 +388,7 @@ class MbcUnitDecoder:
             if self.refresh_waiting is not None and self.refresh_waiting[0] == frame:
                 self._take_refresh()
             self._face_source(frame)
-            pictures[frame] = self._render(params, light, self.units.body_of(values))
+            pictures[frame] = self._render(params, light, self.units.body_of(values), sent)
         for old in [f for f in self.values_by_frame if f < max(pictures or [0]) - 100]:
             del self.values_by_frame[old]
         return pictures

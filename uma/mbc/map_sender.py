@@ -1,0 +1,56 @@
+"""The engine's side of the block map in a parameter stream: each decoded set drawn as the
+receiver will, the frame's changes chosen against the source, the map's allowance fed by the
+parameters' own bits as their packets close.
+
+Units: pictures planar YUV 4:2:0 (H * 3 // 2, W) uint8; bits.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from uma.mbc.block_map import BlockMap
+from uma.mbc.errors import SceneError
+
+__all__ = ["MapSender"]
+
+
+class MapSender:
+    """The block map of a stream of pictures of `size` (W, H) at `fps`, at the engine."""
+
+    def __init__(self, size: tuple[int, int], fps: float):
+        self.block_map = BlockMap(size, fps)
+        # The parameters' own bits a frame (the last packet's, less its map's): the map spends
+        # what its allowance leaves; nothing before the first packet closed.
+        self.stream_bits = self.block_map.frame_bits
+        self._map_bits_open = 0
+
+    @property
+    def map_blocks(self) -> int:
+        return self.block_map.map_blocks
+
+    def changes(self, mirror, units, decoded: np.ndarray, source: np.ndarray):
+        """The frame's changes ((n, 2)) for the decoded set `decoded` (`units`' values) drawn
+        by `mirror` (the receiver's renderer as the engine mirrors it) against the source
+        luma `source`; None when the mirror cannot draw the set (the receiver keeps its last
+        picture). Nothing is drawn while the map holds no choice and cannot pay for one."""
+        before = self.block_map.bits
+        if self.block_map.idle(self.stream_bits):
+            self._map_bits_open += self.block_map.bits - before
+            return self.block_map.sent
+        params, light = units.split(decoded)
+        try:
+            shown, face = mirror.render(params, light, units.body_of(decoded))
+        except SceneError:
+            return None
+        bits = self.block_map.bits
+        self.block_map.step_with(mirror, shown, face, source, self.stream_bits)
+        self._map_bits_open += self.block_map.bits - bits
+        return self.block_map.sent
+
+    def count(self, packets) -> None:
+        """The parameters' own bits a frame from the packets just closed."""
+        for packet in packets:
+            own = packet.size_bytes * 8 - self._map_bits_open
+            self.stream_bits = max(own, 0) / packet.count
+            self._map_bits_open = 0
