@@ -61,3 +61,10 @@ def test_the_retired_scale_key_is_refused(tmp_path):
 def test_bad_values_name_their_key(tmp_path, mbc, where):
     with pytest.raises(ConfigError, match=where):
         _load(tmp_path, mbc)
+
+
+def test_intra_period_is_read_and_must_cover_a_packet(tmp_path):
+    assert _load(tmp_path, "    light: true\n").intra_period_frames == 4  # every packet
+    assert _load(tmp_path, "    intra_period_frames: 8\n").intra_period_frames == 8
+    with pytest.raises(ConfigError, match=r"intra_period_frames \(2\) must be at least"):
+        _load(tmp_path, "    intra_period_frames: 2\n")

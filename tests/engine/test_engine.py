@@ -237,6 +237,22 @@ def test_switch_to_mbc_waits_for_the_initialisation_then_sends_intra():
     assert kinds.count("codec_switch") == 2 and "mbc_init_done" in kinds
 
 
+def test_the_model_codec_at_one_point_is_one_stream_intra_only_when_it_starts():
+    # Before: every model-codec frame was a "new stream" (only full-frame codecs are
+    # retargeted), so every parameter packet started intra (twice the bits of a predicted one).
+    engine = make_switching_engine()
+    engine.on_frame(0, 0.0, capacity_kbps=10.0)
+    engine.on_init_done(True, 0.05, evaluations=600)
+    first = engine.on_frame(2, 0.08, capacity_kbps=10.0)
+    assert first.codec == "mbc" and first.keyframe
+    coded(engine, first, 0.09)
+    later = [engine.on_frame(i, i / 25.0, capacity_kbps=10.0) for i in range(3, 8)]
+    for decision in later:
+        coded(engine, decision, decision.frame / 25.0 + 0.01, keyframe=False)
+    assert all(d.codec == "mbc" and d.send for d in later)
+    assert not any(d.keyframe or d.force_idr for d in later)
+
+
 def test_failed_initialisation_stays_on_the_lowest_rung_and_retries_later():
     engine = make_switching_engine(retry_ms=1000.0)
     assert engine.on_frame(0, 0.0, capacity_kbps=10.0).initialise is not None

@@ -117,7 +117,12 @@ class MbcConfig(Section):
     evaluations, 7.2 ms).
     `rate_kbps` is the point's nominal rate on the ladder (on the wire), `fps` its frame rate;
     `frames_per_packet` frames go in one packet (one packet a frame at 25 frames/s would spend
-    8 kbit/s on the 40 header bytes alone, nearly GSM's whole 9.6).
+    8 kbit/s on the 40 header bytes alone, nearly GSM's whole 9.6); a packet starts with an
+    intra set at least every `intra_period_frames` frames (at least `frames_per_packet`; the
+    other sets predict from the one before, and a lost packet leaves the receiver on its last
+    set until the next intra one, or the one it asks for). The default, every packet, costs
+    the most bits and loses only a lost packet's frames (docs/switching.md, "The parameter
+    stream's intra period").
     `deliver_description`: send the description to the receiver ahead of need, in packets
     sharing the downlink with the video when the estimate leaves room (false: the receiver is
     assumed to hold it), using the room the estimate leaves above the point's rate but at least
@@ -139,6 +144,7 @@ class MbcConfig(Section):
     rate_kbps: PosNum = 4.8
     fps: Fps = 25.0
     frames_per_packet: Annotated[int, Strict(), Field(ge=1, le=255)] = 4
+    intra_period_frames: Annotated[int, Strict(), Field(ge=1, le=10000)] = 4
     init_us_per_evaluation: PosNum = 143.0
     track_us_per_evaluation: PosNum = 1021.0
     encode_ms: NonNeg = 0.2
@@ -158,6 +164,15 @@ class MbcConfig(Section):
     head_ring_outlines: RingSize = 1.4
     soften_outline: Bool = True
     refresh: RefreshConfig = Field(default_factory=RefreshConfig)
+
+    @model_validator(mode="after")
+    def _intra_period(self) -> MbcConfig:
+        if self.intra_period_frames < self.frames_per_packet:
+            raise ValueError(
+                f"intra_period_frames ({self.intra_period_frames}) must be at least "
+                f"frames_per_packet ({self.frames_per_packet})"
+            )
+        return self
 
 
 class FaceRungConfig(Section):

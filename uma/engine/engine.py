@@ -38,7 +38,7 @@ from uma.engine.decisions import (
 )
 from uma.engine.pacing import held as pacing_held
 from uma.engine.parts import DescriptionPlan, build_parts
-from uma.engine.points import OperatingPoint, same_stream
+from uma.engine.points import OperatingPoint, continues_stream
 from uma.engine.records import EngineEvent, Tally
 from uma.engine.reports import KeyframeRequest, ReceiverReport
 
@@ -234,7 +234,7 @@ class UmaEngine:
                 decision.frame, now_s, on_model=spec(point.codec).role is Role.MODEL,
                 budget_kbps=budget_kbps, model_kbps=point.rate_kbps, received_kbps=received_kbps,
             )  # fmt: skip
-        new_stream = self.coder_rung < 0 or not same_stream(point, self.points[self.coder_rung])
+        new_stream = not continues_stream(self.points, self.coder_rung, decision.rung)
         self.asked_idr = (switched and new_stream) or self.keyframes.due(now_s)
         keyframe = self.asked_idr or new_stream
         target_kbps = None if new_stream or self.rung == self.coder_rung else point.rate_kbps

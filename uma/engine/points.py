@@ -20,6 +20,7 @@ from uma.codecs import REGISTRY, Role, names
 
 __all__ = [
     "same_stream",
+    "continues_stream",
     "OperatingPoint",
     "full_frame_points",
     "role_indices",
@@ -99,3 +100,12 @@ def same_stream(a: OperatingPoint, b: OperatingPoint) -> bool:
     (only the rate or frame rate changes, so the open encoder is retargeted, no keyframe)."""
     full = REGISTRY[a.codec].role is Role.FULL_FRAME
     return full and a.codec == b.codec and (a.width, a.height) == (b.width, b.height)
+
+
+def continues_stream(points: tuple[OperatingPoint, ...], open_rung: int, rung: int) -> bool:
+    """Whether coding at point `rung` continues the stream of the encoder open at `open_rung`
+    (-1: none): the same point (any codec, the model codec's parameters too) or one it is
+    retargeted to (`same_stream`). Otherwise a new stream starts, with a keyframe."""
+    if open_rung < 0:
+        return False
+    return open_rung == rung or same_stream(points[rung], points[open_rung])

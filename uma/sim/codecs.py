@@ -74,7 +74,10 @@ class CodecChain:
         if description is not None:
             from uma.mbc import StreamConfig
 
-            self.context.stream = StreamConfig(frames_per_packet=section.frames_per_packet)
+            self.context.stream = StreamConfig(
+                frames_per_packet=section.frames_per_packet,
+                intra_period_frames=section.intra_period_frames,
+            )
             # The customisation scheme: `adaptation` (the engine tracks the face in the
             # picture it decodes) or `selection` (the sender tracks, and sends them up too).
             if section.scheme == "selection":
