@@ -110,13 +110,16 @@ class BlockMap:
         return c0, r0, c0 + side_c, r0 + side_r
 
     def step(self, shown, face, plate, reference, source=None, stream_bits=0.0, plate_known=None,
-             changes=None):  # fmt: skip
+             changes=None, *, compose=True):  # fmt: skip
         """The picture shown for a frame whose rendering is `shown` with the face at `face`;
         `plate`, `reference` the receiver's (`plate_known`: the pixels the plate has seen;
         None: all); with `source` (the engine's frame) the frame's changes are chosen within
         the allowance left by `stream_bits` and kept in `sent` (block index in the window,
         choice code: which of the block's other choices); a receiver passes the decoded
-        `changes` instead (a change the map cannot take: `SceneError`)."""
+        `changes` instead (a change the map cannot take: `SceneError`). Without `compose`
+        (the engine's side, which shows nothing) the state moves the same but nothing is
+        drawn (None; `shown`'s chroma is then never read). Only the choices a block holds are
+        drawn (the engine's choice draws every choice's luma)."""
         window = self.window(face)
         self.bucket = float(np.clip(self.bucket + self.frame_bits - stream_bits,
                                     -BUCKET_MAX_BITS, BUCKET_MAX_BITS))  # fmt: skip
@@ -137,11 +140,14 @@ class BlockMap:
         state = self.state[r0:r1, c0:c1]
         state[np.take_along_axis(barred, state[None].astype(np.intp), 0)[0]] = 0
         on_face = _window_crop(face, window)
-        lumas = _candidates(shown, plate, reference, window, on_face)
+        lumas = [None] * len(CHOICES)
         if source is not None:
+            lumas = _candidates(shown, plate, reference, window, on_face)
             self._choose(lumas, source, window, barred)
         elif changes is not None:
             self._take(np.asarray(changes, np.int64).reshape(-1, 2), window, barred)
+        if not compose:
+            return None
         state = self.state[r0:r1, c0:c1]
         return _compose(shown, lumas, state, window, (plate, reference), on_face)
 
@@ -159,14 +165,15 @@ class BlockMap:
         self.sent = np.zeros((0, 2), np.int64)
         return True
 
-    def step_with(self, renderer, shown, face, source=None, stream_bits=0.0, changes=None):
+    def step_with(self, renderer, shown, face, source=None, stream_bits=0.0, changes=None, *,
+                  compose=True):  # fmt: skip
         """`step` with the plate and the reference of `renderer` (a `uma.mbc.SceneRenderer`;
         without a plate, the reference serves as one)."""
         plate = renderer.plate_picture()
         known = None if renderer.plate is None or plate is None else renderer.plate.known
         plate = renderer.reference if plate is None else plate
         return self.step(shown, face, plate, renderer.reference, source, stream_bits, known,
-                         changes)  # fmt: skip
+                         changes, compose=compose)  # fmt: skip
 
     def _choose(self, lumas, source: np.ndarray, window, barred: np.ndarray) -> None:
         """The engine's changes for this frame, taken; their bits counted."""
@@ -262,19 +269,23 @@ def _window_crop(mask: np.ndarray, window) -> np.ndarray:
 def _candidates(shown, plate, reference, window, on_face) -> list[np.ndarray]:
     """The window's luma in each of `CHOICES` (uint8 crops, in order): the plate and the
     reference keep the rendering at the face's pixels `on_face` (the window's)."""
+    return [_candidate(k, shown, plate, reference, window, on_face) for k in range(len(CHOICES))]
+
+
+def _candidate(k: int, shown, plate, reference, window, on_face) -> np.ndarray:
+    """The window's luma in choice `k` (see `_candidates`)."""
     import cv2
 
     height = shown.shape[0] * 2 // 3
     (y0, x0, y1, x1), (by0, bx0, by1, bx1) = _margin_box(window, (shown.shape[1], height))
-    pictures = {"plate": plate, "reference": reference}
-    out = [pictures.get(name, shown)[y0:y1, x0:x1] for name in CHOICES]
-    for name in pictures:
-        k = CHOICES.index(name)
-        out[k] = np.where(on_face, out[0], out[k])
-    for k, sigma in enumerate(BLUR_SIGMAS_PX, start=1):
-        blurred = cv2.GaussianBlur(shown[by0:by1, bx0:bx1], (0, 0), sigma)
-        out[k] = blurred[y0 - by0 : y1 - by0, x0 - bx0 : x1 - bx0]
-    return out
+    rendering = shown[y0:y1, x0:x1]
+    if CHOICES[k] in ("plate", "reference"):
+        held = plate if CHOICES[k] == "plate" else reference
+        return np.where(on_face, rendering, held[y0:y1, x0:x1])
+    if k == 0:
+        return rendering
+    blurred = cv2.GaussianBlur(shown[by0:by1, bx0:bx1], (0, 0), BLUR_SIGMAS_PX[k - 1])
+    return blurred[y0 - by0 : y1 - by0, x0 - bx0 : x1 - bx0]
 
 
 def _chroma(k: int, shown, held, window, on_face) -> np.ndarray:
@@ -323,6 +334,8 @@ def _compose(shown, lumas, state, window, held, on_face) -> np.ndarray:
         half = np.repeat(np.repeat(chosen, BLOCK_PX // 2, axis=0), BLOCK_PX // 2, axis=1)
         whole = np.repeat(np.repeat(half, 2, axis=0), 2, axis=1)
         weight = _feathered(whole, FEATHER_SIGMA_PX)
+        if lumas[k] is None:  # the receiver draws only the choices its blocks hold
+            lumas[k] = _candidate(k, shown, *held, window, on_face)
         mixed_luma += weight * (lumas[k].astype(np.float32) - base_luma)
         half_weight = _feathered(half, FEATHER_SIGMA_PX / 2)[None]
         candidate = _chroma(k, shown, held, window, on_face).astype(np.float32)

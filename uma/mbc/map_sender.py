@@ -39,12 +39,12 @@ class MapSender:
             self._map_bits_open += self.block_map.bits - before
             return self.block_map.sent
         params, light = units.split(decoded)
-        try:
-            shown, face = mirror.render(params, light, units.body_of(decoded))
+        try:  # the choice reads luma only: the mirror draws no chroma, nothing is composed
+            shown, face = mirror.render(params, light, units.body_of(decoded), luma_only=True)
         except SceneError:
             return None
         bits = self.block_map.bits
-        self.block_map.step_with(mirror, shown, face, source, self.stream_bits)
+        self.block_map.step_with(mirror, shown, face, source, self.stream_bits, compose=False)
         self._map_bits_open += self.block_map.bits - bits
         return self.block_map.sent
 
