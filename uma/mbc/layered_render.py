@@ -188,10 +188,8 @@ def compose_layers(renderer, params: np.ndarray, body: np.ndarray | None, chroma
     size = (width, height)
     scene = renderer.scene
     target = scene.points(params)
-    torso_forward = body_matrix(NO_BODY_MOTION if body is None else body, renderer.anchor)
     head_forward = rigid_fit(renderer._reference_ring, head_ring_points(scene, target))
-    out = _plate(renderer, body)
-    torso = _warped_mask(renderer._torso_below, renderer._torso_box, torso_forward, size)
+    out, plate, torso, body_moved = _torso_layer(renderer, body, chroma)
     halo = _warped_mask(renderer.halo_mask, renderer._halo_box, head_forward, size)
     head = np.zeros((height, width), np.uint8)
     face = np.zeros((height, width), bool)
@@ -206,16 +204,11 @@ def compose_layers(renderer, params: np.ndarray, body: np.ndarray | None, chroma
     # gap (it would show the plate as a dotted seam).
     halo = cv2.dilate(halo | head, _GAP_KERNEL) & (1 - head)
     person = halo | head
-    torso &= 1 - person
     moved = _head_moved_px(renderer, target)
-    body_moved = 0.0 if body is None else float(np.hypot(body[0], body[1]) + 100 * abs(body[2]))
-    torso_box = mask_box(torso)
-    if torso_box is not None:
-        plate = out.copy() if body_moved > 0 else None  # the torso's edge fades into it
-        _draw_layer(renderer, out, torso, torso_forward, torso_box, chroma)
-        if plate is not None:  # the torso's outer edge only: it meets the head inside
-            strength = min(body_moved / FEATHER_FULL_PX, 1.0)
-            _feather(out, plate, torso.view(bool), strength, (torso | person).view(bool), chroma)
+    if plate is not None:  # the torso's outer edge only: it meets the head inside
+        torso = torso & (1 - person)
+        strength = min(body_moved / FEATHER_FULL_PX, 1.0)
+        _feather(out, plate, torso.view(bool), strength, (torso | person).view(bool), chroma)
     # The picture moved with the head, around the head and halo: what their seam fades into.
     around_box = mask_box(person, _BLEED_MARGIN_PX) if moved > 0 else mask_box(halo)
     around = None
@@ -227,8 +220,36 @@ def compose_layers(renderer, params: np.ndarray, body: np.ndarray | None, chroma
         strength = min(moved / FEATHER_FULL_PX, 1.0)
         _bleed(out, around, around_box, person.view(bool), strength, chroma)
     if renderer.soft_outline:
-        soften_outline(out, person.view(bool), face, moved)
+        soften_outline(out, person.view(bool), face, moved, chroma)
     return out, face
+
+
+def _torso_layer(renderer, body: np.ndarray | None, chroma: bool):
+    """The plate with the torso moved by `body` drawn on it (a copy to draw on), the plate
+    itself when the torso's edge is to fade into it (None otherwise), the moved torso's mask
+    and how far the torso moved. The torso is drawn whole: where the head or its halo covers
+    it they are drawn over it, so the picture is the one drawn with the torso cut by them.
+    It depends on the reference and `body` only: kept for the next call with the same."""
+    key = (
+        renderer.reference_serial,
+        None if body is None else np.asarray(body, np.float64).tobytes(),
+    )
+    kept = getattr(renderer, "_torso_kept", None)
+    if kept is not None and kept[0] == key and (kept[1] or not chroma):
+        _, _, out, plate, torso, body_moved = kept
+        return out.copy(), plate, torso, body_moved
+    width, height = renderer.size
+    torso_forward = body_matrix(NO_BODY_MOTION if body is None else body, renderer.anchor)
+    out = _plate(renderer, body)
+    torso = _warped_mask(renderer._torso_below, renderer._torso_box, torso_forward, renderer.size)
+    body_moved = 0.0 if body is None else float(np.hypot(body[0], body[1]) + 100 * abs(body[2]))
+    torso_box = mask_box(torso)
+    plate = None
+    if torso_box is not None:
+        plate = out.copy() if body_moved > 0 else None  # the torso's edge fades into it
+        _draw_layer(renderer, out, torso, torso_forward, torso_box, chroma)
+    renderer._torso_kept = (key, chroma, out, plate, torso, body_moved)
+    return out.copy(), plate, torso, body_moved
 
 
 def _plate(renderer, body: np.ndarray | None) -> np.ndarray:
