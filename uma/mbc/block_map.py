@@ -234,15 +234,17 @@ def _barred(face: np.ndarray, plate_known, window) -> np.ndarray:
     face, blurs where the face fills the block."""
     c0, r0, c1, r1 = window
     rows, cols = r1 - r0, c1 - c0
-    y0, x0 = r0 * BLOCK_PX, c0 * BLOCK_PX
 
-    def any_in_block(mask):
-        crop = mask[y0 : y0 + rows * BLOCK_PX, x0 : x0 + cols * BLOCK_PX]
+    def any_in_block(crop):
         return crop.reshape(rows, BLOCK_PX, cols, BLOCK_PX).any(axis=(1, 3))
 
+    off_face = ~_window_crop(face, window)  # the window's pixels only
     out = np.zeros((len(CHOICES), rows, cols), bool)
-    inside = ~any_in_block(~face)  # the face's interior: drawn by the model, never replaced
-    unseen = inside if plate_known is None else inside | any_in_block(~plate_known & ~face)
+    inside = ~any_in_block(off_face)  # the face's interior: drawn by the model, never replaced
+    if plate_known is None:
+        unseen = inside
+    else:
+        unseen = inside | any_in_block(~_window_crop(plate_known, window) & off_face)
     out[CHOICES.index("plate")] = unseen
     out[CHOICES.index("reference")] = inside
     out[CHOICES.index("softened")] = inside
