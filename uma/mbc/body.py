@@ -30,11 +30,6 @@ _BELOW_CHIN_OF_HEIGHT = 0.05
 # A torso whose pixels (half resolution) differ from those of the last aligned picture by
 # less than this mean (luma levels) has not moved: the last motion stands, no alignment.
 STILL_LEVELS = 0.75
-# The alignment sees only the torso's box (half resolution) and this margin around it: the
-# picture beyond lies outside the torso's mask however the torso moves (`body_problem` bounds
-# the motion), so it adds nothing but cost. Even, so the half-size crop is a crop of the
-# full-size picture halved.
-_CROP_MARGIN_PX = 24
 
 
 @dataclass(frozen=True)
@@ -78,14 +73,9 @@ class BodyTracker:
         # Below the chin only: the head moves on its own and would pull the torso along.
         mask[: max(int(renderer.anchor[1] + _BELOW_CHIN_OF_HEIGHT * height), 0)] = 0
         mask = cv2.resize(mask, half, interpolation=cv2.INTER_NEAREST)
+        self._template = (luma.astype(np.float32), mask.astype(np.uint8))
         if self.camera is not None:
-            self.camera.prepare(luma.astype(np.float32), renderer.person_mask)
-        self._box = _crop_box(mask, _CROP_MARGIN_PX)
-        x0, y0, x1, y1 = self._box
-        self._template = (
-            np.ascontiguousarray(luma[y0:y1, x0:x1], dtype=np.float32),
-            np.ascontiguousarray(mask[y0:y1, x0:x1], dtype=np.uint8),
-        )
+            self.camera.prepare(self._template[0], renderer.person_mask)
         self._key = key
         self.last = NO_BODY_MOTION[: self._n].copy()
         self._aligned = None
@@ -104,20 +94,13 @@ class BodyTracker:
         anchor = renderer.anchor
         start = body_matrix(self.last, anchor).astype(np.float32)
         start[:, 2] *= 0.5  # half resolution: the same map on halved coordinates
-        x0, y0, x1, y1 = self._box
-        corner = np.array([x0, y0], np.float64)
+        width, height = renderer.size
+        picture = cv2.resize(luma, (width // 2, height // 2), interpolation=cv2.INTER_AREA)
         if self.camera is not None:
-            width, height = renderer.size
-            whole = cv2.resize(luma, (width // 2, height // 2), interpolation=cv2.INTER_AREA)
             self.last = self.last.copy()
-            self.last[N_TORSO:] = self.camera.measure(whole)
-        # The torso's box of the half-size picture (a 2x2 average, the same as the whole's).
-        box = luma[2 * y0 : 2 * y1, 2 * x0 : 2 * x1]
-        picture = cv2.resize(box, (x1 - x0, y1 - y0), interpolation=cv2.INTER_AREA)
+            self.last[N_TORSO:] = self.camera.measure(picture)
         if self._aligned is not None and self._still(picture, mask):
             return self.last  # the torso did not change since it was last aligned
-        # The same map between the boxes: its shift plus R c - c (c the box's corner).
-        start[:, 2] += (start[:, :2].astype(np.float64) @ corner - corner).astype(np.float32)
         criteria = (cv2.TERM_CRITERIA_COUNT | cv2.TERM_CRITERIA_EPS, _ITERATIONS, _EPSILON)
         try:
             _, warp = cv2.findTransformECC(
@@ -126,7 +109,6 @@ class BodyTracker:
         except cv2.error as err:
             return BodyFailure(f"body motion: no alignment ({str(err).strip().splitlines()[-1]})")
         warp = warp.astype(np.float64)
-        warp[:, 2] -= warp[:, :2] @ corner - corner
         warp[:, 2] *= 2.0
         body = np.concatenate([rigid_of(warp, anchor), self.last[N_TORSO:]])
         problem = body_problem(body, renderer.size)
@@ -143,20 +125,3 @@ class BodyTracker:
 
         change = cv2.mean(cv2.absdiff(picture, self._aligned), mask=mask)[0]
         return change < STILL_LEVELS
-
-
-def _crop_box(mask: np.ndarray, margin: int) -> tuple[int, int, int, int]:
-    """(x0, y0, x1, y1): `mask`'s bounding box widened by `margin`, inside the picture (the
-    whole picture for an empty mask)."""
-    import cv2
-
-    height, width = mask.shape
-    x, y, w, h = cv2.boundingRect(mask)
-    if w == 0 or h == 0:
-        return 0, 0, width, height
-    return (
-        max(x - margin, 0),
-        max(y - margin, 0),
-        min(x + w + margin, width),
-        min(y + h + margin, height),
-    )
