@@ -92,6 +92,7 @@ class BlockMap:
         self.bucket = 0.0
         self.bits = 0
         self.changes = 0
+        self._weights: dict = {}  # by choice: its blocks and their faded weights (`_weights`)
 
     def window(self, face: np.ndarray) -> tuple[int, int, int, int] | None:
         """The window (b0, a0, b1, a1) in blocks (columns b, rows a) about the drawn `face`
@@ -149,7 +150,28 @@ class BlockMap:
         if not compose:
             return None
         state = self.state[r0:r1, c0:c1]
-        return _compose(shown, lumas, state, window, (plate, reference), on_face)
+        return _compose(shown, lumas, state, window, (plate, reference), on_face, self._weights)
+
+    def broke(self, stream_bits: float = 0.0) -> bool:
+        """Whether this frame's allowance, once filled, cannot pay for one change (the engine
+        then chooses nothing: `hold`)."""
+        bucket = float(np.clip(self.bucket + self.frame_bits - stream_bits,
+                               -BUCKET_MAX_BITS, BUCKET_MAX_BITS))  # fmt: skip
+        return bucket < count_bits(1) + change_bits(self.map_blocks)
+
+    def hold_with(self, renderer, face: np.ndarray, stream_bits: float = 0.0) -> None:
+        """`hold` with the plate of `renderer` (as `step_with`)."""
+        self.hold(face, stream_bits, None if renderer.plate is None else renderer.plate.known)
+
+    def hold(self, face: np.ndarray, stream_bits: float = 0.0, plate_known=None) -> None:
+        """The engine's frame when `broke`: the state moves as `step` with the source moves it
+        when nothing is affordable (blocks leaving the window, gone stale or barred go back to
+        the rendering; the empty count is paid), from the drawn `face` alone: no picture is
+        drawn or compared."""
+        none = np.zeros((0, 2), np.int64)
+        self.step(None, face, None, None, None, stream_bits, plate_known, none, compose=False)
+        if face.any():  # `step` paid the count as a receiver does; the engine's bucket too
+            self.bucket -= count_bits(0)
 
     def idle(self, stream_bits: float = 0.0) -> bool:
         """The engine's shortcut: True when the map holds no choice and its allowance after
@@ -312,10 +334,24 @@ def _chroma(k: int, shown, held, window, on_face) -> np.ndarray:
     return np.stack(out)
 
 
-def _compose(shown, lumas, state, window, held, on_face) -> np.ndarray:
+def _weights(chosen: np.ndarray, kept: dict, k: int) -> tuple[np.ndarray, np.ndarray]:
+    """The luma and chroma weights of the window's blocks `chosen` (rows, cols bool) for
+    choice `k`, faded at their edges; `kept` holds each choice's last, as the blocks holding
+    a choice mostly stay from one frame to the next."""
+    key = chosen.tobytes(), chosen.shape
+    if k in kept and kept[k][0] == key:
+        return kept[k][1]
+    half = np.repeat(np.repeat(chosen, BLOCK_PX // 2, axis=0), BLOCK_PX // 2, axis=1)
+    whole = np.repeat(np.repeat(half, 2, axis=0), 2, axis=1)
+    out = _feathered(whole, FEATHER_SIGMA_PX), _feathered(half, FEATHER_SIGMA_PX / 2)[None]
+    kept[k] = (key, out)
+    return out
+
+
+def _compose(shown, lumas, state, window, held, on_face, kept: dict) -> np.ndarray:
     """`shown` with each block of the window drawn from its chosen candidate (`held`: the
     plate and the reference), the blocks' edges faded over `FEATHER_SIGMA_PX` (a copy when
-    any block is not the rendering)."""
+    any block is not the rendering); `kept` the weights `_weights` keeps."""
     if not state.any():
         return shown
     height = shown.shape[0] * 2 // 3
@@ -333,13 +369,10 @@ def _compose(shown, lumas, state, window, held, on_face) -> np.ndarray:
         chosen = state == k
         if not chosen.any():
             continue
-        half = np.repeat(np.repeat(chosen, BLOCK_PX // 2, axis=0), BLOCK_PX // 2, axis=1)
-        whole = np.repeat(np.repeat(half, 2, axis=0), 2, axis=1)
-        weight = _feathered(whole, FEATHER_SIGMA_PX)
+        weight, half_weight = _weights(chosen, kept, k)
         if lumas[k] is None:  # the receiver draws only the choices its blocks hold
             lumas[k] = _candidate(k, shown, *held, window, on_face)
         mixed_luma += weight * (lumas[k].astype(np.float32) - base_luma)
-        half_weight = _feathered(half, FEATHER_SIGMA_PX / 2)[None]
         candidate = _chroma(k, shown, held, window, on_face).astype(np.float32)
         mixed_chroma += half_weight * (candidate - base_chroma)
     luma[:] = np.clip(np.rint(mixed_luma), 0, 255)

@@ -26,7 +26,7 @@ from uma.mbc.layers import (
 )
 from uma.mbc.outline import soften_outline
 
-__all__ = ["compose_layers", "chroma_matrix", "mask_box"]
+__all__ = ["compose_layers", "chroma_matrix", "mask_box", "face_mask"]
 
 _GAP_KERNEL = np.ones((3, 3), np.uint8)
 # A layer's edge fades over about this many pixels (the head's outward, into the picture moved
@@ -57,19 +57,45 @@ def _box(points: np.ndarray, size: tuple[int, int]) -> tuple[int, int, int, int]
     return x0, y0, x1, y1
 
 
-def _head(renderer, params: np.ndarray, target: np.ndarray, box):
-    """The head over `box`: its pixels' triangle labels and where they read the reference."""
-    from uma.face.render import barycentric_affine, triangle_labels
+def _head_labels(renderer, params: np.ndarray, target: np.ndarray, box) -> np.ndarray:
+    """The head over `box`: its pixels' triangle labels (-1: none)."""
+    from uma.face.render import triangle_labels
 
     scene = renderer.scene
     x0, y0, x1, y1 = box
-    labels = triangle_labels(
+    return triangle_labels(
         target - (x0, y0),
         scene.triangles,
         (y1 - y0, x1 - x0),
         triangle_mask=renderer._drawn(target),
         depth=scene.depth(params),
     )
+
+
+def face_mask(renderer, params: np.ndarray) -> np.ndarray:
+    """The mask (H, W bool) of the face's own pixels that `renderer` (a
+    `uma.mbc.scene_render.SceneRenderer`) draws at `params` (the same labels), without
+    drawing anything."""
+    if not renderer.layered:
+        return renderer.maps(params)[2]
+    width, height = renderer.size
+    scene = renderer.scene
+    target = scene.points(params)
+    face = np.zeros((height, width), bool)
+    box = _box(target[: scene.model.n_vertices + len(scene.outline)], renderer.size)
+    if box is not None:
+        x0, y0, x1, y1 = box
+        face[y0:y1, x0:x1] = _head_labels(renderer, params, target, box) >= renderer._strips
+    return face
+
+
+def _head(renderer, params: np.ndarray, target: np.ndarray, box):
+    """The head over `box`: its pixels' triangle labels and where they read the reference."""
+    from uma.face.render import barycentric_affine
+
+    scene = renderer.scene
+    x0, y0, x1, y1 = box
+    labels = _head_labels(renderer, params, target, box)
     affine = barycentric_affine(target, scene.triangles)
     # (T, 2, 3): the reference's (x, y) as an affine function of the picture's (x, y, 1).
     coeffs = np.matmul(renderer._reference_points[scene.triangles].transpose(0, 2, 1), affine)
