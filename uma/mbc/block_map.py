@@ -201,12 +201,13 @@ class BlockMap:
         """The engine's changes for this frame, taken; their bits counted."""
         c0, r0, c1, r1 = window
         y0, x0, y1, x1 = r0 * BLOCK_PX, c0 * BLOCK_PX, r1 * BLOCK_PX, c1 * BLOCK_PX
-        truth = source[y0:y1, x0:x1].astype(np.float32)
+        from uma.mbc.block_kernels import block_sse
+
+        truth = source[y0:y1, x0:x1]
         rows, cols = r1 - r0, c1 - c0
         sse = np.empty((len(CHOICES), rows, cols), np.float32)
-        for k, candidate in enumerate(lumas):
-            error = (candidate.astype(np.float32) - truth) ** 2
-            sse[k] = error.reshape(rows, BLOCK_PX, cols, BLOCK_PX).sum(axis=(1, 3))
+        for k, candidate in enumerate(lumas):  # each block's squared luma error, compiled
+            block_sse(candidate, truth, BLOCK_PX, sse[k])
         sse[barred] = np.inf
         state = self.state[r0:r1, c0:c1]
         current = np.take_along_axis(sse, state[None].astype(np.intp), 0)[0]
@@ -352,6 +353,8 @@ def _compose(shown, lumas, state, window, held, on_face, kept: dict) -> np.ndarr
     """`shown` with each block of the window drawn from its chosen candidate (`held`: the
     plate and the reference), the blocks' edges faded over `FEATHER_SIGMA_PX` (a copy when
     any block is not the rendering); `kept` the weights `_weights` keeps."""
+    from uma.mbc.block_kernels import accumulate
+
     if not state.any():
         return shown
     height = shown.shape[0] * 2 // 3
@@ -372,9 +375,10 @@ def _compose(shown, lumas, state, window, held, on_face, kept: dict) -> np.ndarr
         weight, half_weight = _weights(chosen, kept, k)
         if lumas[k] is None:  # the receiver draws only the choices its blocks hold
             lumas[k] = _candidate(k, shown, *held, window, on_face)
-        mixed_luma += weight * (lumas[k].astype(np.float32) - base_luma)
-        candidate = _chroma(k, shown, held, window, on_face).astype(np.float32)
-        mixed_chroma += half_weight * (candidate - base_chroma)
+        accumulate(mixed_luma, base_luma, lumas[k], weight)  # += weight (candidate - base)
+        candidate = _chroma(k, shown, held, window, on_face)
+        for plane in range(2):
+            accumulate(mixed_chroma[plane], base_chroma[plane], candidate[plane], half_weight[0])
     luma[:] = np.clip(np.rint(mixed_luma), 0, 255)
     chroma[:] = np.clip(np.rint(mixed_chroma), 0, 255)
     return out
