@@ -24,7 +24,7 @@ import numpy as np
 from uma.face.describe import ContentDescription
 from uma.face.scene import HEAD_RING_SCALE, SceneMesh
 from uma.mbc.errors import SceneError
-from uma.mbc.layered_kernels import FAR_OUTSIDE_MAP, STILL_MAP, triangle_maps
+from uma.mbc.layered_kernels import FAR_OUTSIDE_MAP, STILL_MAP, relight, triangle_maps
 from uma.mbc.layered_render import compose_layers, mask_box
 from uma.mbc.layers import Plate, body_problem, cut_person, head_ring_points
 from uma.mbc.render_memo import RenderMemo
@@ -382,11 +382,14 @@ def _relight(luma: np.ndarray, face: np.ndarray, light: tuple[float, float]) -> 
     x1, y1 = min(x + w + feather, width), min(y + h + feather, height)
     inside = face[y0:y1, x0:x1]
     outside_px = cv2.distanceTransform((~inside).view(np.uint8), cv2.DIST_L2, 3)
-    weight = np.clip(1.0 - outside_px / np.float32(feather), 0.0, 1.0)
-    box = luma[y0:y1, x0:x1]
-    a = box.astype(np.float32)
-    lit = a + weight * (a * np.float32(gain - 1.0) + np.float32(offset))
-    box[:] = np.clip(np.rint(lit), 0, 255).astype(np.uint8)
+    # Compiled: a + clip(1 - d / feather, 0, 1) (a (gain - 1) + offset), in float32.
+    relight(
+        luma[y0:y1, x0:x1],
+        outside_px,
+        np.float32(feather),
+        np.float32(gain - 1.0),
+        np.float32(offset),
+    )
 
 
 def _checked_light(light) -> tuple[float, float]:
