@@ -382,14 +382,8 @@ def _relight(luma: np.ndarray, face: np.ndarray, light: tuple[float, float]) -> 
     x1, y1 = min(x + w + feather, width), min(y + h + feather, height)
     inside = face[y0:y1, x0:x1]
     outside_px = cv2.distanceTransform((~inside).view(np.uint8), cv2.DIST_L2, 3)
-    # Compiled: a + clip(1 - d / feather, 0, 1) (a (gain - 1) + offset), in float32.
-    relight(
-        luma[y0:y1, x0:x1],
-        outside_px,
-        np.float32(feather),
-        np.float32(gain - 1.0),
-        np.float32(offset),
-    )
+    steps = np.float32(feather), np.float32(gain - 1.0), np.float32(offset)
+    relight(luma[y0:y1, x0:x1], outside_px, *steps)  # a + w (a (gain - 1) + offset), compiled
 
 
 def _checked_light(light) -> tuple[float, float]:
