@@ -69,3 +69,22 @@ def test_triangle_maps_read_outside_through_its_own_map(outside):
         assert np.array_equal(map_x[off], xs[off]) and np.array_equal(map_y[off], ys[off])
     else:
         assert (map_x[off] < -1e3).all() and (map_y[off] < -1e3).all()
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_relight_equals_the_numpy_form_on_a_strided_box(seed):
+    from uma.mbc.layered_kernels import relight
+
+    rng = np.random.default_rng(seed)
+    picture = rng.integers(0, 256, (50, 60), dtype=np.uint8)
+    outside = rng.uniform(0, 12, (40, 44)).astype(np.float32)
+    outside[:10] = 0.0  # the face itself
+    feather, gain, offset = np.float32(6.0), 1.0 + rng.uniform(-0.7, 2.5), rng.uniform(-60, 60)
+    want = picture.copy()
+    box = want[5:45, 9:53]
+    weight = np.clip(1.0 - outside / feather, 0.0, 1.0)
+    a = box.astype(np.float32)
+    lit = a + weight * (a * np.float32(gain - 1.0) + np.float32(offset))
+    box[:] = np.clip(np.rint(lit), 0, 255).astype(np.uint8)
+    relight(picture[5:45, 9:53], outside, feather, np.float32(gain - 1.0), np.float32(offset))
+    assert np.array_equal(picture, want)

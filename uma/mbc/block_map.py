@@ -92,6 +92,7 @@ class BlockMap:
         self.bucket = 0.0
         self.bits = 0
         self.changes = 0
+        self._weights: dict = {}  # by choice: its blocks and their faded weights (`_weights`)
 
     def window(self, face: np.ndarray) -> tuple[int, int, int, int] | None:
         """The window (b0, a0, b1, a1) in blocks (columns b, rows a) about the drawn `face`
@@ -110,13 +111,16 @@ class BlockMap:
         return c0, r0, c0 + side_c, r0 + side_r
 
     def step(self, shown, face, plate, reference, source=None, stream_bits=0.0, plate_known=None,
-             changes=None):  # fmt: skip
+             changes=None, *, compose=True):  # fmt: skip
         """The picture shown for a frame whose rendering is `shown` with the face at `face`;
         `plate`, `reference` the receiver's (`plate_known`: the pixels the plate has seen;
         None: all); with `source` (the engine's frame) the frame's changes are chosen within
         the allowance left by `stream_bits` and kept in `sent` (block index in the window,
         choice code: which of the block's other choices); a receiver passes the decoded
-        `changes` instead (a change the map cannot take: `SceneError`)."""
+        `changes` instead (a change the map cannot take: `SceneError`). Without `compose`
+        (the engine's side, which shows nothing) the state moves the same but nothing is
+        drawn (None; `shown`'s chroma is then never read). Only the choices a block holds are
+        drawn (the engine's choice draws every choice's luma)."""
         window = self.window(face)
         self.bucket = float(np.clip(self.bucket + self.frame_bits - stream_bits,
                                     -BUCKET_MAX_BITS, BUCKET_MAX_BITS))  # fmt: skip
@@ -137,13 +141,37 @@ class BlockMap:
         state = self.state[r0:r1, c0:c1]
         state[np.take_along_axis(barred, state[None].astype(np.intp), 0)[0]] = 0
         on_face = _window_crop(face, window)
-        lumas = _candidates(shown, plate, reference, window, on_face)
+        lumas = [None] * len(CHOICES)
         if source is not None:
+            lumas = _candidates(shown, plate, reference, window, on_face)
             self._choose(lumas, source, window, barred)
         elif changes is not None:
             self._take(np.asarray(changes, np.int64).reshape(-1, 2), window, barred)
+        if not compose:
+            return None
         state = self.state[r0:r1, c0:c1]
-        return _compose(shown, lumas, state, window, (plate, reference), on_face)
+        return _compose(shown, lumas, state, window, (plate, reference), on_face, self._weights)
+
+    def broke(self, stream_bits: float = 0.0) -> bool:
+        """Whether this frame's allowance, once filled, cannot pay for one change (the engine
+        then chooses nothing: `hold`)."""
+        bucket = float(np.clip(self.bucket + self.frame_bits - stream_bits,
+                               -BUCKET_MAX_BITS, BUCKET_MAX_BITS))  # fmt: skip
+        return bucket < count_bits(1) + change_bits(self.map_blocks)
+
+    def hold_with(self, renderer, face: np.ndarray, stream_bits: float = 0.0) -> None:
+        """`hold` with the plate of `renderer` (as `step_with`)."""
+        self.hold(face, stream_bits, None if renderer.plate is None else renderer.plate.known)
+
+    def hold(self, face: np.ndarray, stream_bits: float = 0.0, plate_known=None) -> None:
+        """The engine's frame when `broke`: the state moves as `step` with the source moves it
+        when nothing is affordable (blocks leaving the window, gone stale or barred go back to
+        the rendering; the empty count is paid), from the drawn `face` alone: no picture is
+        drawn or compared."""
+        none = np.zeros((0, 2), np.int64)
+        self.step(None, face, None, None, None, stream_bits, plate_known, none, compose=False)
+        if face.any():  # `step` paid the count as a receiver does; the engine's bucket too
+            self.bucket -= count_bits(0)
 
     def idle(self, stream_bits: float = 0.0) -> bool:
         """The engine's shortcut: True when the map holds no choice and its allowance after
@@ -159,25 +187,27 @@ class BlockMap:
         self.sent = np.zeros((0, 2), np.int64)
         return True
 
-    def step_with(self, renderer, shown, face, source=None, stream_bits=0.0, changes=None):
+    def step_with(self, renderer, shown, face, source=None, stream_bits=0.0, changes=None, *,
+                  compose=True):  # fmt: skip
         """`step` with the plate and the reference of `renderer` (a `uma.mbc.SceneRenderer`;
         without a plate, the reference serves as one)."""
         plate = renderer.plate_picture()
         known = None if renderer.plate is None or plate is None else renderer.plate.known
         plate = renderer.reference if plate is None else plate
         return self.step(shown, face, plate, renderer.reference, source, stream_bits, known,
-                         changes)  # fmt: skip
+                         changes, compose=compose)  # fmt: skip
 
     def _choose(self, lumas, source: np.ndarray, window, barred: np.ndarray) -> None:
         """The engine's changes for this frame, taken; their bits counted."""
         c0, r0, c1, r1 = window
         y0, x0, y1, x1 = r0 * BLOCK_PX, c0 * BLOCK_PX, r1 * BLOCK_PX, c1 * BLOCK_PX
-        truth = source[y0:y1, x0:x1].astype(np.float32)
+        from uma.mbc.block_kernels import block_sse
+
+        truth = source[y0:y1, x0:x1]
         rows, cols = r1 - r0, c1 - c0
         sse = np.empty((len(CHOICES), rows, cols), np.float32)
-        for k, candidate in enumerate(lumas):
-            error = (candidate.astype(np.float32) - truth) ** 2
-            sse[k] = error.reshape(rows, BLOCK_PX, cols, BLOCK_PX).sum(axis=(1, 3))
+        for k, candidate in enumerate(lumas):  # each block's squared luma error, compiled
+            block_sse(candidate, truth, BLOCK_PX, sse[k])
         sse[barred] = np.inf
         state = self.state[r0:r1, c0:c1]
         current = np.take_along_axis(sse, state[None].astype(np.intp), 0)[0]
@@ -227,15 +257,17 @@ def _barred(face: np.ndarray, plate_known, window) -> np.ndarray:
     face, blurs where the face fills the block."""
     c0, r0, c1, r1 = window
     rows, cols = r1 - r0, c1 - c0
-    y0, x0 = r0 * BLOCK_PX, c0 * BLOCK_PX
 
-    def any_in_block(mask):
-        crop = mask[y0 : y0 + rows * BLOCK_PX, x0 : x0 + cols * BLOCK_PX]
+    def any_in_block(crop):
         return crop.reshape(rows, BLOCK_PX, cols, BLOCK_PX).any(axis=(1, 3))
 
+    off_face = ~_window_crop(face, window)  # the window's pixels only
     out = np.zeros((len(CHOICES), rows, cols), bool)
-    inside = ~any_in_block(~face)  # the face's interior: drawn by the model, never replaced
-    unseen = inside if plate_known is None else inside | any_in_block(~plate_known & ~face)
+    inside = ~any_in_block(off_face)  # the face's interior: drawn by the model, never replaced
+    if plate_known is None:
+        unseen = inside
+    else:
+        unseen = inside | any_in_block(~_window_crop(plate_known, window) & off_face)
     out[CHOICES.index("plate")] = unseen
     out[CHOICES.index("reference")] = inside
     out[CHOICES.index("softened")] = inside
@@ -262,19 +294,23 @@ def _window_crop(mask: np.ndarray, window) -> np.ndarray:
 def _candidates(shown, plate, reference, window, on_face) -> list[np.ndarray]:
     """The window's luma in each of `CHOICES` (uint8 crops, in order): the plate and the
     reference keep the rendering at the face's pixels `on_face` (the window's)."""
+    return [_candidate(k, shown, plate, reference, window, on_face) for k in range(len(CHOICES))]
+
+
+def _candidate(k: int, shown, plate, reference, window, on_face) -> np.ndarray:
+    """The window's luma in choice `k` (see `_candidates`)."""
     import cv2
 
     height = shown.shape[0] * 2 // 3
     (y0, x0, y1, x1), (by0, bx0, by1, bx1) = _margin_box(window, (shown.shape[1], height))
-    pictures = {"plate": plate, "reference": reference}
-    out = [pictures.get(name, shown)[y0:y1, x0:x1] for name in CHOICES]
-    for name in pictures:
-        k = CHOICES.index(name)
-        out[k] = np.where(on_face, out[0], out[k])
-    for k, sigma in enumerate(BLUR_SIGMAS_PX, start=1):
-        blurred = cv2.GaussianBlur(shown[by0:by1, bx0:bx1], (0, 0), sigma)
-        out[k] = blurred[y0 - by0 : y1 - by0, x0 - bx0 : x1 - bx0]
-    return out
+    rendering = shown[y0:y1, x0:x1]
+    if CHOICES[k] in ("plate", "reference"):
+        held = plate if CHOICES[k] == "plate" else reference
+        return np.where(on_face, rendering, held[y0:y1, x0:x1])
+    if k == 0:
+        return rendering
+    blurred = cv2.GaussianBlur(shown[by0:by1, bx0:bx1], (0, 0), BLUR_SIGMAS_PX[k - 1])
+    return blurred[y0 - by0 : y1 - by0, x0 - bx0 : x1 - bx0]
 
 
 def _chroma(k: int, shown, held, window, on_face) -> np.ndarray:
@@ -299,10 +335,26 @@ def _chroma(k: int, shown, held, window, on_face) -> np.ndarray:
     return np.stack(out)
 
 
-def _compose(shown, lumas, state, window, held, on_face) -> np.ndarray:
+def _weights(chosen: np.ndarray, kept: dict, k: int) -> tuple[np.ndarray, np.ndarray]:
+    """The luma and chroma weights of the window's blocks `chosen` (rows, cols bool) for
+    choice `k`, faded at their edges; `kept` holds each choice's last, as the blocks holding
+    a choice mostly stay from one frame to the next."""
+    key = chosen.tobytes(), chosen.shape
+    if k in kept and kept[k][0] == key:
+        return kept[k][1]
+    half = np.repeat(np.repeat(chosen, BLOCK_PX // 2, axis=0), BLOCK_PX // 2, axis=1)
+    whole = np.repeat(np.repeat(half, 2, axis=0), 2, axis=1)
+    out = _feathered(whole, FEATHER_SIGMA_PX), _feathered(half, FEATHER_SIGMA_PX / 2)[None]
+    kept[k] = (key, out)
+    return out
+
+
+def _compose(shown, lumas, state, window, held, on_face, kept: dict) -> np.ndarray:
     """`shown` with each block of the window drawn from its chosen candidate (`held`: the
     plate and the reference), the blocks' edges faded over `FEATHER_SIGMA_PX` (a copy when
-    any block is not the rendering)."""
+    any block is not the rendering); `kept` the weights `_weights` keeps."""
+    from uma.mbc.block_kernels import accumulate
+
     if not state.any():
         return shown
     height = shown.shape[0] * 2 // 3
@@ -320,13 +372,13 @@ def _compose(shown, lumas, state, window, held, on_face) -> np.ndarray:
         chosen = state == k
         if not chosen.any():
             continue
-        half = np.repeat(np.repeat(chosen, BLOCK_PX // 2, axis=0), BLOCK_PX // 2, axis=1)
-        whole = np.repeat(np.repeat(half, 2, axis=0), 2, axis=1)
-        weight = _feathered(whole, FEATHER_SIGMA_PX)
-        mixed_luma += weight * (lumas[k].astype(np.float32) - base_luma)
-        half_weight = _feathered(half, FEATHER_SIGMA_PX / 2)[None]
-        candidate = _chroma(k, shown, held, window, on_face).astype(np.float32)
-        mixed_chroma += half_weight * (candidate - base_chroma)
+        weight, half_weight = _weights(chosen, kept, k)
+        if lumas[k] is None:  # the receiver draws only the choices its blocks hold
+            lumas[k] = _candidate(k, shown, *held, window, on_face)
+        accumulate(mixed_luma, base_luma, lumas[k], weight)  # += weight (candidate - base)
+        candidate = _chroma(k, shown, held, window, on_face)
+        for plane in range(2):
+            accumulate(mixed_chroma[plane], base_chroma[plane], candidate[plane], half_weight[0])
     luma[:] = np.clip(np.rint(mixed_luma), 0, 255)
     chroma[:] = np.clip(np.rint(mixed_chroma), 0, 255)
     return out

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["affine_maps", "blend", "triangle_maps", "STILL_MAP", "FAR_OUTSIDE_MAP"]
+__all__ = ["affine_maps", "blend", "relight", "triangle_maps", "STILL_MAP", "FAR_OUTSIDE_MAP"]
 
 STILL_MAP = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0))  # a pixel reads where it is
 FAR_OUTSIDE_MAP = ((-1e4, -1e4, -1e4), (-1e4, -1e4, -1e4))  # far outside any picture
@@ -59,6 +59,25 @@ def blend(top, toward, weight):
                 elif value > 255:
                     value = np.float32(255)
                 top[i, j] = np.uint8(value)
+
+
+@njit("void(uint8[:, :], float32[:, :], float32, float32, float32)", cache=True)
+def relight(box, outside_px, feather, gain_less_one, offset):
+    """`box` (uint8, in place) relit with a weight fading from 1 at the face to 0 `feather`
+    pixels out (`outside_px` (float32) the distance from the face): a + clip(1 - d / feather,
+    0, 1) (a (gain - 1) + offset), rounded and clipped to 0-255, in float32."""
+    height, width = box.shape
+    for i in range(height):
+        for j in range(width):
+            weight = np.float32(1.0) - outside_px[i, j] / feather
+            weight = min(max(weight, np.float32(0.0)), np.float32(1.0))
+            a = np.float32(box[i, j])
+            value = np.rint(a + weight * (a * gain_less_one + offset))
+            if value < 0:
+                value = np.float32(0)
+            elif value > 255:
+                value = np.float32(255)
+            box[i, j] = np.uint8(value)
 
 
 def triangle_maps(labels, coeffs, outside, xs, ys) -> tuple[np.ndarray, np.ndarray]:

@@ -26,7 +26,7 @@ from uma.mbc.layers import (
 )
 from uma.mbc.outline import soften_outline
 
-__all__ = ["compose_layers", "chroma_matrix", "mask_box"]
+__all__ = ["compose_layers", "chroma_matrix", "mask_box", "face_mask"]
 
 _GAP_KERNEL = np.ones((3, 3), np.uint8)
 # A layer's edge fades over about this many pixels (the head's outward, into the picture moved
@@ -57,19 +57,45 @@ def _box(points: np.ndarray, size: tuple[int, int]) -> tuple[int, int, int, int]
     return x0, y0, x1, y1
 
 
-def _head(renderer, params: np.ndarray, target: np.ndarray, box):
-    """The head over `box`: its pixels' triangle labels and where they read the reference."""
-    from uma.face.render import barycentric_affine, triangle_labels
+def _head_labels(renderer, params: np.ndarray, target: np.ndarray, box) -> np.ndarray:
+    """The head over `box`: its pixels' triangle labels (-1: none)."""
+    from uma.face.render import triangle_labels
 
     scene = renderer.scene
     x0, y0, x1, y1 = box
-    labels = triangle_labels(
+    return triangle_labels(
         target - (x0, y0),
         scene.triangles,
         (y1 - y0, x1 - x0),
         triangle_mask=renderer._drawn(target),
         depth=scene.depth(params),
     )
+
+
+def face_mask(renderer, params: np.ndarray) -> np.ndarray:
+    """The mask (H, W bool) of the face's own pixels that `renderer` (a
+    `uma.mbc.scene_render.SceneRenderer`) draws at `params` (the same labels), without
+    drawing anything."""
+    if not renderer.layered:
+        return renderer.maps(params)[2]
+    width, height = renderer.size
+    scene = renderer.scene
+    target = scene.points(params)
+    face = np.zeros((height, width), bool)
+    box = _box(target[: scene.model.n_vertices + len(scene.outline)], renderer.size)
+    if box is not None:
+        x0, y0, x1, y1 = box
+        face[y0:y1, x0:x1] = _head_labels(renderer, params, target, box) >= renderer._strips
+    return face
+
+
+def _head(renderer, params: np.ndarray, target: np.ndarray, box):
+    """The head over `box`: its pixels' triangle labels and where they read the reference."""
+    from uma.face.render import barycentric_affine
+
+    scene = renderer.scene
+    x0, y0, x1, y1 = box
+    labels = _head_labels(renderer, params, target, box)
     affine = barycentric_affine(target, scene.triangles)
     # (T, 2, 3): the reference's (x, y) as an affine function of the picture's (x, y, 1).
     coeffs = np.matmul(renderer._reference_points[scene.triangles].transpose(0, 2, 1), affine)
@@ -188,10 +214,8 @@ def compose_layers(renderer, params: np.ndarray, body: np.ndarray | None, chroma
     size = (width, height)
     scene = renderer.scene
     target = scene.points(params)
-    torso_forward = body_matrix(NO_BODY_MOTION if body is None else body, renderer.anchor)
     head_forward = rigid_fit(renderer._reference_ring, head_ring_points(scene, target))
-    out = _plate(renderer, body)
-    torso = _warped_mask(renderer._torso_below, renderer._torso_box, torso_forward, size)
+    out, plate, torso, body_moved = _torso_layer(renderer, body, chroma)
     halo = _warped_mask(renderer.halo_mask, renderer._halo_box, head_forward, size)
     head = np.zeros((height, width), np.uint8)
     face = np.zeros((height, width), bool)
@@ -206,16 +230,11 @@ def compose_layers(renderer, params: np.ndarray, body: np.ndarray | None, chroma
     # gap (it would show the plate as a dotted seam).
     halo = cv2.dilate(halo | head, _GAP_KERNEL) & (1 - head)
     person = halo | head
-    torso &= 1 - person
     moved = _head_moved_px(renderer, target)
-    body_moved = 0.0 if body is None else float(np.hypot(body[0], body[1]) + 100 * abs(body[2]))
-    torso_box = mask_box(torso)
-    if torso_box is not None:
-        plate = out.copy() if body_moved > 0 else None  # the torso's edge fades into it
-        _draw_layer(renderer, out, torso, torso_forward, torso_box, chroma)
-        if plate is not None:  # the torso's outer edge only: it meets the head inside
-            strength = min(body_moved / FEATHER_FULL_PX, 1.0)
-            _feather(out, plate, torso.view(bool), strength, (torso | person).view(bool), chroma)
+    if plate is not None:  # the torso's outer edge only: it meets the head inside
+        torso = torso & (1 - person)
+        strength = min(body_moved / FEATHER_FULL_PX, 1.0)
+        _feather(out, plate, torso.view(bool), strength, (torso | person).view(bool), chroma)
     # The picture moved with the head, around the head and halo: what their seam fades into.
     around_box = mask_box(person, _BLEED_MARGIN_PX) if moved > 0 else mask_box(halo)
     around = None
@@ -227,8 +246,36 @@ def compose_layers(renderer, params: np.ndarray, body: np.ndarray | None, chroma
         strength = min(moved / FEATHER_FULL_PX, 1.0)
         _bleed(out, around, around_box, person.view(bool), strength, chroma)
     if renderer.soft_outline:
-        soften_outline(out, person.view(bool), face, moved)
+        soften_outline(out, person.view(bool), face, moved, chroma)
     return out, face
+
+
+def _torso_layer(renderer, body: np.ndarray | None, chroma: bool):
+    """The plate with the torso moved by `body` drawn on it (a copy to draw on), the plate
+    itself when the torso's edge is to fade into it (None otherwise), the moved torso's mask
+    and how far the torso moved. The torso is drawn whole: where the head or its halo covers
+    it they are drawn over it, so the picture is the one drawn with the torso cut by them.
+    It depends on the reference and `body` only: kept for the next call with the same."""
+    key = (
+        renderer.reference_serial,
+        None if body is None else np.asarray(body, np.float64).tobytes(),
+    )
+    kept = getattr(renderer, "_torso_kept", None)
+    if kept is not None and kept[0] == key and (kept[1] or not chroma):
+        _, _, out, plate, torso, body_moved = kept
+        return out.copy(), plate, torso, body_moved
+    width, height = renderer.size
+    torso_forward = body_matrix(NO_BODY_MOTION if body is None else body, renderer.anchor)
+    out = _plate(renderer, body)
+    torso = _warped_mask(renderer._torso_below, renderer._torso_box, torso_forward, renderer.size)
+    body_moved = 0.0 if body is None else float(np.hypot(body[0], body[1]) + 100 * abs(body[2]))
+    torso_box = mask_box(torso)
+    plate = None
+    if torso_box is not None:
+        plate = out.copy() if body_moved > 0 else None  # the torso's edge fades into it
+        _draw_layer(renderer, out, torso, torso_forward, torso_box, chroma)
+    renderer._torso_kept = (key, chroma, out, plate, torso, body_moved)
+    return out.copy(), plate, torso, body_moved
 
 
 def _plate(renderer, body: np.ndarray | None) -> np.ndarray:

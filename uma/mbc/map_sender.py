@@ -39,12 +39,21 @@ class MapSender:
             self._map_bits_open += self.block_map.bits - before
             return self.block_map.sent
         params, light = units.split(decoded)
-        try:
-            shown, face = mirror.render(params, light, units.body_of(decoded))
+        body = units.body_of(decoded)
+        bits = self.block_map.bits
+        if self.block_map.broke(self.stream_bits):  # nothing to choose: the face alone
+            try:
+                face = mirror.face_mask(params, light, body)
+            except SceneError:
+                return None
+            self.block_map.hold_with(mirror, face, self.stream_bits)
+            self._map_bits_open += self.block_map.bits - bits
+            return self.block_map.sent
+        try:  # the choice reads luma only: the mirror draws no chroma, nothing is composed
+            shown, face = mirror.render(params, light, body, luma_only=True)
         except SceneError:
             return None
-        bits = self.block_map.bits
-        self.block_map.step_with(mirror, shown, face, source, self.stream_bits)
+        self.block_map.step_with(mirror, shown, face, source, self.stream_bits, compose=False)
         self._map_bits_open += self.block_map.bits - bits
         return self.block_map.sent
 

@@ -54,10 +54,12 @@ def _box(
     return x0, y0, x1, y1
 
 
-def soften_outline(out: np.ndarray, person: np.ndarray, face: np.ndarray, moved_px: float) -> None:
+def soften_outline(
+    out: np.ndarray, person: np.ndarray, face: np.ndarray, moved_px: float, chroma: bool = True
+) -> None:
     """Blend, in place, the band of `outline_band_px(moved_px)` about the edge of `person` (H, W:
     the drawn head and halo) in `out` toward its blur, the face's own pixels (`face`, H, W
-    bool) excepted; chroma alike at half resolution."""
+    bool) excepted; chroma alike at half resolution (left as it is without `chroma`)."""
     import cv2
 
     height = person.shape[0]
@@ -79,13 +81,18 @@ def soften_outline(out: np.ndarray, person: np.ndarray, face: np.ndarray, moved_
     weight[face[y0:y1, x0:x1]] = 0.0
     luma = out[y0:y1, x0:x1]
     _toward(luma, cv2.GaussianBlur(luma, (0, 0), sigma), weight)
-    chroma = out[height:].reshape(2, height // 2, -1)[:, y0 // 2 : y1 // 2, x0 // 2 : x1 // 2]
+    if not chroma:
+        return
+    planes = out[height:].reshape(2, height // 2, -1)[:, y0 // 2 : y1 // 2, x0 // 2 : x1 // 2]
     half = weight[0::2, 0::2]
-    for plane in chroma:
+    for plane in planes:
         _toward(plane, cv2.GaussianBlur(plane, (0, 0), max(sigma / 2, 0.5)), half)
 
 
 def _toward(top: np.ndarray, blurred: np.ndarray, weight: np.ndarray) -> None:
-    """`top` (uint8, in place) moved toward `blurred` by `weight`, rounded."""
-    a = top.astype(np.float32)
-    top[:] = np.clip(np.rint(a + weight * (blurred.astype(np.float32) - a)), 0, 255)
+    """`top` (uint8, in place) moved toward `blurred` by `weight`, rounded: rint(a + w (b -
+    a)) in float32, computed only where the weight is not 0 (compiled,
+    `uma.mbc.layered_kernels.blend`, the same operations as the numpy form)."""
+    from uma.mbc.layered_kernels import blend
+
+    blend(top, blurred, weight)

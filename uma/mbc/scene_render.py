@@ -24,7 +24,7 @@ import numpy as np
 from uma.face.describe import ContentDescription
 from uma.face.scene import HEAD_RING_SCALE, SceneMesh
 from uma.mbc.errors import SceneError
-from uma.mbc.layered_kernels import FAR_OUTSIDE_MAP, STILL_MAP, triangle_maps
+from uma.mbc.layered_kernels import FAR_OUTSIDE_MAP, STILL_MAP, relight, triangle_maps
 from uma.mbc.layered_render import compose_layers, mask_box
 from uma.mbc.layers import Plate, body_problem, cut_person, head_ring_points
 from uma.mbc.render_memo import RenderMemo
@@ -265,14 +265,8 @@ class SceneRenderer:
         of `LIGHT_GAIN_RANGE`/`LIGHT_OFFSET_RANGE`, an absurd body motion or values not
         finite are a `SceneError` (nothing drawn: the caller keeps its last picture)."""
 
-        params = np.asarray(params, dtype=np.float64)
-        if not np.all(np.isfinite(params)) or not params[2] > 0:
-            raise SceneError(f"parameters: expected finite with a positive scale, got {params}")
+        params = self._checked(params, body)
         width, height = self.size
-        if body is not None:
-            problem = body_problem(body, self.size)
-            if problem:
-                raise SceneError(problem)
         kept = None if luma_only else self._memo.get(params, light, body)
         if kept is not None:
             return kept
@@ -296,6 +290,23 @@ class SceneRenderer:
         if not luma_only:
             self._memo.put(params, light, body, out, face)
         return out, face
+
+    def face_mask(self, params: np.ndarray, light=None, body=None) -> np.ndarray:
+        """The face's pixels (H, W bool) `render` returns at these inputs, nothing drawn."""
+        from uma.mbc.layered_render import face_mask
+
+        return face_mask(self, self._checked(params, body, light))
+
+    def _checked(self, params, body, light=None) -> np.ndarray:
+        """`params` as float64, or `render`'s `SceneError` for inputs it cannot draw."""
+        params = np.asarray(params, dtype=np.float64)
+        if not np.all(np.isfinite(params)) or not params[2] > 0:
+            raise SceneError(f"parameters: expected finite with a positive scale, got {params}")
+        if body is not None and (problem := body_problem(body, self.size)):
+            raise SceneError(problem)
+        if light is not None:
+            _checked_light(light)
+        return params
 
     def _cut_layers(self, params: np.ndarray, fresh: np.ndarray | None) -> None:
         """The reference cut at `params` (`uma.mbc.layers.cut_person`), the plate taught the
@@ -371,11 +382,8 @@ def _relight(luma: np.ndarray, face: np.ndarray, light: tuple[float, float]) -> 
     x1, y1 = min(x + w + feather, width), min(y + h + feather, height)
     inside = face[y0:y1, x0:x1]
     outside_px = cv2.distanceTransform((~inside).view(np.uint8), cv2.DIST_L2, 3)
-    weight = np.clip(1.0 - outside_px / np.float32(feather), 0.0, 1.0)
-    box = luma[y0:y1, x0:x1]
-    a = box.astype(np.float32)
-    lit = a + weight * (a * np.float32(gain - 1.0) + np.float32(offset))
-    box[:] = np.clip(np.rint(lit), 0, 255).astype(np.uint8)
+    steps = np.float32(feather), np.float32(gain - 1.0), np.float32(offset)
+    relight(luma[y0:y1, x0:x1], outside_px, *steps)  # a + w (a (gain - 1) + offset), compiled
 
 
 def _checked_light(light) -> tuple[float, float]:
