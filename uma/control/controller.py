@@ -140,12 +140,13 @@ class UmaController:
         self.usage = Usage.NORMAL
 
     def on_report(
-        self, report: DeliveryReport, *, due: tuple[float, int] | None = None
+        self, report: DeliveryReport, *, due: tuple[float, int] | None = None, probe: bool = True
     ) -> RateDecision:
         """One feedback report in; the target (and a probe when the link is unmeasured) out.
         `due`: (send stamp in ms, size in bits) of the oldest packet sent and not yet in any
         report (the sender knows it): a report with no packet while that one was due is
-        no news from the link (`_quiet_from`)."""
+        no news from the link (`_quiet_from`). `probe` False: a report that was lost on the way
+        and is folded in late (a later one repeated it): no probe is decided on it."""
         s = self.settings
         now_ms = report.end_ms
         self._quiet_from(report, due)
@@ -171,7 +172,9 @@ class UmaController:
             if target < self.loss.bound_kbps * 1.0001 and report.loss_fraction > 0.1:
                 reason = "loss"
         self.target_kbps = self._bounded(target)
-        return RateDecision(self.target_kbps, self._probe(report, now_ms), reason)
+        return RateDecision(
+            self.target_kbps, self._probe(report, now_ms) if probe else None, reason
+        )
 
     def _quiet_from(self, report: DeliveryReport, due: tuple[float, int] | None) -> None:
         """Move the quiet clock: to the report's end, unless the report holds no packet while
