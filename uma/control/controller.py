@@ -212,6 +212,11 @@ class UmaController:
         if not report.lost and min(report.queue_delay_ms) < self.settings.queue_low_ms:
             self.capacity_kbps = max(self.capacity_kbps, before)
 
+    def keep_silence_cut(self) -> None:
+        """The silence was a handover's gap (the report that ends it names a new path): no
+        report undoes its cut, not even the old path's packets folded in late."""
+        self._before_silence = None
+
     def paused(self, now_ms: float) -> bool:
         """No report for `pause_ms`: the sender sends nothing new until one comes (a lost
         report costs a frame or two; a handover's gap or an outage gets none of the stream)."""

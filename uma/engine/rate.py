@@ -194,6 +194,8 @@ class UmaRate(RateControl):
         probe = None
         self.spacing.on_report(now_s)
         if report.delivery is not None:  # what arrived (over the old path, if it changed)
+            if report.technology and self.technology not in ("", report.technology):
+                self.controller.keep_silence_cut()
             for _, missed in self._missed(report, last):
                 self.controller.on_report(missed, probe=False)
             due_ms = None if due is None else (due[0] * 1000.0, due[1])
