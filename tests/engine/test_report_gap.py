@@ -1,16 +1,11 @@
 """Numbered reports with cumulative counters: what a lost report held reaches the sender with
-the next one (`report_gap`, `span_since`), and uma's rate control folds its delivery in."""
+the next one (`report_gap`, `span_since`)."""
 
 from __future__ import annotations
-
-from dataclasses import replace
 
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from uma.config import EngineConfig, EstimatorConfig, FeedbackConfig
-from uma.control import DeliverySettings, DeliveryTracker
-from uma.engine.rate import UmaRate
 from uma.engine.reports import ReceiverReport, report_gap, span_since
 
 
@@ -79,75 +74,3 @@ def test_the_reports_seen_account_for_every_bit_up_to_the_last(intervals):
     assert lost == last.total_lost - first.total_lost + first.packets_lost
     assert sum(g.missed for g, _ in seen) == last.seq - first.seq + 1 - len(seen)
     assert not any(g.stale for g, _ in seen)
-
-
-def make_rate() -> UmaRate:
-    return UmaRate(EngineConfig(estimator=EstimatorConfig(initial_kbps=300.0)), FeedbackConfig())
-
-
-def deliveries(count: int, rate_kbps: float):
-    """`count` 100 ms intervals of a link at `rate_kbps`: frames of 4 packets every 40 ms."""
-    tracker = DeliveryTracker(DeliverySettings(interval_ms=None))
-    out, seq, free_ms = [], 0, 0.0
-    for interval in range(count):
-        for frame in range(3):
-            send_ms = interval * 100.0 + frame * 40.0
-            for _ in range(4):
-                free_ms = max(free_ms, send_ms) + 9600 / rate_kbps
-                tracker.on_packet(seq, send_ms, free_ms + 20.0, 9600)
-                seq += 1
-        out.append(tracker.flush((interval + 1) * 100.0 + 20.0))
-    return out
-
-
-def reports_of(delivered):
-    totals, out, earlier = (0, 0, 0), [], []
-    for seq, d in enumerate(delivered):
-        report, totals = numbered(
-            seq, d.received_bits, d.packets, d.lost, totals, delivery=d, earlier=tuple(earlier)
-        )
-        out.append(report)
-        earlier = (earlier + [(seq, d)])[-8:]
-    return out
-
-
-def test_uma_folds_a_lost_reports_delivery_in_as_if_it_had_come():
-    reports = reports_of(deliveries(6, 600.0))
-    every, gapped = make_rate(), make_rate()
-    for i, report in enumerate(reports):
-        every.on_report(report, 0.1 * (i + 1) + 0.02)
-        if i not in (2, 3):
-            gapped.on_report(report, 0.1 * (i + 1) + 0.02)
-    assert gapped.controller.capacity_kbps == every.controller.capacity_kbps
-    assert gapped.controller.received_kbps == every.controller.received_kbps
-    assert abs(gapped.state.received_kbps - every.state.received_kbps) < 1e-6
-    blind = make_rate()  # the same reports, unnumbered: the lost deliveries stay unseen
-    for i, report in enumerate(reports):
-        if i not in (2, 3):
-            plain = ReceiverReport(*[getattr(report, f) for f in ReceiverReport.__match_args__[:7]],
-                                   delivery=report.delivery)  # fmt: skip
-            blind.on_report(plain, 0.1 * (i + 1) + 0.02)
-    assert blind.controller.capacity_kbps != every.controller.capacity_kbps
-
-
-def test_uma_drops_a_report_older_than_one_seen():
-    reports = reports_of(deliveries(4, 600.0))
-    rate = make_rate()
-    rate.on_report(reports[0], 0.12)
-    rate.on_report(reports[2], 0.32)
-    before = (rate.controller.capacity_kbps, rate.state, rate.last_report)
-    assert rate.on_report(reports[1], 0.33) == (None, [])
-    assert (rate.controller.capacity_kbps, rate.state, rate.last_report) == before
-
-
-def test_uma_does_not_fold_the_old_paths_deliveries_into_a_handover():
-    reports = reports_of(deliveries(6, 600.0))
-    # LTE has no prior: what the controller holds after the handover is what it measured
-    named = [replace(r, technology="WLAN" if i < 4 else "LTE") for i, r in enumerate(reports)]
-    folded, unnumbered = make_rate(), make_rate()
-    for i, report in enumerate(named):
-        if i in (2, 3):
-            continue  # lost: report 4 names LTE and repeats them
-        folded.on_report(report, 0.1 * (i + 1) + 0.02)
-        unnumbered.on_report(replace(report, seq=-1), 0.1 * (i + 1) + 0.02)
-    assert folded.controller.capacity_kbps == unnumbered.controller.capacity_kbps

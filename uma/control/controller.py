@@ -140,20 +140,17 @@ class UmaController:
         self.usage = Usage.NORMAL
 
     def on_report(
-        self, report: DeliveryReport, *, due: tuple[float, int] | None = None, late: bool = False
+        self, report: DeliveryReport, *, due: tuple[float, int] | None = None
     ) -> RateDecision:
         """One feedback report in; the target (and a probe when the link is unmeasured) out.
         `due`: (send stamp in ms, size in bits) of the oldest packet sent and not yet in any
         report (the sender knows it): a report with no packet while that one was due is
-        no news from the link (`_quiet_from`). `late`: a report lost on the way and folded in
-        from a later one that repeated it: no probe is decided on it, and it does not undo a
-        silence cut (its packets may have arrived before the silence)."""
+        no news from the link (`_quiet_from`)."""
         s = self.settings
         now_ms = report.end_ms
         self._quiet_from(report, due)
         self._received(report)
-        if not late:
-            self._undo_spurious_silence(report)
+        self._undo_spurious_silence(report)
         if report.capacity_kbps is not None:
             weight = 1.0 - math.exp(-report.train_ms / s.capacity_tau_ms)
             if self._probe_pending:
@@ -174,7 +171,7 @@ class UmaController:
             if target < self.loss.bound_kbps * 1.0001 and report.loss_fraction > 0.1:
                 reason = "loss"
         self.target_kbps = self._bounded(target)
-        return RateDecision(self.target_kbps, None if late else self._probe(report, now_ms), reason)
+        return RateDecision(self.target_kbps, self._probe(report, now_ms), reason)
 
     def _quiet_from(self, report: DeliveryReport, due: tuple[float, int] | None) -> None:
         """Move the quiet clock: to the report's end, unless the report holds no packet while
@@ -211,11 +208,6 @@ class UmaController:
         self._before_silence = None
         if not report.lost and min(report.queue_delay_ms) < self.settings.queue_low_ms:
             self.capacity_kbps = max(self.capacity_kbps, before)
-
-    def keep_silence_cut(self) -> None:
-        """The silence was a handover's gap (the report that ends it names a new path): no
-        report undoes its cut, not even the old path's packets folded in late."""
-        self._before_silence = None
 
     def paused(self, now_ms: float) -> bool:
         """No report for `pause_ms`: the sender sends nothing new until one comes (a lost

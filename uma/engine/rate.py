@@ -10,11 +10,7 @@ of the engine reads (the estimate the rate policy scales by `safety`, the queuei
 received rate). `pads`: the kind wants padding behind each unit up to its estimate (a WebRTC
 encoder sends at its target; uma's ladder sends at most a rung's rate).
 
-- `uma`: `uma.control.UmaController` on the report's delivery (trains, queue, trend, loss;
-  after reports lost on the way, the deliveries they held first, from the report's `earlier`,
-  unless the report names a new technology (they came over the old path), and the received
-  rate over the true interval since the last report seen; a reordered report older than one
-  seen is dropped),
+- `uma`: `uma.control.UmaController` on the report's delivery (trains, queue, trend, loss),
   probes when application-limited, `on_silence` per report interval without a report, the
   technology's prior on a handover, the skip rule, and no frame coded while the controller is
   `paused` (no report for its `pause_ms`; still never more than `max_skip_ms` in a row);
@@ -48,7 +44,7 @@ from uma.control.gcc_rate import GccRateSettings
 from uma.engine.estimator import EstimatorState, windowed_received
 from uma.engine.points import OperatingPoint
 from uma.engine.records import EngineEvent
-from uma.engine.reports import ReceiverReport, report_gap, span_since
+from uma.engine.reports import ReceiverReport
 
 __all__ = [
     "RateControl",
@@ -182,37 +178,19 @@ class UmaRate(RateControl):
         self._report_s = 0.0  # when it arrived here
         self._skipping_s: float | None = None  # since when frames are skipped in a row
         self.spacing = ReportSpacing()
-        self.last_report: ReceiverReport | None = None  # the newest report seen
 
     def on_report(
         self, report: ReceiverReport, now_s: float, *, due: tuple[float, int] | None = None
     ) -> tuple[ProbeRequest | None, list]:
-        last = self.last_report
-        gap = report_gap(last, report)
-        if gap.stale:
-            return None, []  # older than one seen: what it held came in the later ones
-        self.last_report = report
         probe = None
         self.spacing.on_report(now_s)
         if report.delivery is not None:  # what arrived (over the old path, if it changed)
-            if report.technology and self.technology not in ("", report.technology):
-                self.controller.keep_silence_cut()  # and the old path's late packets stay out
-            else:
-                for _, missed in self._missed(report, last):
-                    self.controller.on_report(missed, late=True)
             due_ms = None if due is None else (due[0] * 1000.0, due[1])
             decision: RateDecision = self.controller.on_report(report.delivery, due=due_ms)
             self._report_ms, self._report_s = report.delivery.end_ms, now_s
-            self._follow(span_since(last, report), decision.target_kbps, self.controller.queue_ms)
+            self._follow(report, decision.target_kbps, self.controller.queue_ms)
             probe = decision.probe
         return probe, self._technology(report.technology, now_s)
-
-    @staticmethod
-    def _missed(report: ReceiverReport, last: ReceiverReport | None) -> list:
-        """The (seq, delivery) `report` repeats of reports lost since `last`, oldest first."""
-        if last is None or not (last.numbered and report.numbered):
-            return []
-        return [(seq, d) for seq, d in report.earlier if last.seq < seq < report.seq]
 
     def _technology(self, technology: str, now_s: float) -> list:
         """A change of the technology the reports name: the controller's prior for it."""
