@@ -198,6 +198,7 @@ class _Sender:
         self.units, self.pictures, self.adopted, self.current = [], {}, set(), -1
         self.seconds = [0.0, 0.0]  # wall, CPU spent coding (and, for a residual, `ahead`)
         self.judge_seconds = [0.0, 0.0]  # wall, CPU spent judging (the mirror's drawing)
+        self.mirror_seconds = [0.0, 0.0]  # wall, CPU the mirror spent taking refreshes
         self._serving, self._scheduled = None, -1
 
     def schedule(self):
@@ -280,8 +281,10 @@ def _engine(clip, results, face_units, stream_config, sender, mirror):
         taken = sender.due(index, decoded)
         if taken:
             switches[index] = [(k, decoded[sender.units[k].frame]) for k in taken]
+            begin, cpu = time.perf_counter(), time.process_time()
             for k, values in switches[index]:
                 take_refresh(mirror, face_units, values, sender.pictures[k])
+            _add(sender.mirror_seconds, begin, cpu)
         values = None
         if result:
             frame = clip.frames[index]
@@ -346,11 +349,16 @@ def refresh_display(
     # Encoding and decoding the refresh pictures (for a residual, the engine's rendering it is
     # coded against), and the receiver's taking them (the composition), per frame of the clip:
     # the model path's refresh share.
-    # The engine's judging (its mirror's drawing of the frame) is counted too, and apart.
-    wall, cpu = (sender.seconds[k] + sender.judge_seconds[k] for k in (0, 1))
+    # The engine's judging (its mirror's drawing of the frame) is counted too, and apart, and
+    # so is the engine's mirror taking each refresh the receiver takes (the same work again).
+    wall, cpu = (
+        sender.seconds[k] + sender.judge_seconds[k] + sender.mirror_seconds[k] for k in (0, 1)
+    )
     info["ms_per_frame"] = round((wall + switch_s) * 1000.0 / len(frames), 3)
     info["cpu_ms_per_frame"] = round((cpu + switch_cpu_s) * 1000.0 / len(frames), 3)
     info["judge_ms_per_frame"] = round(sender.judge_seconds[0] * 1000.0 / len(frames), 3)
+    info["mirror_take_ms_per_frame"] = round(sender.mirror_seconds[0] * 1000.0 / len(frames), 3)
+    info["receiver_take_ms_per_frame"] = round(switch_s * 1000.0 / len(frames), 3)
     return shown, params_kbps + refresh_kbps, info
 
 
