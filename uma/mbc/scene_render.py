@@ -24,7 +24,7 @@ import numpy as np
 from uma.face.describe import ContentDescription
 from uma.face.scene import HEAD_RING_SCALE, SceneMesh
 from uma.mbc.errors import SceneError
-from uma.mbc.layered_kernels import FAR_OUTSIDE_MAP, STILL_MAP, relight, triangle_maps
+from uma.mbc.layered_kernels import FAR_OUTSIDE_MAP, STILL_MAP, relight_face, triangle_maps
 from uma.mbc.layered_render import compose_layers, mask_box
 from uma.mbc.layers import Plate, body_problem, cut_person, head_ring_points
 from uma.mbc.render_memo import RenderMemo
@@ -279,7 +279,7 @@ class SceneRenderer:
         if self._face_source is not None:
             self._paste_face(luma, params)  # before the light: the pasted face is relit too
         if light is not None:
-            _relight(luma, face, _checked_light(light))
+            relight_face(luma, face, _checked_light(light), LIGHT_FEATHER_OF_FACE)
         chroma = out[height:].reshape(2, height // 2, width // 2)
         if self._face_source is not None and self._face_chroma is not None and not luma_only:
             (x0, y0), mask, planes = self._face_chroma
@@ -358,32 +358,6 @@ class SceneRenderer:
             for plane in planes
         ]  # fmt: skip
         self._face_chroma = ((x0 // 2, y0 // 2), mask[0:h2:2, 0:w2:2], chroma)
-
-
-def _relight(luma: np.ndarray, face: np.ndarray, light: tuple[float, float]) -> None:
-    """The face's pixels of `luma` (in place) times the gain plus the offset, over the face's
-    box only; with `LIGHT_FEATHER_OF_FACE`, the light fades out over that share of the face's
-    width beyond its edge (a relit face beside a head ring that is not shows a step where the
-    mesh ends: a seam across the hair)."""
-    import cv2
-
-    x, y, w, h = cv2.boundingRect(face.view(np.uint8))
-    if w == 0 or h == 0:
-        return
-    gain, offset = light
-    feather = int(round(LIGHT_FEATHER_OF_FACE * w))
-    if feather < 1:
-        box, inside = luma[y : y + h, x : x + w], face[y : y + h, x : x + w]
-        lit = box[inside].astype(np.float32) * gain + offset
-        box[inside] = np.clip(np.rint(lit), 0, 255).astype(np.uint8)
-        return
-    height, width = luma.shape
-    x0, y0 = max(x - feather, 0), max(y - feather, 0)
-    x1, y1 = min(x + w + feather, width), min(y + h + feather, height)
-    inside = face[y0:y1, x0:x1]
-    outside_px = cv2.distanceTransform((~inside).view(np.uint8), cv2.DIST_L2, 3)
-    steps = np.float32(feather), np.float32(gain - 1.0), np.float32(offset)
-    relight(luma[y0:y1, x0:x1], outside_px, *steps)  # a + w (a (gain - 1) + offset), compiled
 
 
 def _checked_light(light) -> tuple[float, float]:
