@@ -265,7 +265,9 @@ def _continue_edges(filled: np.ndarray, known: np.ndarray, edge: str, band_px: i
 
 class Plate:
     """The background the receiver knows: a YUV 4:2:0 picture, the mask of its pixels seen
-    outside the person, and the same picture with the rest filled (`picture`)."""
+    outside the person, and the same picture with the rest filled (`picture`). A `luma_only`
+    plate (an engine's mirror, which reads luma only) learns and fills no chroma: its chroma
+    planes stay mid-grey, its luma is the same as a full plate's."""
 
     def __init__(self, size: tuple[int, int]) -> None:
         width, height = size
@@ -274,6 +276,7 @@ class Plate:
         self.seen = np.full((height * 3 // 2, width), 128, np.uint8)
         self.picture = self.seen.copy()
         self.reason = "no plate yet"
+        self.luma_only = False
 
     def update(
         self, picture: np.ndarray, person: np.ndarray, fresh: np.ndarray | None = None
@@ -311,7 +314,9 @@ class Plate:
         self.picture = np.empty_like(self.seen)
         self.picture[:height] = fill_unknown(self.seen[:height], self.known)
         filled = self.picture[height:].reshape(2, height // 2, width // 2)
-        for k in range(2):
+        if self.luma_only:
+            filled[:] = 128
+        for k in range(0 if self.luma_only else 2):
             seen[k][chroma_out] = new[k][chroma_out]
             filled[k] = fill_unknown(seen[k], known_chroma, EDGE_FILL_CHROMA)
         self.reason = reason

@@ -124,6 +124,7 @@ class SceneRenderer:
         self._face_chroma = None
         self._last_face = None
         self._memo = RenderMemo()  # cleared by every new reference and face source
+        self.luma_only = False  # `set_luma_only`
         self.set_reference(*description_reference(description, self.size))
         # The description's picture is mid-grey around its texture: not background anyone saw.
         # The first real reference replaces that plate instead of being laid over it (the grey
@@ -181,6 +182,15 @@ class SceneRenderer:
         self._memo.clear()
         if use_description:
             self._face_source = description_reference(self.description, self.size)
+
+    def set_luma_only(self, luma_only: bool = True) -> None:
+        """Draw luma only from now on (an engine's mirror: everything it decides reads luma);
+        every picture's luma is the one a full renderer draws, its chroma left undrawn, and
+        its plate learns no chroma. Set before the first `set_reference` that matters."""
+        self.luma_only = bool(luma_only)
+        self._memo.clear()
+        if self.plate is not None:
+            self.plate.luma_only = self.luma_only
 
     def _drawn(self, target: np.ndarray) -> np.ndarray:
         """Triangles to draw: the face's front-facing ones and every background strip (a strip
@@ -267,7 +277,9 @@ class SceneRenderer:
 
         params = self._checked(params, body)
         width, height = self.size
-        kept = None if luma_only else self._memo.get(params, light, body)
+        luma_only = luma_only or self.luma_only  # a luma-only renderer's memo holds luma only
+        memo = not luma_only or self.luma_only
+        kept = self._memo.get(params, light, body) if memo else None
         if kept is not None:
             return kept
         if self.layered:
@@ -277,7 +289,9 @@ class SceneRenderer:
             out = stretched(self.reference, (self._u, self._v), map_x, map_y)
         luma = out[:height]
         if self._face_source is not None:
-            self._paste_face(luma, params)  # before the light: the pasted face is relit too
+            self._paste_face(
+                luma, params, luma_only
+            )  # before the light: the pasted face is relit too
         if light is not None:
             relight_face(luma, face, _checked_light(light), LIGHT_FEATHER_OF_FACE)
         chroma = out[height:].reshape(2, height // 2, width // 2)
@@ -287,7 +301,7 @@ class SceneRenderer:
                 h, w = patch.shape
                 box = plane[y0 : y0 + h, x0 : x0 + w]
                 box[mask] = patch[mask]
-        if not luma_only:
+        if memo:
             self._memo.put(params, light, body, out, face)
         return out, face
 
@@ -331,10 +345,10 @@ class SceneRenderer:
             return None
         return self.plate.picture if self.plate.known.any() else self.reference
 
-    def _paste_face(self, luma: np.ndarray, params: np.ndarray) -> None:
+    def _paste_face(self, luma: np.ndarray, params: np.ndarray, luma_only=False) -> None:
         """The face's pixels from the description's picture into `luma`; its chroma kept for
         `render` to paste after the scene's chroma (a face box at an odd corner keeps the
-        scene's chroma that frame)."""
+        scene's chroma that frame), not drawn for a `luma_only` picture."""
         import cv2
 
         width, height = self.size
@@ -345,7 +359,7 @@ class SceneRenderer:
             return
         box = luma[y0 : y0 + h, x0 : x0 + w]
         box[mask] = patch[mask]
-        if x0 % 2 or y0 % 2 or h < 2 or w < 2:
+        if x0 % 2 or y0 % 2 or h < 2 or w < 2 or luma_only:
             return
         map_x, map_y, picture = self._last_face
         h2, w2 = h // 2 * 2, w // 2 * 2
