@@ -23,6 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 from uma.mbc.errors import SceneError
+from uma.mbc.fill_kernels import pull_level, settle
 
 __all__ = [
     "BODY_NAMES",
@@ -229,9 +230,10 @@ def fill_unknown(plane: np.ndarray, known: np.ndarray, edge: str | None = None) 
     filled = np.where(w > 1e-6, v / np.maximum(w, 1e-6), float(values.sum() / weight.sum()))
     for v, w in reversed(levels[:-1]):
         up = cv2.resize(filled, (v.shape[1], v.shape[0]), interpolation=cv2.INTER_LINEAR)
-        trust = np.clip(w, 0.0, 1.0)
-        filled = trust * (v / np.maximum(w, 1e-6)) + (1.0 - trust) * up
-    out = np.where(known, plane, np.clip(np.rint(filled), 0, 255)).astype(plane.dtype)
+        filled = np.empty_like(v)  # t (v / max(w, 1e-6)) + (1 - t) up, t = clip(w, 0, 1)
+        pull_level(v, w, up, np.float32(1e-6), filled)
+    out = np.empty_like(plane)  # plane where known, else rint(filled) clipped to 0-255
+    settle(np.ascontiguousarray(plane), known, filled, out)
     return _continue_edges(out, known, EDGE_FILL if edge is None else edge)
 
 
