@@ -130,3 +130,20 @@ def test_a_luma_only_mirror_draws_and_learns_the_receivers_luma(moved, head) -> 
         assert np.array_equal(mirror.plate.picture[:288], full.plate.picture[:288])
         assert np.array_equal(mirror.plate.known, full.plate.known)
     assert not np.array_equal(mirror.plate.picture[288:], full.plate.picture[288:])
+
+
+def test_the_outline_box_from_the_mask_is_the_box_of_its_pixels() -> None:
+    """`soften_outline` takes the person's box from the mask itself (no list of its pixels):
+    the same rectangle as from `findNonZero`'s pixels, and empty for an empty mask."""
+    import cv2
+
+    rng = np.random.default_rng(11)
+    for _ in range(50):
+        height, width = rng.integers(1, 120, 2)
+        mask = np.zeros((height, width), np.uint8)
+        for _ in range(rng.integers(0, 4)):
+            y, x = rng.integers(0, height), rng.integers(0, width)
+            mask[y : y + rng.integers(1, 30), x : x + rng.integers(1, 30)] = 1
+        points = cv2.findNonZero(mask)
+        want = (0, 0, 0, 0) if points is None else cv2.boundingRect(points)
+        assert cv2.boundingRect(mask) == want
