@@ -98,3 +98,52 @@ def test_the_kept_torso_draws_what_a_fresh_renderer_draws(moved) -> None:
         assert np.array_equal(got[:288], want[:288])
         if not luma_only:
             assert np.array_equal(got, want)
+
+
+def test_a_luma_only_mirror_draws_and_learns_the_receivers_luma(moved, head) -> None:
+    """The engine's luma-only mirror against a full receiver through refreshes (a box pasted
+    on each one's own drawing, the plate learning it, the camera moving the plate) and the
+    description's face: every drawing's luma and face, and the plate's luma, the same."""
+    import cv2
+
+    renderer, sets = moved
+    full, mirror = renderer(), renderer()
+    mirror.set_luma_only()
+    mirror.set_reference(full.reference, full.reference_params)  # its first one, luma only
+    full.set_reference(full.reference, full.reference_params)
+    for step, k in enumerate((5, 9, 11)):
+        params, light, body = sets[step]
+        frame = cv2.cvtColor(head.render_bgr(k), cv2.COLOR_BGR2YUV_I420)
+        fresh = np.zeros((288, 352), bool)
+        fresh[40 + 8 * step : 200, 100 : 260 - 10 * step] = True
+        for drawn in (full, mirror):
+            picture = drawn.render(params, light, body)[0].copy()
+            picture[:288][fresh] = frame[:288][fresh]
+            drawn.set_reference(picture, params, fresh, np.array([1.0 * step, -0.5]))
+            drawn.set_face_source(step == 1)
+        for params, light, body in sets:
+            want, want_face = full.render(params, light, body)
+            for _ in range(2):  # drawn, then from the memo
+                got, face = mirror.render(params, light, body)
+                assert np.array_equal(got[:288], want[:288])
+                assert np.array_equal(face, want_face)
+        assert np.array_equal(mirror.plate.picture[:288], full.plate.picture[:288])
+        assert np.array_equal(mirror.plate.known, full.plate.known)
+    assert not np.array_equal(mirror.plate.picture[288:], full.plate.picture[288:])
+
+
+def test_the_outline_box_from_the_mask_is_the_box_of_its_pixels() -> None:
+    """`soften_outline` takes the person's box from the mask itself (no list of its pixels):
+    the same rectangle as from `findNonZero`'s pixels, and empty for an empty mask."""
+    import cv2
+
+    rng = np.random.default_rng(11)
+    for _ in range(50):
+        height, width = rng.integers(1, 120, 2)
+        mask = np.zeros((height, width), np.uint8)
+        for _ in range(rng.integers(0, 4)):
+            y, x = rng.integers(0, height), rng.integers(0, width)
+            mask[y : y + rng.integers(1, 30), x : x + rng.integers(1, 30)] = 1
+        points = cv2.findNonZero(mask)
+        want = (0, 0, 0, 0) if points is None else cv2.boundingRect(points)
+        assert cv2.boundingRect(mask) == want

@@ -133,12 +133,13 @@ def _coder(clip, results, spec, budget_kbps, size):
     return coder, corners
 
 
-def _renderer(clip, results, spec, size, profile):
-    """The receiver's renderer (and the encoder's mirror of it) before any refresh, as the
-    codec's `profile` (the `engine.mbc` section) describes it."""
+def _renderer(clip, results, spec, size, profile, luma_only=False):
+    """The receiver's renderer (and the encoder's mirror of it, `luma_only`) before any
+    refresh, as the codec's `profile` (the `engine.mbc` section) describes it."""
     from uma.mbc.profile import profile_renderer
 
     out = profile_renderer(clip.description, size, profile)
+    out.set_luma_only(luma_only)
     if results[0]:
         out.set_reference(clip.frames[0], results[0].params)
     out.set_face_source(spec.description_face)
@@ -198,6 +199,7 @@ class _Sender:
         self.units, self.pictures, self.adopted, self.current = [], {}, set(), -1
         self.seconds = [0.0, 0.0]  # wall, CPU spent coding (and, for a residual, `ahead`)
         self.judge_seconds = [0.0, 0.0]  # wall, CPU spent judging (the mirror's drawing)
+        self.mirror_seconds = [0.0, 0.0]  # wall, CPU the mirror spent taking refreshes
         self._serving, self._scheduled = None, -1
 
     def schedule(self):
@@ -280,8 +282,10 @@ def _engine(clip, results, face_units, stream_config, sender, mirror):
         taken = sender.due(index, decoded)
         if taken:
             switches[index] = [(k, decoded[sender.units[k].frame]) for k in taken]
+            begin, cpu = time.perf_counter(), time.process_time()
             for k, values in switches[index]:
                 take_refresh(mirror, face_units, values, sender.pictures[k])
+            _add(sender.mirror_seconds, begin, cpu)
         values = None
         if result:
             frame = clip.frames[index]
@@ -327,7 +331,7 @@ def refresh_display(
         coder, corners = _coder(clip, results, spec, budget_kbps, size)
     ahead = _renderer(clip, results, spec, size, profile) if spec.region == "residual" else None
     sender = _Sender(clip, face_units, spec, coder, corners, budget_kbps, ahead)
-    mirror = _renderer(clip, results, spec, size, profile)
+    mirror = _renderer(clip, results, spec, size, profile, luma_only=True)
     packets, decoded, switches = _engine(clip, results, face_units, stream_config, sender, mirror)
     if coder is not None:
         coder.close()  # one SVT-AV1 encoder open at a time in a process
@@ -337,20 +341,24 @@ def refresh_display(
     )
     seconds = len(frames) / clip.fps
     params_kbps = sum(p.size_bytes for p in packets) * 8 / seconds / 1000.0
-    units = sender.units
-    flag_bits = len(units) if spec.choose else 0
+    units, flag_bits = sender.units, len(sender.units) if spec.choose else 0
     refresh_kbps = (sum(u.size_bits for u in units) + flag_bits) / seconds / 1000.0
     info = _info(spec, budget_kbps, params_kbps, refresh_kbps, units, sender.adopted, switches)
-    # The engine's mirror and the receiver took the same refreshes: the same picture at the end.
-    info["mirror_is_receiver"] = bool(np.array_equal(mirror.reference, receiver.reference))
+    # The engine's mirror (luma only) and the receiver took the same refreshes: the same luma.
+    same = np.array_equal(mirror.reference[: size[1]], receiver.reference[: size[1]])
+    info["mirror_is_receiver"] = bool(same)
     # Encoding and decoding the refresh pictures (for a residual, the engine's rendering it is
     # coded against), and the receiver's taking them (the composition), per frame of the clip:
     # the model path's refresh share.
-    # The engine's judging (its mirror's drawing of the frame) is counted too, and apart.
-    wall, cpu = (sender.seconds[k] + sender.judge_seconds[k] for k in (0, 1))
+    # The engine's judging (its mirror's drawing) is counted too, and apart, and so is its
+    # mirror taking each refresh the receiver takes.
+    spent = (sender.seconds, sender.judge_seconds, sender.mirror_seconds)
+    wall, cpu = (sum(s[k] for s in spent) for k in (0, 1))
     info["ms_per_frame"] = round((wall + switch_s) * 1000.0 / len(frames), 3)
     info["cpu_ms_per_frame"] = round((cpu + switch_cpu_s) * 1000.0 / len(frames), 3)
     info["judge_ms_per_frame"] = round(sender.judge_seconds[0] * 1000.0 / len(frames), 3)
+    info["mirror_take_ms_per_frame"] = round(sender.mirror_seconds[0] * 1000.0 / len(frames), 3)
+    info["receiver_take_ms_per_frame"] = round(switch_s * 1000.0 / len(frames), 3)
     return shown, params_kbps + refresh_kbps, info
 
 

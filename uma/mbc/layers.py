@@ -23,6 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 from uma.mbc.errors import SceneError
+from uma.mbc.fill_kernels import pull_level, settle
 
 __all__ = [
     "BODY_NAMES",
@@ -229,9 +230,10 @@ def fill_unknown(plane: np.ndarray, known: np.ndarray, edge: str | None = None) 
     filled = np.where(w > 1e-6, v / np.maximum(w, 1e-6), float(values.sum() / weight.sum()))
     for v, w in reversed(levels[:-1]):
         up = cv2.resize(filled, (v.shape[1], v.shape[0]), interpolation=cv2.INTER_LINEAR)
-        trust = np.clip(w, 0.0, 1.0)
-        filled = trust * (v / np.maximum(w, 1e-6)) + (1.0 - trust) * up
-    out = np.where(known, plane, np.clip(np.rint(filled), 0, 255)).astype(plane.dtype)
+        filled = np.empty_like(v)  # t (v / max(w, 1e-6)) + (1 - t) up, t = clip(w, 0, 1)
+        pull_level(v, w, up, np.float32(1e-6), filled)
+    out = np.empty_like(plane)  # plane where known, else rint(filled) clipped to 0-255
+    settle(np.ascontiguousarray(plane), known, filled, out)
     return _continue_edges(out, known, EDGE_FILL if edge is None else edge)
 
 
@@ -265,7 +267,9 @@ def _continue_edges(filled: np.ndarray, known: np.ndarray, edge: str, band_px: i
 
 class Plate:
     """The background the receiver knows: a YUV 4:2:0 picture, the mask of its pixels seen
-    outside the person, and the same picture with the rest filled (`picture`)."""
+    outside the person, and the same picture with the rest filled (`picture`). A `luma_only`
+    plate (an engine's mirror, which reads luma only) learns and fills no chroma: its chroma
+    planes stay mid-grey, its luma is the same as a full plate's."""
 
     def __init__(self, size: tuple[int, int]) -> None:
         width, height = size
@@ -274,6 +278,7 @@ class Plate:
         self.seen = np.full((height * 3 // 2, width), 128, np.uint8)
         self.picture = self.seen.copy()
         self.reason = "no plate yet"
+        self.luma_only = False
 
     def update(
         self, picture: np.ndarray, person: np.ndarray, fresh: np.ndarray | None = None
@@ -311,7 +316,9 @@ class Plate:
         self.picture = np.empty_like(self.seen)
         self.picture[:height] = fill_unknown(self.seen[:height], self.known)
         filled = self.picture[height:].reshape(2, height // 2, width // 2)
-        for k in range(2):
+        if self.luma_only:
+            filled[:] = 128
+        for k in range(0 if self.luma_only else 2):
             seen[k][chroma_out] = new[k][chroma_out]
             filled[k] = fill_unknown(seen[k], known_chroma, EDGE_FILL_CHROMA)
         self.reason = reason

@@ -63,10 +63,9 @@ def soften_outline(
     import cv2
 
     height = person.shape[0]
-    points = cv2.findNonZero(person.view(np.uint8))
-    if points is None or out.shape[0] != height * 3 // 2:
+    rect = cv2.boundingRect(person.view(np.uint8))  # of the mask's pixels: no list of them
+    if rect[2] == 0 or out.shape[0] != height * 3 // 2:
         return
-    rect = cv2.boundingRect(points)
     band_px = outline_band_px(moved_px, rect[2])
     if band_px < 1:
         return

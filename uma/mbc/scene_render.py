@@ -24,7 +24,7 @@ import numpy as np
 from uma.face.describe import ContentDescription
 from uma.face.scene import HEAD_RING_SCALE, SceneMesh
 from uma.mbc.errors import SceneError
-from uma.mbc.layered_kernels import FAR_OUTSIDE_MAP, STILL_MAP, relight, triangle_maps
+from uma.mbc.layered_kernels import FAR_OUTSIDE_MAP, STILL_MAP, relight_face, triangle_maps
 from uma.mbc.layered_render import compose_layers, mask_box
 from uma.mbc.layers import Plate, body_problem, cut_person, head_ring_points
 from uma.mbc.render_memo import RenderMemo
@@ -124,6 +124,7 @@ class SceneRenderer:
         self._face_chroma = None
         self._last_face = None
         self._memo = RenderMemo()  # cleared by every new reference and face source
+        self.luma_only = False  # `set_luma_only`
         self.set_reference(*description_reference(description, self.size))
         # The description's picture is mid-grey around its texture: not background anyone saw.
         # The first real reference replaces that plate instead of being laid over it (the grey
@@ -181,6 +182,15 @@ class SceneRenderer:
         self._memo.clear()
         if use_description:
             self._face_source = description_reference(self.description, self.size)
+
+    def set_luma_only(self, luma_only: bool = True) -> None:
+        """Draw luma only from now on (an engine's mirror: everything it decides reads luma);
+        every picture's luma is the one a full renderer draws, its chroma left undrawn, and
+        its plate learns no chroma. Set before the first `set_reference` that matters."""
+        self.luma_only = bool(luma_only)
+        self._memo.clear()
+        if self.plate is not None:
+            self.plate.luma_only = self.luma_only
 
     def _drawn(self, target: np.ndarray) -> np.ndarray:
         """Triangles to draw: the face's front-facing ones and every background strip (a strip
@@ -267,7 +277,9 @@ class SceneRenderer:
 
         params = self._checked(params, body)
         width, height = self.size
-        kept = None if luma_only else self._memo.get(params, light, body)
+        luma_only = luma_only or self.luma_only  # a luma-only renderer's memo holds luma only
+        memo = not luma_only or self.luma_only
+        kept = self._memo.get(params, light, body) if memo else None
         if kept is not None:
             return kept
         if self.layered:
@@ -277,9 +289,11 @@ class SceneRenderer:
             out = stretched(self.reference, (self._u, self._v), map_x, map_y)
         luma = out[:height]
         if self._face_source is not None:
-            self._paste_face(luma, params)  # before the light: the pasted face is relit too
+            self._paste_face(
+                luma, params, luma_only
+            )  # before the light: the pasted face is relit too
         if light is not None:
-            _relight(luma, face, _checked_light(light))
+            relight_face(luma, face, _checked_light(light), LIGHT_FEATHER_OF_FACE)
         chroma = out[height:].reshape(2, height // 2, width // 2)
         if self._face_source is not None and self._face_chroma is not None and not luma_only:
             (x0, y0), mask, planes = self._face_chroma
@@ -287,7 +301,7 @@ class SceneRenderer:
                 h, w = patch.shape
                 box = plane[y0 : y0 + h, x0 : x0 + w]
                 box[mask] = patch[mask]
-        if not luma_only:
+        if memo:
             self._memo.put(params, light, body, out, face)
         return out, face
 
@@ -331,10 +345,10 @@ class SceneRenderer:
             return None
         return self.plate.picture if self.plate.known.any() else self.reference
 
-    def _paste_face(self, luma: np.ndarray, params: np.ndarray) -> None:
+    def _paste_face(self, luma: np.ndarray, params: np.ndarray, luma_only=False) -> None:
         """The face's pixels from the description's picture into `luma`; its chroma kept for
         `render` to paste after the scene's chroma (a face box at an odd corner keeps the
-        scene's chroma that frame)."""
+        scene's chroma that frame), not drawn for a `luma_only` picture."""
         import cv2
 
         width, height = self.size
@@ -345,7 +359,7 @@ class SceneRenderer:
             return
         box = luma[y0 : y0 + h, x0 : x0 + w]
         box[mask] = patch[mask]
-        if x0 % 2 or y0 % 2 or h < 2 or w < 2:
+        if x0 % 2 or y0 % 2 or h < 2 or w < 2 or luma_only:
             return
         map_x, map_y, picture = self._last_face
         h2, w2 = h // 2 * 2, w // 2 * 2
@@ -358,32 +372,6 @@ class SceneRenderer:
             for plane in planes
         ]  # fmt: skip
         self._face_chroma = ((x0 // 2, y0 // 2), mask[0:h2:2, 0:w2:2], chroma)
-
-
-def _relight(luma: np.ndarray, face: np.ndarray, light: tuple[float, float]) -> None:
-    """The face's pixels of `luma` (in place) times the gain plus the offset, over the face's
-    box only; with `LIGHT_FEATHER_OF_FACE`, the light fades out over that share of the face's
-    width beyond its edge (a relit face beside a head ring that is not shows a step where the
-    mesh ends: a seam across the hair)."""
-    import cv2
-
-    x, y, w, h = cv2.boundingRect(face.view(np.uint8))
-    if w == 0 or h == 0:
-        return
-    gain, offset = light
-    feather = int(round(LIGHT_FEATHER_OF_FACE * w))
-    if feather < 1:
-        box, inside = luma[y : y + h, x : x + w], face[y : y + h, x : x + w]
-        lit = box[inside].astype(np.float32) * gain + offset
-        box[inside] = np.clip(np.rint(lit), 0, 255).astype(np.uint8)
-        return
-    height, width = luma.shape
-    x0, y0 = max(x - feather, 0), max(y - feather, 0)
-    x1, y1 = min(x + w + feather, width), min(y + h + feather, height)
-    inside = face[y0:y1, x0:x1]
-    outside_px = cv2.distanceTransform((~inside).view(np.uint8), cv2.DIST_L2, 3)
-    steps = np.float32(feather), np.float32(gain - 1.0), np.float32(offset)
-    relight(luma[y0:y1, x0:x1], outside_px, *steps)  # a + w (a (gain - 1) + offset), compiled
 
 
 def _checked_light(light) -> tuple[float, float]:

@@ -119,6 +119,7 @@ class MbcPointEncoder:
     def _make_mirror(self) -> None:
         size = (self.width, self.height)
         self.mirror = scene_renderer(self.description, size, self.mbc, layered=self.layered)
+        self.mirror.set_luma_only(True)  # everything the encoder decides reads luma
 
     def take_refresh(self, values: np.ndarray, picture, *, refresh_frame: int) -> None:
         """The receiver took refresh `refresh_frame`, its decoded `picture`
