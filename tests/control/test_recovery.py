@@ -78,3 +78,16 @@ def test_a_spurious_silence_undone_needs_no_recovery_probe():
     assert decision.probe is None or decision.probe.rate_kbps == pytest.approx(2.0 * before)
     controller.on_report(_report(2400.0, 2500.0, train_kbps=60.0))
     assert controller.capacity_kbps < 60.0 * 0.6  # no measurement taken whole
+
+
+def test_no_recovery_probe_while_the_link_still_holds_a_backlog_nor_a_backlogged_measurement():
+    """Packets that queued 200 ms (a backlog draining): no recovery probe yet; the first
+    report with no backlog asks for it; a measurement whose report shows a backlog again is
+    only weighed as ever."""
+    controller, before = _cut(True)
+    assert controller.on_report(_report(2300.0, 2400.0, queue_ms=(200.0,))).probe is None
+    decision = controller.on_report(_report(2400.0, 2500.0))
+    assert decision.probe is not None
+    assert decision.probe.rate_kbps == pytest.approx(2.0 * before)
+    controller.on_report(_report(2500.0, 2600.0, train_kbps=60.0, queue_ms=(200.0,)))
+    assert controller.capacity_kbps < 0.6 * before

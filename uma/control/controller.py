@@ -33,11 +33,12 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
   the first report with packets after it shows they met no queue and none was lost, the
   silence was a lost report and the cut is undone (never after a handover: a new path's first
   packets define its base delay, so meet none);
-- **recovery** (`recover_after_silence`, off by default): otherwise the first report with
-  packets after a cut asks for a probe sized for the estimate before the cut (at most the
-  prior of a technology the report names anew), and the next train measurement is taken
-  whole, up to that estimate (GCC's probe after a large drop), rather than weighed by the
-  little time a thin stream's trains measure;
+- **recovery** (`recover_after_silence`, off by default): otherwise the first report after a
+  cut whose packets met less than `queue_target_ms` of queue and no loss asks for a probe
+  sized for the estimate before the cut (at most the prior of a technology named anew), and
+  the next train measurement, if its report shows no backlog either, is taken whole up to
+  that estimate (GCC's probe after a large drop) rather than weighed by the little time a
+  thin stream's trains measure;
 - **handover**: the new technology's prior (`priors_kbps`) can only lower the capacity estimate,
   so a trace with no labelled handovers never sees it and a wrong prior costs one
   measurement's time, never a standing queue;
@@ -169,7 +170,7 @@ class UmaController:
             if self._probe_pending:
                 weight = max(weight, s.probe_weight)
             self.capacity_kbps += weight * (report.capacity_kbps - self.capacity_kbps)
-            self._recovered(report.capacity_kbps)
+            self._recovered(report)
             self._last_train_ms = now_ms
             self._probe_pending = False
         if report.queue_delay_ms:
@@ -188,27 +189,37 @@ class UmaController:
         probe = self._recovery_probe(report, technology, now_ms)
         return RateDecision(self.target_kbps, probe or self._probe(report, now_ms), reason)
 
-    def _recovered(self, measured_kbps: float) -> None:
+    def _clear(self, report: DeliveryReport) -> bool:
+        """The report's packets met less than `queue_target_ms` of queue and none was lost:
+        the link delivers again with no backlog."""
+        queue_ms = report.queue_delay_ms
+        return bool(queue_ms) and min(queue_ms) < self.settings.queue_target_ms and not report.lost
+
+    def _recovered(self, report: DeliveryReport) -> None:
         """A train measurement while a recovery probe is out: taken whole, up to the probe's
-        rate (never lowering what the usual weighing gave)."""
-        if self._recovering_kbps is not None:
-            taken_kbps = min(measured_kbps, self._recovering_kbps)
-            self.capacity_kbps = max(self.capacity_kbps, taken_kbps)
+        rate (never lowering what the usual weighing gave), if the report shows no backlog
+        and no loss (else the usual weighing alone)."""
+        if self._recovering_kbps is not None and report.capacity_kbps is not None:
+            if self._clear(report):
+                taken_kbps = min(report.capacity_kbps, self._recovering_kbps)
+                self.capacity_kbps = max(self.capacity_kbps, taken_kbps)
             self._recovering_kbps = None
 
     def _recovery_probe(
         self, report: DeliveryReport, technology: str, now_ms: float
     ) -> ProbeRequest | None:
-        """After a silence cut, the first report with packets (the link delivers again):
-        a probe sized for the estimate before the cut, capped by the prior of a technology
-        the report names anew; none if the estimate is back there already."""
-        s = self.settings
-        if self._recover_kbps is None or not report.packets:
+        """After a silence cut, the first report whose packets met no backlog and no loss
+        (the link delivers again, drained): a probe sized for the estimate before the cut,
+        capped by the prior of a technology named anew since; none if the estimate is back
+        there already."""
+        if self._recover_kbps is None:
             return None
-        rate_kbps, self._recover_kbps = self._recover_kbps, None
-        prior = s.priors_kbps.get(technology) if technology else None
+        prior = self.settings.priors_kbps.get(technology) if technology else None
         if prior is not None:
-            rate_kbps = min(rate_kbps, prior)
+            self._recover_kbps = min(self._recover_kbps, prior)
+        if not self._clear(report):
+            return None  # wait for a report with no backlog (none: `on_silence` cuts again)
+        rate_kbps, self._recover_kbps = self._recover_kbps, None
         if rate_kbps <= self.capacity_kbps:
             return None
         self._recovering_kbps = rate_kbps
@@ -301,6 +312,8 @@ class UmaController:
         reason = "handover"
         if prior is not None and self._recovering_kbps is not None:
             self._recovering_kbps = min(self._recovering_kbps, prior)
+        if prior is not None and self._recover_kbps is not None:
+            self._recover_kbps = min(self._recover_kbps, prior)
         if prior is not None and prior < self.capacity_kbps:
             self.capacity_kbps = prior
             reason = "handover prior"
