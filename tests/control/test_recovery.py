@@ -18,14 +18,15 @@ def _report(start_ms, end_ms, *, bits=2_000, queue_ms=(40.0,), train_kbps=None):
     )  # fmt: skip
 
 
-def _cut(recover: bool) -> tuple[UmaController, float]:
-    """A controller at 24 kbit/s measured, a thin 20 kbit/s stream, then 250 ms of silence."""
+def _cut(recover: bool, *, bits: int = 1_000) -> tuple[UmaController, float]:
+    """A controller at 24 kbit/s measured, a thin 10 kbit/s stream (application-limited),
+    then 250 ms of silence; returns it and the capacity before the cut."""
     controller = UmaController(UmaSettings(initial_kbps=24.0, recover_after_silence=recover))
     for k in range(20):
-        controller.on_report(_report(100.0 * k, 100.0 * (k + 1), queue_ms=(2.0,)))
+        controller.on_report(_report(100.0 * k, 100.0 * (k + 1), bits=bits, queue_ms=(2.0,)))
     before = controller.capacity_kbps
     assert controller.on_silence(2250.0).reason == "silence"
-    assert controller.capacity_kbps == pytest.approx(5.0)  # 20 x 0.25
+    assert controller.capacity_kbps == pytest.approx(max(bits / 100.0 * 0.25, 5.0))
     return controller, before
 
 
@@ -37,11 +38,11 @@ def test_after_a_cut_a_probe_for_the_estimate_before_it_and_its_measurement_take
     controller, before = _cut(recover)
     decision = controller.on_report(_report(2300.0, 2400.0))
     assert decision.probe is not None
-    expected = before if recover else controller.capacity_kbps
+    expected = 0.85 * before if recover else controller.capacity_kbps
     assert decision.probe.rate_kbps == pytest.approx(2.0 * expected)
     controller.on_report(_report(2400.0, 2500.0, train_kbps=60.0))
     if recover:
-        assert controller.capacity_kbps == pytest.approx(before)  # 60 measured, capped
+        assert controller.capacity_kbps == pytest.approx(0.85 * before)  # 60 measured, capped
     else:
         assert controller.capacity_kbps < 0.6 * before  # one train of 50 ms weighs 0.15
 
@@ -88,6 +89,17 @@ def test_no_recovery_probe_while_the_link_still_holds_a_backlog_nor_a_backlogged
     assert controller.on_report(_report(2300.0, 2400.0, queue_ms=(200.0,))).probe is None
     decision = controller.on_report(_report(2400.0, 2500.0))
     assert decision.probe is not None
-    assert decision.probe.rate_kbps == pytest.approx(2.0 * before)
+    assert decision.probe.rate_kbps == pytest.approx(2.0 * 0.85 * before)
     controller.on_report(_report(2500.0, 2600.0, train_kbps=60.0, queue_ms=(200.0,)))
     assert controller.capacity_kbps < 0.6 * before
+
+
+def test_no_recovery_for_a_stream_that_filled_its_estimate_nor_long_after_the_cut():
+    """20 of 24 kbit/s arriving is not application-limited: the cut stands as before. A
+    thin stream's first clear report 6 s after its cut is too late for a recovery probe."""
+    controller, _ = _cut(True, bits=2_000)
+    decision = controller.on_report(_report(2300.0, 2400.0))
+    assert decision.probe is None or decision.probe.rate_kbps == pytest.approx(10.0)
+    controller, _ = _cut(True)
+    decision = controller.on_report(_report(8200.0, 8300.0))
+    assert decision.probe is None or decision.probe.rate_kbps == pytest.approx(10.0)

@@ -33,12 +33,13 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
   the first report with packets after it shows they met no queue and none was lost, the
   silence was a lost report and the cut is undone (never after a handover: a new path's first
   packets define its base delay, so meet none);
-- **recovery** (`recover_after_silence`, off by default): otherwise the first report after a
-  cut whose packets met less than `queue_target_ms` of queue and no loss asks for a probe
-  sized for the estimate before the cut (at most the prior of a technology named anew), and
-  the next train measurement, if its report shows no backlog either, is taken whole up to
-  that estimate (GCC's probe after a large drop) rather than weighed by the little time a
-  thin stream's trains measure;
+- **recovery** (`recover_after_silence`, off by default): a cut of an application-limited
+  stream (received below `alr_fraction` of the capacity) is followed, at the first report
+  within `recover_window_ms` whose packets met less than `queue_target_ms` of queue and no
+  loss, by a probe sized for `recover_fraction` of the estimate before the cut (at most the
+  prior of a technology named anew), and the next train measurement, if its report shows no
+  backlog either, is taken whole up to that rate (GCC's probe after a large drop) rather than
+  weighed by the little time a thin stream's trains measure;
 - **handover**: the new technology's prior (`priors_kbps`) can only lower the capacity estimate,
   so a trace with no labelled handovers never sees it and a wrong prior costs one
   measurement's time, never a standing queue;
@@ -91,6 +92,8 @@ class UmaSettings:
     max_skip_ms: float = 1000.0
     silence_factor: float = 0.25
     recover_after_silence: bool = False
+    recover_fraction: float = 0.85
+    recover_window_ms: float = 5000.0
     priors_kbps: Mapping[str, float] = field(default_factory=lambda: DEFAULT_PRIORS_KBPS)
 
     def __post_init__(self) -> None:
@@ -99,7 +102,14 @@ class UmaSettings:
                 "UmaSettings: expected 0 < min_kbps <= initial_kbps <= max_kbps, got "
                 f"{self.min_kbps}, {self.initial_kbps}, {self.max_kbps}"
             )
-        for name in ("headroom", "beta", "alr_fraction", "silence_factor", "probe_weight"):
+        for name in (
+            "headroom",
+            "beta",
+            "alr_fraction",
+            "silence_factor",
+            "probe_weight",
+            "recover_fraction",
+        ):
             if not 0 < getattr(self, name) <= 1:
                 raise ValueError(
                     f"UmaSettings.{name}: expected in (0, 1], got {getattr(self, name)}"
@@ -141,6 +151,7 @@ class UmaController:
         self._overdue = False  # the last report was empty with a packet overdue
         self._recover_kbps: float | None = None  # a cut's capacity before it, to probe for
         self._recovering_kbps: float | None = None  # a recovery probe's rate, out
+        self._recover_until_ms = float("-inf")  # no recovery probe after this
 
     def _reset_trend(self) -> None:
         self.groups = InterArrival()
@@ -213,6 +224,9 @@ class UmaController:
         capped by the prior of a technology named anew since; none if the estimate is back
         there already."""
         if self._recover_kbps is None:
+            return None
+        if report.end_ms > self._recover_until_ms:
+            self._recover_kbps = None  # too long after the cut: the link may have changed
             return None
         prior = self.settings.priors_kbps.get(technology) if technology else None
         if prior is not None:
@@ -290,8 +304,13 @@ class UmaController:
         if quiet_ms is not None and quiet_ms >= (self._silences + 1) * s.silence_ms:
             if self._before_silence is None:
                 self._before_silence = self.capacity_kbps
-            if s.recover_after_silence and self._recover_kbps is None:
-                self._recover_kbps = max(self.capacity_kbps, self._recovering_kbps or 0.0)
+            limited = self.received_kbps is not None and (
+                self.received_kbps < s.alr_fraction * self.capacity_kbps
+            )
+            if s.recover_after_silence and self._recover_kbps is None and limited:
+                pre_cut_kbps = s.recover_fraction * self.capacity_kbps
+                self._recover_kbps = max(pre_cut_kbps, self._recovering_kbps or 0.0)
+                self._recover_until_ms = now_ms + s.recover_window_ms
                 self._recovering_kbps = None
             base = self.capacity_kbps
             if self.received_kbps is not None:
