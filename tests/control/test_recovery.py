@@ -103,10 +103,3 @@ def test_no_recovery_for_a_stream_that_filled_its_estimate_nor_long_after_the_cu
     controller, _ = _cut(True)
     decision = controller.on_report(_report(8200.0, 8300.0))
     assert decision.probe is None or decision.probe.rate_kbps == pytest.approx(10.0)
-
-
-def test_no_recovery_probe_when_the_streams_own_trains_measure_the_link():
-    controller, before = _cut(True)
-    decision = controller.on_report(_report(2300.0, 2400.0, train_kbps=30.0))
-    assert decision.probe is None
-    assert controller.capacity_kbps < 0.6 * before  # weighed as ever

@@ -36,7 +36,7 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
 - **recovery** (`recover_after_silence`, off by default): a cut of an application-limited
   stream (received below `alr_fraction` of the capacity) is followed, at the first report
   within `recover_window_ms` whose packets met less than `queue_target_ms` of queue and no
-  loss and made no train (a stream whose own trains measure the link needs none), by a probe sized for `recover_fraction` of the estimate before the cut (at most the
+  loss, by a probe sized for `recover_fraction` of the estimate before the cut (at most the
   prior of a technology named anew), and the next train measurement, if its report shows no
   backlog either, is taken whole up to that rate (GCC's probe after a large drop) rather than
   weighed by the little time a thin stream's trains measure;
@@ -233,9 +233,6 @@ class UmaController:
             self._recover_kbps = min(self._recover_kbps, prior)
         if not self._clear(report):
             return None  # wait for a report with no backlog (none: `on_silence` cuts again)
-        if report.capacity_kbps is not None:
-            self._recover_kbps = None  # the stream's own trains measure the link
-            return None
         rate_kbps, self._recover_kbps = self._recover_kbps, None
         if rate_kbps <= self.capacity_kbps:
             return None
