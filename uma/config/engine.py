@@ -49,6 +49,10 @@ class EstimatorConfig(Section):
     baseline written from the published description (`uma.control.GccController`); `webrtc`:
     aiortc's port of webrtc.org's receiver-side estimator carried back as a REMB. The old
     estimator's tuning keys are retired (`uma.config.retired`).
+
+    `recover_after_silence` (`uma` only; off, today's behaviour): after a silence cut, the
+    first report with packets asks for a probe sized for the estimate before the cut and its
+    measurement is taken whole (`uma.control.UmaSettings`; docs/rate-control.md, `rc11`).
     """
 
     initial_kbps: PosNum = 300.0
@@ -56,6 +60,7 @@ class EstimatorConfig(Section):
     max_kbps: PosNum = 20000.0
     # Which kind: `engine.estimator: gcc` is short for `engine.estimator: {kind: gcc}`.
     kind: EstimatorKind = "uma"
+    recover_after_silence: Bool = False
 
     @model_validator(mode="after")
     def _consistent(self) -> EstimatorConfig:

@@ -33,6 +33,13 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
   the first report with packets after it shows they met no queue and none was lost, the
   silence was a lost report and the cut is undone (never after a handover: a new path's first
   packets define its base delay, so meet none);
+- **recovery** (`recover_after_silence`, off by default): a cut of an application-limited
+  stream (received below `alr_fraction` of the capacity) is followed, at the first report
+  within `recover_window_ms` whose packets met less than `queue_target_ms` of queue and no
+  loss, by a probe sized for `recover_fraction` of the estimate before the cut (at most the
+  prior of a technology named anew), and the next train measurement, if its report shows no
+  backlog either, is taken whole up to that rate (GCC's probe after a large drop) rather than
+  weighed by the little time a thin stream's trains measure;
 - **handover**: the new technology's prior (`priors_kbps`) can only lower the capacity estimate,
   so a trace with no labelled handovers never sees it and a wrong prior costs one
   measurement's time, never a standing queue;
@@ -84,6 +91,9 @@ class UmaSettings:
     skip_budget_ms: float = 300.0
     max_skip_ms: float = 1000.0
     silence_factor: float = 0.25
+    recover_after_silence: bool = False
+    recover_fraction: float = 0.85
+    recover_window_ms: float = 5000.0
     priors_kbps: Mapping[str, float] = field(default_factory=lambda: DEFAULT_PRIORS_KBPS)
 
     def __post_init__(self) -> None:
@@ -92,7 +102,14 @@ class UmaSettings:
                 "UmaSettings: expected 0 < min_kbps <= initial_kbps <= max_kbps, got "
                 f"{self.min_kbps}, {self.initial_kbps}, {self.max_kbps}"
             )
-        for name in ("headroom", "beta", "alr_fraction", "silence_factor", "probe_weight"):
+        for name in (
+            "headroom",
+            "beta",
+            "alr_fraction",
+            "silence_factor",
+            "probe_weight",
+            "recover_fraction",
+        ):
             if not 0 < getattr(self, name) <= 1:
                 raise ValueError(
                     f"UmaSettings.{name}: expected in (0, 1], got {getattr(self, name)}"
@@ -132,6 +149,9 @@ class UmaController:
         self._base_ms: float | None = None  # the path's one-way delay with no queue
         self._last_arrival_ms = float("-inf")
         self._overdue = False  # the last report was empty with a packet overdue
+        self._recover_kbps: float | None = None  # a cut's capacity before it, to probe for
+        self._recovering_kbps: float | None = None  # a recovery probe's rate, out
+        self._recover_until_ms = float("-inf")  # no recovery probe after this
 
     def _reset_trend(self) -> None:
         self.groups = InterArrival()
@@ -140,12 +160,17 @@ class UmaController:
         self.usage = Usage.NORMAL
 
     def on_report(
-        self, report: DeliveryReport, *, due: tuple[float, int] | None = None
+        self,
+        report: DeliveryReport,
+        *,
+        due: tuple[float, int] | None = None,
+        technology: str = "",
     ) -> RateDecision:
         """One feedback report in; the target (and a probe when the link is unmeasured) out.
         `due`: (send stamp in ms, size in bits) of the oldest packet sent and not yet in any
         report (the sender knows it): a report with no packet while that one was due is
-        no news from the link (`_quiet_from`)."""
+        no news from the link (`_quiet_from`). `technology`: one the report names anew (its
+        prior caps a recovery probe; `on_handover` follows)."""
         s = self.settings
         now_ms = report.end_ms
         self._quiet_from(report, due)
@@ -156,6 +181,7 @@ class UmaController:
             if self._probe_pending:
                 weight = max(weight, s.probe_weight)
             self.capacity_kbps += weight * (report.capacity_kbps - self.capacity_kbps)
+            self._recovered(report)
             self._last_train_ms = now_ms
             self._probe_pending = False
         if report.queue_delay_ms:
@@ -171,7 +197,49 @@ class UmaController:
             if target < self.loss.bound_kbps * 1.0001 and report.loss_fraction > 0.1:
                 reason = "loss"
         self.target_kbps = self._bounded(target)
-        return RateDecision(self.target_kbps, self._probe(report, now_ms), reason)
+        probe = self._recovery_probe(report, technology, now_ms)
+        return RateDecision(self.target_kbps, probe or self._probe(report, now_ms), reason)
+
+    def _clear(self, report: DeliveryReport) -> bool:
+        """The report's packets met less than `queue_target_ms` of queue and none was lost:
+        the link delivers again with no backlog."""
+        queue_ms = report.queue_delay_ms
+        return bool(queue_ms) and min(queue_ms) < self.settings.queue_target_ms and not report.lost
+
+    def _recovered(self, report: DeliveryReport) -> None:
+        """A train measurement while a recovery probe is out: taken whole, up to the probe's
+        rate (never lowering what the usual weighing gave), if the report shows no backlog
+        and no loss (else the usual weighing alone)."""
+        if self._recovering_kbps is not None and report.capacity_kbps is not None:
+            if self._clear(report):
+                taken_kbps = min(report.capacity_kbps, self._recovering_kbps)
+                self.capacity_kbps = max(self.capacity_kbps, taken_kbps)
+            self._recovering_kbps = None
+
+    def _recovery_probe(
+        self, report: DeliveryReport, technology: str, now_ms: float
+    ) -> ProbeRequest | None:
+        """After a silence cut, the first report whose packets met no backlog and no loss
+        (the link delivers again, drained): a probe sized for the estimate before the cut,
+        capped by the prior of a technology named anew since; none if the estimate is back
+        there already."""
+        if self._recover_kbps is None:
+            return None
+        if report.end_ms > self._recover_until_ms:
+            self._recover_kbps = None  # too long after the cut: the link may have changed
+            return None
+        prior = self.settings.priors_kbps.get(technology) if technology else None
+        if prior is not None:
+            self._recover_kbps = min(self._recover_kbps, prior)
+        if not self._clear(report):
+            return None  # wait for a report with no backlog (none: `on_silence` cuts again)
+        rate_kbps, self._recover_kbps = self._recover_kbps, None
+        if rate_kbps <= self.capacity_kbps:
+            return None
+        self._recovering_kbps = rate_kbps
+        self._last_probe_ms = now_ms
+        self._probe_pending = True
+        return self._sized_probe(rate_kbps)
 
     def _quiet_from(self, report: DeliveryReport, due: tuple[float, int] | None) -> None:
         """Move the quiet clock: to the report's end, unless the report holds no packet while
@@ -236,6 +304,14 @@ class UmaController:
         if quiet_ms is not None and quiet_ms >= (self._silences + 1) * s.silence_ms:
             if self._before_silence is None:
                 self._before_silence = self.capacity_kbps
+            limited = self.received_kbps is not None and (
+                self.received_kbps < s.alr_fraction * self.capacity_kbps
+            )
+            if s.recover_after_silence and self._recover_kbps is None and limited:
+                pre_cut_kbps = s.recover_fraction * self.capacity_kbps
+                self._recover_kbps = max(pre_cut_kbps, self._recovering_kbps or 0.0)
+                self._recover_until_ms = now_ms + s.recover_window_ms
+                self._recovering_kbps = None
             base = self.capacity_kbps
             if self.received_kbps is not None:
                 base = min(base, max(self.received_kbps, s.min_kbps))
@@ -253,6 +329,10 @@ class UmaController:
         self._before_silence = None  # the silence was the handover's gap: no undoing it
         self._base_ms = None  # the new path's delay is not known yet
         reason = "handover"
+        if prior is not None and self._recovering_kbps is not None:
+            self._recovering_kbps = min(self._recovering_kbps, prior)
+        if prior is not None and self._recover_kbps is not None:
+            self._recover_kbps = min(self._recover_kbps, prior)
         if prior is not None and prior < self.capacity_kbps:
             self.capacity_kbps = prior
             reason = "handover prior"
@@ -282,9 +362,14 @@ class UmaController:
             return None
         self._last_probe_ms = now_ms
         self._probe_pending = True
-        # Small and few packets on a slow link, so that a probe queues about `probe_ms` there
-        # (a train needs two): five 100-byte packets would hold GSM's 9.6 kbit/s for 0.4 s.
-        total_bits = self.capacity_kbps * s.probe_ms
+        return self._sized_probe(self.capacity_kbps)
+
+    def _sized_probe(self, rate_kbps: float) -> ProbeRequest:
+        """Small and few packets on a slow link, so that a probe queues about `probe_ms` at
+        `rate_kbps` (a train needs two): five 100-byte packets would hold GSM's 9.6 kbit/s
+        for 0.4 s."""
+        s = self.settings
+        total_bits = rate_kbps * s.probe_ms
         packets = int(min(max(total_bits // s.probe_min_bits, 2), s.probe_packets))
         bits = int(min(max(total_bits / packets, s.probe_min_bits), s.packet_bits))
-        return ProbeRequest(2.0 * self.capacity_kbps, packets, bits)
+        return ProbeRequest(2.0 * rate_kbps, packets, bits)

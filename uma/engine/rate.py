@@ -172,7 +172,12 @@ class UmaRate(RateControl):
         super().__init__(config, feedback)
         cfg = config.estimator
         self.controller = UmaController(
-            UmaSettings(initial_kbps=cfg.initial_kbps, min_kbps=cfg.min_kbps, max_kbps=cfg.max_kbps)
+            UmaSettings(
+                initial_kbps=cfg.initial_kbps,
+                min_kbps=cfg.min_kbps,
+                max_kbps=cfg.max_kbps,
+                recover_after_silence=cfg.recover_after_silence,
+            )
         )
         self._report_ms: float | None = None  # the last report's end, on the receiver's clock
         self._report_s = 0.0  # when it arrived here
@@ -186,7 +191,11 @@ class UmaRate(RateControl):
         self.spacing.on_report(now_s)
         if report.delivery is not None:  # what arrived (over the old path, if it changed)
             due_ms = None if due is None else (due[0] * 1000.0, due[1])
-            decision: RateDecision = self.controller.on_report(report.delivery, due=due_ms)
+            named = report.technology
+            fresh = named if named and self.technology and named != self.technology else ""
+            decision: RateDecision = self.controller.on_report(
+                report.delivery, due=due_ms, technology=fresh
+            )
             self._report_ms, self._report_s = report.delivery.end_ms, now_s
             self._follow(report, decision.target_kbps, self.controller.queue_ms)
             probe = decision.probe
