@@ -27,7 +27,12 @@ SCRIPT = textwrap.dedent(
 
     # Only the kernels compiled for one signature on import are there before the bench.
     early = {name for name, sigs in kernel_signatures().items() if sigs}
-    assert early == {"uma.mbc.layered_kernels.affine_maps", "uma.mbc.layered_kernels.blend"}
+    assert early == {
+        "uma.mbc.layered_kernels.affine_maps", "uma.mbc.layered_kernels.blend",
+        "uma.mbc.layered_kernels.relight", "uma.mbc.block_kernels.block_sse",
+        "uma.mbc.block_kernels.accumulate", "uma.mbc.fill_kernels.pull_level",
+        "uma.mbc.fill_kernels.settle",
+    }
     scenario = Scenario.model_validate({
         "name": "wlan-gsm", "seed": 1,
         "source": {"kind": "talking-head", "width": 176, "height": 144, "fps": 25},

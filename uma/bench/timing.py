@@ -26,6 +26,8 @@ KERNEL_MODULES = (
     "uma.fit.photometry",
     "uma.face.raster_kernels",
     "uma.face.talking_head_kernels",
+    "uma.mbc.block_kernels",
+    "uma.mbc.fill_kernels",
     "uma.mbc.layered_kernels",
     "uma.metrics.ssim_kernel",
 )
