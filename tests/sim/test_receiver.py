@@ -173,22 +173,3 @@ def test_reports_carry_what_arrived_and_a_new_path_is_measured_afresh():
     arrive(3, 0.55, 0.90)  # after the change: the new path's delay is its base
     assert receiver.make_report(0.1).delivery.queue_delay_ms == (0.0,)
     assert receiver.settle_at_s == 0.5 + PATH_SETTLE_S
-
-
-def test_reports_are_numbered_and_carry_what_a_lost_one_held():
-    from uma.control.delivery import DeliveryTracker
-
-    receiver, clock, _, _ = make_receiver()
-    receiver.delivery = DeliveryTracker()
-    seq = deliver(receiver, clock, unit(0, 0, key=True), 0, 0.05)
-    first = receiver.make_report(0.1)
-    seq = deliver(receiver, clock, unit(1, 1), seq, 0.15)
-    lost = receiver.make_report(0.1)  # never reaches the sender
-    clock.t = 0.3
-    nxt = receiver.make_report(0.1)  # nothing arrived in its own interval
-    assert (first.seq, lost.seq, nxt.seq) == (0, 1, 2)
-    assert nxt.received_bits == 0 and lost.received_bits > 0
-    assert nxt.total_bits == first.received_bits + lost.received_bits
-    assert nxt.total_packets == first.packets_received + lost.packets_received
-    assert [s for s, _ in nxt.earlier] == [0, 1]
-    assert nxt.earlier[-1][1] is lost.delivery

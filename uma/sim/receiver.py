@@ -17,10 +17,6 @@ Every arrival also goes to a `DeliveryTracker` (`uma.control`), whose report of 
 report for the engine's rate controller. On a change of the technology the receiver is on, the
 tracker forgets the path's propagation delay, and once more `PATH_SETTLE_S` later, when the
 packets the old path still carried have arrived.
-
-Reports are numbered and carry cumulative counters (bits, packets received and lost since the
-start) and the deliveries of the last `EARLIER_REPORTS` earlier reports that held packets, so
-the sender learns what a lost report held from the next one that arrives.
 """
 
 from __future__ import annotations
@@ -37,12 +33,10 @@ from uma.metrics.framelog import FrameLog
 from uma.sim.packets import EncodedUnit, Packet
 from uma.sim.stats import RefreshReceived
 
-__all__ = ["ReceiverState", "PATH_SETTLE_S", "EARLIER_REPORTS"]
+__all__ = ["ReceiverState", "PATH_SETTLE_S"]
 
 # After a technology change, the old path's packets still arrive for about this long.
 PATH_SETTLE_S = 1.0
-# Each report repeats the deliveries of this many earlier reports that held packets.
-EARLIER_REPORTS = 8
 
 
 @dataclass
@@ -70,12 +64,6 @@ class ReceiverState:
     lost: int = 0
     highest_seq: int = -1
     owd_sum_s: float = 0.0
-    # Numbered reports, cumulative counters, and the recent non-empty deliveries (seq, report).
-    report_seq: int = 0
-    total_bits: int = 0
-    total_packets: int = 0
-    total_lost: int = 0
-    earlier: deque = field(default_factory=lambda: deque(maxlen=EARLIER_REPORTS))
     base_window: deque = field(default_factory=deque)  # (time_s, owd_s), increasing owd
     # What arrived and when, for the rate controller (None: not reported).
     delivery: DeliveryTracker | None = None
@@ -223,9 +211,6 @@ class ReceiverState:
             queue_ms = max(0.0, (self.owd_sum_s / self.packets - base_s) * 1000.0)
         technology = self.technology() if self.technology is not None else ""
         delivery = self._delivery_report(now_s, technology)
-        self.total_bits += self.bits
-        self.total_packets += self.packets
-        self.total_lost += self.lost
         report = ReceiverReport(
             sent_s=now_s,
             interval_s=interval_s,
@@ -238,15 +223,7 @@ class ReceiverState:
             technology=technology,
             refresh_frame=self.refresh_frame() if self.refresh_frame is not None else -1,
             delivery=delivery,
-            seq=self.report_seq,
-            total_bits=self.total_bits,
-            total_packets=self.total_packets,
-            total_lost=self.total_lost,
-            earlier=tuple(self.earlier),
         )
-        if delivery is not None and delivery.packets:
-            self.earlier.append((self.report_seq, delivery))
-        self.report_seq += 1
         self.bits = self.packets = self.lost = 0
         self.owd_sum_s = 0.0
         return report
