@@ -80,3 +80,33 @@ def test_the_face_luma_from_one_projection_is_the_plain_one(scene) -> None:
             assert np.array_equal(fast[0], plain[0]) and np.array_equal(fast[1], plain[1])
             drawn += fast[0].size > 0
     assert drawn == 16  # every pose but the one outside the picture drew a face
+
+
+def test_the_receivers_map_holding_nothing_shows_what_the_long_way_shows() -> None:
+    """The engine's map (always the long way: it chooses against the source) and a receiver
+    taking its changes agree on every frame: the picture shown, the state and the bits;
+    the receiver's frames with nothing held and nothing taken go the short way."""
+    from uma.mbc.block_map import BlockMap
+
+    width, height = 176, 144
+    rng = np.random.default_rng(11)
+    engine, receiver = BlockMap((width, height), 25.0), BlockMap((width, height), 25.0)
+    known = np.ones((height, width), bool)
+    known[:, :40] = False
+    short = 0
+    for k in range(60):
+        shown = rng.integers(0, 256, (height * 3 // 2, width), dtype=np.uint8)
+        source = rng.integers(0, 256, (height, width), dtype=np.uint8)
+        plate, reference = np.roll(shown, 3, axis=1), np.roll(shown, -2, axis=0)
+        face = np.zeros((height, width), bool)
+        if k % 17 != 16:  # the face jumps now and then (choices go stale) and leaves once
+            x0, y0 = 40 + (k // 5) * 11 % 70, 30 + k % 20
+            face[y0 : y0 + 48, x0 : x0 + 48] = True
+        stream_bits = 20.0 + 300.0 * (k % 9 == 0) + 10.0 * (k % 3)
+        want = engine.step(shown, face, plate, reference, source, stream_bits, known)
+        short += not receiver.state.any() and not len(engine.sent) and face.any()
+        got = receiver.step(shown, face, plate, reference, None, stream_bits, known, engine.sent)
+        assert np.array_equal(got, want)
+        assert np.array_equal(receiver.state, engine.state)
+        assert (receiver.bits, receiver.changes) == (engine.bits, engine.changes)
+    assert 5 < short < 55 and engine.changes > 5  # both ways were met
