@@ -110,3 +110,51 @@ def test_the_receivers_map_holding_nothing_shows_what_the_long_way_shows() -> No
         assert np.array_equal(receiver.state, engine.state)
         assert (receiver.bits, receiver.changes) == (engine.bits, engine.changes)
     assert 5 < short < 55 and engine.changes > 5  # both ways were met
+
+
+def _plain_light(rendered, actual, mask, every=3):
+    """`estimate_light` as it was: the mask's rows and columns, each mean taken again."""
+    from uma.mbc.light import NEUTRAL_LIGHT
+    from uma.mbc.scene_render import LIGHT_GAIN_RANGE, LIGHT_OFFSET_RANGE
+
+    ys, xs = np.nonzero(mask)
+    ys, xs = ys[::every], xs[::every]
+    if ys.size < 64:
+        return NEUTRAL_LIGHT
+    r = rendered[ys, xs].astype(np.float64)
+    a = actual[ys, xs].astype(np.float64)
+    spread = r.std()
+    if not np.isfinite(spread) or spread < 2.0:
+        return NEUTRAL_LIGHT
+    gain = float(np.mean((r - r.mean()) * (a - a.mean())) / spread**2)
+    gain = float(np.clip(gain, *LIGHT_GAIN_RANGE))
+    offset = float(np.clip(a.mean() - gain * r.mean(), *LIGHT_OFFSET_RANGE))
+    return gain, offset
+
+
+def test_the_light_read_through_the_mask_is_the_plain_one() -> None:
+    from uma.mbc.light import estimate_light
+
+    rng = np.random.default_rng(4)
+    frame = rng.integers(0, 256, (288, 352), dtype=np.uint8)
+    kinds = set()
+    for k in range(40):
+        h, w = 20 + 7 * k % 90, 30 + 5 * k % 80
+        rendered = rng.integers(0, 256, (h, w), dtype=np.uint8)
+        if k % 5 == 0:
+            rendered[:] = 100 + (k % 3)  # flat: neutral
+        gain, offset = 0.2 + 0.15 * (k % 30), -150.0 + 10.0 * k
+        noisy = gain * rendered + offset + rng.normal(0, 3, (h, w))
+        y0, x0 = 3 * k, 2 * k
+        frame[y0 : y0 + h, x0 : x0 + w] = np.clip(noisy, 0, 255)
+        actual = frame[y0 : y0 + h, x0 : x0 + w]  # a view into the frame, as the encoder's
+        mask = rng.random((h, w)) < (0.02 if k % 7 == 0 else 0.7)
+        for every in (1, 3):
+            got = estimate_light(rendered, actual, mask, every=every)
+            assert got == _plain_light(rendered, actual, mask, every)
+            kinds.add("neutral" if got == (1.0, 0.0) else "clipped" if got[0] in (0.25, 4.0)
+                      else "fitted")  # fmt: skip
+    assert kinds == {"neutral", "clipped", "fitted"}
+    with pytest.raises(ValueError, match="shape"):
+        estimate_light(rendered, actual[1:], mask)
+
