@@ -157,4 +157,3 @@ def test_the_light_read_through_the_mask_is_the_plain_one() -> None:
     assert kinds == {"neutral", "clipped", "fitted"}
     with pytest.raises(ValueError, match="shape"):
         estimate_light(rendered, actual[1:], mask)
-
