@@ -90,3 +90,33 @@ def test_gauss_newton_converges_from_nearby(template, cases):
         result = gauss_newton(template.fit, case.image.astype(np.float32), start, box)
         assert mde_px(model, result.params, case.truth) < 0.5 < mde_px(model, start, case.truth)
         assert 0 < result.evaluations <= 200 and np.isfinite(result.cost)
+
+
+def test_the_template_view_kept_between_fits_fits_as_a_fresh_one(template, cases):
+    """The pixels Gauss-Newton reads are built once per template and thinning step and kept
+    (session mbc12): each fit with the kept view gives what a fresh template's gives, to the bit,
+    and the view holds what thinning the template gives."""
+    from uma.fit.cost import FitTemplate
+    from uma.fit.gauss_newton import _TemplateView
+
+    kept = template.fit
+    configs = (GaussNewtonConfig(), GaussNewtonConfig(max_pixels=300, patch_photometry=True))
+    for case in cases:
+        image = case.image.astype(np.float32)
+        start = case.truth.copy()
+        start[:2] += (1.0, 0.5)
+        box = search_box(kept.params, kept.face_width_px)
+        for config in configs:
+            fresh = FitTemplate(kept.model, kept.params, kept.image, kept.raster, kept.values)
+            want = gauss_newton(fresh, image, start, box, config=config, history=True)
+            got = gauss_newton(kept, image, start, box, config=config, history=True)
+            assert np.array_equal(got.params, want.params) and got.history == want.history
+            assert (got.cost, got.evaluations) == (want.cost, want.evaluations)
+    step = -(-kept.raster.size // 300)
+    assert step > 1
+    thinned, view = kept.subsampled(step), _TemplateView.of(kept, step)
+    assert view is _TemplateView.of(kept, step)
+    assert np.array_equal(view.tri, thinned.raster.tri) and view.tri.dtype == np.int64
+    assert np.array_equal(view.corners, thinned.raster.corners)
+    assert np.array_equal(view.bary, thinned.raster.bary)
+    assert np.array_equal(view.values, thinned.values.astype(np.float64))

@@ -23,6 +23,7 @@ __all__ = [
     "deform",
     "project",
     "visible_triangles",
+    "facing_triangles",
     "make_params",
 ]
 
@@ -101,7 +102,12 @@ def visible_triangles(
     model: FaceModel, params: np.ndarray, *, focal_px: float | None = None
 ) -> np.ndarray:
     """Triangles facing the camera at `params` (6 + A,): counter-clockwise seen from the front."""
-    points = project(model, params, focal_px=focal_px)
+    return facing_triangles(model, project(model, params, focal_px=focal_px))
+
+
+def facing_triangles(model: FaceModel, points: np.ndarray) -> np.ndarray:
+    """`visible_triangles` from the vertices already projected (`project`'s (..., N, 2)): a
+    caller that needs the projection too projects once."""
     a, b, c = (points[..., model.triangles[:, k], :] for k in range(3))
     # In image coordinates (y down) a front-facing counter-clockwise triangle turns clockwise.
     cross = (b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1]) - (b[..., 1] - a[..., 1]) * (

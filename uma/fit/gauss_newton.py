@@ -71,6 +71,36 @@ class _State:
     error: float
 
 
+@dataclass(frozen=True, eq=False)
+class _TemplateView:
+    """A template's pixels as the fit's kernels read them (every `step`-th one): the same on
+    every frame, so built once per template and step and kept on it (never written to)."""
+
+    tri: np.ndarray  # (K,) int64
+    corners: np.ndarray  # (K, 3) int64
+    bary: np.ndarray  # (K, 3) float32
+    values: np.ndarray  # (K,) float64
+    vertices: np.ndarray  # (N, 3) float64
+    units: np.ndarray  # (A, N, 3) float64
+
+    @classmethod
+    def of(cls, template: FitTemplate, step: int) -> _TemplateView:
+        cache = template.__dict__.setdefault("_gauss_newton_views", {})
+        if step not in cache:
+            thinned = template.subsampled(step)
+            model, r = thinned.model, thinned.raster
+            units = model.action_units if model.n_actions else np.zeros((0,) + model.vertices.shape)
+            cache[step] = cls(
+                tri=np.ascontiguousarray(r.tri, dtype=np.int64),
+                corners=np.ascontiguousarray(r.corners, dtype=np.int64),
+                bary=np.ascontiguousarray(r.bary, dtype=np.float32),
+                values=thinned.values.astype(np.float64),
+                vertices=np.ascontiguousarray(model.vertices, dtype=np.float64),
+                units=np.ascontiguousarray(units, dtype=np.float64),
+            )
+        return cache[step]
+
+
 class _Problem:
     """The residual and normal equations of one fit, with everything precomputed."""
 
@@ -78,7 +108,6 @@ class _Problem:
         import cv2
 
         step = -(-template.raster.size // max(config.max_pixels, 1))
-        template = template.subsampled(step)
         smooth = blurred(image, config.blur_sigma_px)
         self.image = smooth
         self.grad_x = np.ascontiguousarray(cv2.Sobel(smooth, cv2.CV_32F, 1, 0, ksize=3) / 8.0)
@@ -86,15 +115,10 @@ class _Problem:
         model = template.model
         self.model = model
         self.config = config
-        r = template.raster
-        self.tri = np.ascontiguousarray(r.tri, dtype=np.int64)
+        view = _TemplateView.of(template, step)
+        self.tri, self.corners, self.bary = view.tri, view.corners, view.bary
         self.n_tri = len(model.triangles)
-        self.corners = np.ascontiguousarray(r.corners, dtype=np.int64)
-        self.bary = np.ascontiguousarray(r.bary, dtype=np.float32)
-        self.values = template.values.astype(np.float64)
-        self.vertices = np.ascontiguousarray(model.vertices, dtype=np.float64)
-        units = model.action_units if model.n_actions else np.zeros((0,) + model.vertices.shape)
-        self.units = np.ascontiguousarray(units, dtype=np.float64)
+        self.values, self.vertices, self.units = view.values, view.vertices, view.units
         self.prior = 0.0  # set when the action units join (`with_prior`)
         self.evaluations = 0
 

@@ -130,6 +130,11 @@ class BlockMap:
             if changes is not None and len(changes):
                 raise SceneError(f"block map: {len(changes)} changes for a frame without a face")
             return shown
+        if source is None and (changes is None or not len(changes)) and not self.state.any():
+            # Holding nothing, taking nothing: nothing to end or draw; the empty count is paid.
+            if changes is not None:
+                self.bits += count_bits(0)
+            return shown if compose else None
         c0, r0, c1, r1 = window
         outside = np.ones(self.grid, bool)
         outside[r0:r1, c0:c1] = False

@@ -34,19 +34,24 @@ def estimate_light(
     rendered: np.ndarray, actual: np.ndarray, mask: np.ndarray, *, every: int = 3
 ) -> tuple[float, float]:
     """(gain, offset) that best map `rendered`'s luma onto `actual`'s over `mask` (H, W),
-    reading every `every`-th masked pixel; neutral where too few pixels or no contrast."""
-    ys, xs = np.nonzero(mask)
-    ys, xs = ys[::every], xs[::every]
-    if ys.size < _MIN_PIXELS:
+    reading every `every`-th masked pixel (all three of one shape); neutral where too few
+    pixels or no contrast."""
+    if not rendered.shape == actual.shape == mask.shape:
+        raise ValueError(f"light: expected pictures of the mask's shape {mask.shape}, got "
+                         f"{rendered.shape} and {actual.shape}")  # fmt: skip
+    # The masked pixels indexed once, in the mask's row order, through flat views of the box.
+    flat = np.flatnonzero(mask)[::every]
+    if flat.size < _MIN_PIXELS:
         return NEUTRAL_LIGHT
-    r = rendered[ys, xs].astype(np.float64)
-    a = actual[ys, xs].astype(np.float64)
+    r = np.ascontiguousarray(rendered).reshape(-1)[flat].astype(np.float64)
+    a = np.ascontiguousarray(actual).reshape(-1)[flat].astype(np.float64)
     spread = r.std()
     if not np.isfinite(spread) or spread < _MIN_STD:
         return NEUTRAL_LIGHT
-    gain = float(np.mean((r - r.mean()) * (a - a.mean())) / spread**2)
+    r_mean, a_mean = r.mean(), a.mean()
+    gain = float(np.mean((r - r_mean) * (a - a_mean)) / spread**2)
     gain = float(np.clip(gain, *LIGHT_GAIN_RANGE))
-    offset = float(np.clip(a.mean() - gain * r.mean(), *LIGHT_OFFSET_RANGE))
+    offset = float(np.clip(a_mean - gain * r_mean, *LIGHT_OFFSET_RANGE))
     return gain, offset
 
 

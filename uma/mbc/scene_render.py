@@ -24,7 +24,7 @@ import numpy as np
 from uma.face.describe import ContentDescription
 from uma.face.scene import HEAD_RING_SCALE, SceneMesh
 from uma.mbc.errors import SceneError
-from uma.mbc.layered_kernels import FAR_OUTSIDE_MAP, STILL_MAP, relight_face, triangle_maps
+from uma.mbc.layered_kernels import STILL_MAP, relight_face, triangle_maps
 from uma.mbc.layered_render import compose_layers, mask_box
 from uma.mbc.layers import Plate, body_problem, cut_person, head_ring_points
 from uma.mbc.render_memo import RenderMemo
@@ -226,39 +226,10 @@ class SceneRenderer:
     def face_luma(self, params: np.ndarray) -> tuple[np.ndarray, np.ndarray, tuple[int, int]]:
         """The face's own luma at `params` without light, over its bounding box only: (patch,
         mask, (x0, y0) of the box); what the encoder measures light against, at a fraction of
-        `render`'s cost. Empty when the face lies outside the picture."""
-        import cv2
+        `render`'s cost (`uma.mbc.face_patch`). Empty when the face lies outside the picture."""
+        from uma.mbc.face_patch import face_luma
 
-        from uma.face.geometry import project, visible_triangles
-        from uma.face.render import barycentric_affine, triangle_labels
-
-        model = self.description.model
-        width, height = self.size
-        target = project(model, params)
-        x0, y0 = np.maximum(np.floor(target.min(axis=0)).astype(int), 0)
-        x1 = min(int(np.ceil(target[:, 0].max())) + 1, width)
-        y1 = min(int(np.ceil(target[:, 1].max())) + 1, height)
-        if x1 <= x0 or y1 <= y0:
-            return np.zeros((0, 0), np.uint8), np.zeros((0, 0), bool), (0, 0)
-        local = target - (x0, y0)
-        triangles = model.triangles
-        labels = triangle_labels(
-            local, triangles, (y1 - y0, x1 - x0), triangle_mask=visible_triangles(model, params)
-        )
-        picture, source = self.reference, self._reference_points[: model.n_vertices]
-        if self._face_source is not None:
-            picture = self._face_source[0]
-            source = project(model, self._face_source[1])
-        # (T, 2, 3): the source's (x, y) as an affine function of the box's (x, y, 1); one
-        # gather per coefficient (label -1: the last entry, far outside the picture).
-        maps = np.matmul(source[triangles].transpose(0, 2, 1), barycentric_affine(local, triangles))
-        xs, ys = self._x[: y1 - y0, : x1 - x0], self._y[: y1 - y0, : x1 - x0]
-        map_x, map_y = triangle_maps(labels, maps, FAR_OUTSIDE_MAP, xs, ys)
-        patch = cv2.remap(
-            picture[:height], map_x, map_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE
-        )
-        self._last_face = (map_x, map_y, picture)
-        return patch, labels >= 0, (int(x0), int(y0))
+        return face_luma(self, params)
 
     def render(
         self,
