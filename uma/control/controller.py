@@ -26,7 +26,9 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
   knowledge) should have arrived is no news from the link: the quiet clock runs from when
   that packet was due, and at `overdue_ms` (or the packet's own time at the capacity
   estimate, if longer) past it the sender pauses at once (a downlink outage with a live
-  uplink: the receiver's reports keep coming, empty);
+  uplink: the receiver's reports keep coming, empty); with `overdue_in_any_report` (off by
+  default) a report with packets counts the same way when the packet after its last one is
+  overdue (the link stalled mid-report);
 - **silence**: no report for `silence_ms` (an outage, a handover's gap) cuts the capacity to
   `silence_factor` of itself or of what arrived over the last `received_tau_ms`, whichever is
   less (an application-limited stream sends no more than that), once per `silence_ms`; when
@@ -177,13 +179,17 @@ class UmaController:
         """Move the quiet clock: to the report's end, unless the report holds no packet while
         the oldest outstanding one should have arrived (its send stamp plus the path's base
         delay, or the last arrival, plus its time at the capacity estimate): then the link
-        has been quiet since that packet was due, as if the report had not come."""
+        has been quiet since that packet was due, as if the report had not come. With
+        `overdue_in_any_report` a report with packets counts so too: the link stalled after
+        its last arrival."""
         if report.records:
             last = report.records[-1]
             self._base_ms = last.arrival_ms - last.send_ms - report.queue_delay_ms[-1]
             self._last_arrival_ms = last.arrival_ms
-        since_ms, grace_ms = report.end_ms, self.settings.overdue_ms
-        if not report.records and due is not None and self._base_ms is not None:
+        s = self.settings
+        since_ms, grace_ms = report.end_ms, s.overdue_ms
+        counts = s.overdue_in_any_report or not report.records
+        if counts and due is not None and self._base_ms is not None:
             send_ms, size_bits = due
             start_ms = max(send_ms + self._base_ms, self._last_arrival_ms)
             service_ms = size_bits / self.capacity_kbps
