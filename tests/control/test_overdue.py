@@ -34,3 +34,22 @@ def test_a_packet_overdue_after_the_last_arrival_counts_in_a_report_with_packets
     assert (controller.on_silence(152.0 + 250.0).reason == "silence") is counted
     controller.on_report(_arrived(90.0, 420.0, 420.0))  # it came: news again
     assert not controller.paused(420.0)
+
+
+def _empty(start_ms, end_ms):
+    return DeliveryReport(
+        start_ms=start_ms, end_ms=end_ms, packets=0, received_bits=0, lost=0,
+        train_bits=0, train_ms=0.0, queue_delay_ms=(), records=(),
+    )  # fmt: skip
+
+
+@pytest.mark.parametrize("no_probe", [False, True])
+@pytest.mark.parametrize("due", [None, (1150.0, 9600), (1040.0, 9600)])
+def test_no_probe_into_a_link_that_owes_a_packet(no_probe, due):
+    """Unmeasured for a second, an empty report (application-limited): a probe, unless the
+    key is on and the packet sent at 1,040 ms was due (at 1,092 ms) before the report's end
+    (1,100 ms); one sent at 1,150 ms is not due yet, and with nothing out there is no debt."""
+    controller = UmaController(UmaSettings(initial_kbps=300.0, no_probe_while_owed=no_probe))
+    controller.on_report(_arrived(0.0, 20.0, 100.0))
+    probe = controller.on_report(_empty(1000.0, 1100.0), due=due).probe
+    assert (probe is None) is (no_probe and due == (1040.0, 9600))

@@ -55,7 +55,8 @@ class EstimatorConfig(Section):
     measurement is taken whole (`uma.control.UmaSettings`; docs/rate-control.md, `rc11`).
     `overdue_in_any_report` (`uma` only; off): a report with packets, not only an empty one,
     starts the quiet clock at the due time of the packet after them when that one is overdue
-    (and pauses the sender at once; docs/rate-control.md, `rc13`).
+    (and pauses the sender at once; docs/rate-control.md, `rc13`). `no_probe_while_owed`
+    (`uma` only; off): no probe after a report that counted a packet due before its end.
     """
 
     initial_kbps: PosNum = 300.0
@@ -65,6 +66,7 @@ class EstimatorConfig(Section):
     kind: EstimatorKind = "uma"
     recover_after_silence: Bool = False
     overdue_in_any_report: Bool = False
+    no_probe_while_owed: Bool = False
 
     @model_validator(mode="after")
     def _consistent(self) -> EstimatorConfig:

@@ -19,6 +19,9 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
   application-limited (received below `alr_fraction` of the target) or the queue is short (a
   low target fills its own small frames, which make no trains), a probe of padding packets
   sent back to back, whose spacing measures the link, sized to queue about `probe_ms`;
+  with `no_probe_while_owed` (off by default) none after a report that counted a packet due
+  before its end and not in it (an outage read as application-limited: a probe sent into it
+  only waits behind what is stuck);
 - **pause**: no report for `pause_ms` (1.5 report intervals): `paused` says the sender should
   code nothing new until one comes (the skip rule's caller asks), so a handover's gap or an
   outage gets little of the stream, and a lost report costs a frame or two, not a rate. A
@@ -83,6 +86,7 @@ class UmaController:
         self._base_ms: float | None = None  # the path's one-way delay with no queue
         self._last_arrival_ms = float("-inf")
         self._overdue = False  # the last report was empty with a packet overdue
+        self._owed = False  # the last report counted a packet due before its end, not in it
         self._recover_kbps: float | None = None  # a cut's capacity before it, to probe for
         self._recovering_kbps: float | None = None  # a recovery probe's rate, out
         self._recover_until_ms = float("-inf")  # no recovery probe after this
@@ -196,6 +200,7 @@ class UmaController:
             since_ms = min(since_ms, start_ms + service_ms)
             grace_ms = max(grace_ms, service_ms)
         self._overdue = report.end_ms - since_ms >= grace_ms
+        self._owed = since_ms < report.end_ms
         if self._quiet_since_ms is None or since_ms > self._quiet_since_ms:
             self._quiet_since_ms, self._silences = since_ms, 0
 
@@ -296,6 +301,8 @@ class UmaController:
         idle = self.queue_ms < s.queue_target_ms
         if not ((limited or idle) and unmeasured):
             return None
+        if s.no_probe_while_owed and self._owed:
+            return None  # it would only wait behind what the link owes
         if now_ms - self._last_probe_ms < s.probe_interval_ms:
             return None
         self._last_probe_ms = now_ms

@@ -49,6 +49,7 @@ class UmaSettings:
     recover_fraction: float = 0.85
     recover_window_ms: float = 5000.0
     overdue_in_any_report: bool = False
+    no_probe_while_owed: bool = False
     priors_kbps: Mapping[str, float] = field(default_factory=lambda: DEFAULT_PRIORS_KBPS)
 
     def __post_init__(self) -> None:
