@@ -53,6 +53,10 @@ class EstimatorConfig(Section):
     `recover_after_silence` (`uma` only; off, today's behaviour): after a silence cut, the
     first report with packets asks for a probe sized for the estimate before the cut and its
     measurement is taken whole (`uma.control.UmaSettings`; docs/rate-control.md, `rc11`).
+    `overdue_in_any_report` (`uma` only; off): a report with packets, not only an empty one,
+    starts the quiet clock at the due time of the packet after them when that one is overdue
+    (and pauses the sender at once; docs/rate-control.md, `rc13`). `no_probe_while_owed`
+    (`uma` only; off): no probe after a report that counted a packet due before its end.
     """
 
     initial_kbps: PosNum = 300.0
@@ -61,6 +65,8 @@ class EstimatorConfig(Section):
     # Which kind: `engine.estimator: gcc` is short for `engine.estimator: {kind: gcc}`.
     kind: EstimatorKind = "uma"
     recover_after_silence: Bool = False
+    overdue_in_any_report: Bool = False
+    no_probe_while_owed: Bool = False
 
     @model_validator(mode="after")
     def _consistent(self) -> EstimatorConfig:

@@ -5,9 +5,10 @@ decisions out (`RateDecision`: a target rate and sometimes a `ProbeRequest`).
 """
 
 from uma.control.actions import ProbeRequest, RateDecision
-from uma.control.controller import UmaController, UmaSettings
+from uma.control.controller import UmaController
 from uma.control.delivery import DeliveryReport, DeliverySettings, DeliveryTracker, PacketRecord
 from uma.control.gcc import GccController
+from uma.control.settings import UmaSettings
 from uma.control.skip import should_skip
 
 __all__ = [

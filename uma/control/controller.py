@@ -19,6 +19,9 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
   application-limited (received below `alr_fraction` of the target) or the queue is short (a
   low target fills its own small frames, which make no trains), a probe of padding packets
   sent back to back, whose spacing measures the link, sized to queue about `probe_ms`;
+  with `no_probe_while_owed` (off by default) none after a report that counted a packet due
+  before its end and not in it (an outage read as application-limited: a probe sent into it
+  only waits behind what is stuck);
 - **pause**: no report for `pause_ms` (1.5 report intervals): `paused` says the sender should
   code nothing new until one comes (the skip rule's caller asks), so a handover's gap or an
   outage gets little of the stream, and a lost report costs a frame or two, not a rate. A
@@ -26,7 +29,9 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
   knowledge) should have arrived is no news from the link: the quiet clock runs from when
   that packet was due, and at `overdue_ms` (or the packet's own time at the capacity
   estimate, if longer) past it the sender pauses at once (a downlink outage with a live
-  uplink: the receiver's reports keep coming, empty);
+  uplink: the receiver's reports keep coming, empty); with `overdue_in_any_report` (off by
+  default) a report with packets counts the same way when the packet after its last one is
+  overdue (the link stalled mid-report);
 - **silence**: no report for `silence_ms` (an outage, a handover's gap) cuts the capacity to
   `silence_factor` of itself or of what arrived over the last `received_tau_ms`, whichever is
   less (an application-limited stream sends no more than that), once per `silence_ms`; when
@@ -49,82 +54,14 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
-from dataclasses import dataclass, field
-from types import MappingProxyType
 
 from uma.control.actions import ProbeRequest, RateDecision
 from uma.control.delivery import DeliveryReport
 from uma.control.gcc_delay import InterArrival, OveruseDetector, Trendline, Usage
 from uma.control.gcc_rate import GccRateSettings, LossController
+from uma.control.settings import DEFAULT_PRIORS_KBPS, UmaSettings
 
 __all__ = ["UmaSettings", "UmaController", "DEFAULT_PRIORS_KBPS"]
-
-# What each technology's downlink is expected to carry at most, as a prior (kbit/s).
-DEFAULT_PRIORS_KBPS: Mapping[str, float] = MappingProxyType(
-    {"GSM": 9.6, "GPRS": 40.0, "EDGE": 200.0, "3G": 2000.0, "UMTS": 2000.0}
-)
-
-
-@dataclass(frozen=True)
-class UmaSettings:
-    initial_kbps: float = 300.0
-    min_kbps: float = 5.0
-    max_kbps: float = 20_000.0
-    headroom: float = 0.85
-    capacity_tau_ms: float = 300.0
-    queue_target_ms: float = 60.0
-    queue_low_ms: float = 20.0
-    drain_ms: float = 500.0
-    beta: float = 0.85
-    alr_fraction: float = 0.7
-    probe_interval_ms: float = 1000.0
-    probe_packets: int = 5
-    probe_ms: float = 50.0
-    probe_weight: float = 0.1
-    probe_min_bits: int = 60 * 8  # 40 bytes of headers and a little padding
-    packet_bits: int = 1200 * 8
-    silence_ms: float = 250.0
-    pause_ms: float = 150.0
-    overdue_ms: float = 50.0
-    received_tau_ms: float = 500.0
-    skip_budget_ms: float = 300.0
-    max_skip_ms: float = 1000.0
-    silence_factor: float = 0.25
-    recover_after_silence: bool = False
-    recover_fraction: float = 0.85
-    recover_window_ms: float = 5000.0
-    priors_kbps: Mapping[str, float] = field(default_factory=lambda: DEFAULT_PRIORS_KBPS)
-
-    def __post_init__(self) -> None:
-        if not 0 < self.min_kbps <= self.initial_kbps <= self.max_kbps:
-            raise ValueError(
-                "UmaSettings: expected 0 < min_kbps <= initial_kbps <= max_kbps, got "
-                f"{self.min_kbps}, {self.initial_kbps}, {self.max_kbps}"
-            )
-        for name in (
-            "headroom",
-            "beta",
-            "alr_fraction",
-            "silence_factor",
-            "probe_weight",
-            "recover_fraction",
-        ):
-            if not 0 < getattr(self, name) <= 1:
-                raise ValueError(
-                    f"UmaSettings.{name}: expected in (0, 1], got {getattr(self, name)}"
-                )
-        for name in (
-            "capacity_tau_ms",
-            "drain_ms",
-            "probe_interval_ms",
-            "silence_ms",
-            "received_tau_ms",
-        ):
-            if not getattr(self, name) > 0:
-                raise ValueError(f"UmaSettings.{name}: expected > 0, got {getattr(self, name)}")
-        if self.probe_packets < 2:
-            raise ValueError(f"UmaSettings.probe_packets: expected >= 2, got {self.probe_packets}")
 
 
 class UmaController:
@@ -149,6 +86,7 @@ class UmaController:
         self._base_ms: float | None = None  # the path's one-way delay with no queue
         self._last_arrival_ms = float("-inf")
         self._overdue = False  # the last report was empty with a packet overdue
+        self._owed = False  # the last report counted a packet due before its end, not in it
         self._recover_kbps: float | None = None  # a cut's capacity before it, to probe for
         self._recovering_kbps: float | None = None  # a recovery probe's rate, out
         self._recover_until_ms = float("-inf")  # no recovery probe after this
@@ -245,19 +183,24 @@ class UmaController:
         """Move the quiet clock: to the report's end, unless the report holds no packet while
         the oldest outstanding one should have arrived (its send stamp plus the path's base
         delay, or the last arrival, plus its time at the capacity estimate): then the link
-        has been quiet since that packet was due, as if the report had not come."""
+        has been quiet since that packet was due, as if the report had not come. With
+        `overdue_in_any_report` a report with packets counts so too: the link stalled after
+        its last arrival."""
         if report.records:
             last = report.records[-1]
             self._base_ms = last.arrival_ms - last.send_ms - report.queue_delay_ms[-1]
             self._last_arrival_ms = last.arrival_ms
-        since_ms, grace_ms = report.end_ms, self.settings.overdue_ms
-        if not report.records and due is not None and self._base_ms is not None:
+        s = self.settings
+        since_ms, grace_ms = report.end_ms, s.overdue_ms
+        counts = s.overdue_in_any_report or not report.records
+        if counts and due is not None and self._base_ms is not None:
             send_ms, size_bits = due
             start_ms = max(send_ms + self._base_ms, self._last_arrival_ms)
             service_ms = size_bits / self.capacity_kbps
             since_ms = min(since_ms, start_ms + service_ms)
             grace_ms = max(grace_ms, service_ms)
         self._overdue = report.end_ms - since_ms >= grace_ms
+        self._owed = since_ms < report.end_ms
         if self._quiet_since_ms is None or since_ms > self._quiet_since_ms:
             self._quiet_since_ms, self._silences = since_ms, 0
 
@@ -358,6 +301,8 @@ class UmaController:
         idle = self.queue_ms < s.queue_target_ms
         if not ((limited or idle) and unmeasured):
             return None
+        if s.no_probe_while_owed and self._owed:
+            return None  # it would only wait behind what the link owes
         if now_ms - self._last_probe_ms < s.probe_interval_ms:
             return None
         self._last_probe_ms = now_ms

@@ -177,6 +177,8 @@ class UmaRate(RateControl):
                 min_kbps=cfg.min_kbps,
                 max_kbps=cfg.max_kbps,
                 recover_after_silence=cfg.recover_after_silence,
+                overdue_in_any_report=cfg.overdue_in_any_report,
+                no_probe_while_owed=cfg.no_probe_while_owed,
             )
         )
         self._report_ms: float | None = None  # the last report's end, on the receiver's clock
