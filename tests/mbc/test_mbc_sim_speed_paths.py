@@ -157,3 +157,30 @@ def test_the_light_read_through_the_mask_is_the_plain_one() -> None:
     assert kinds == {"neutral", "clipped", "fitted"}
     with pytest.raises(ValueError, match="shape"):
         estimate_light(rendered, actual[1:], mask)
+
+
+def test_the_tracker_projecting_the_prediction_once_tracks_as_the_plain_way(head, head_frames):
+    """The prediction projected once for the share inside and the step's crop, the template's
+    face width kept: the same poses, scores and work as projecting each time."""
+    from uma.face.geometry import project
+    from uma.mbc import FaceTracker
+
+    class Plain(FaceTracker):
+        def _inside(self, params, shape, points=None):
+            return super()._inside(params, shape)
+
+        def step(self, image, prediction, last_good=None, thresholds=None, *, points=None):
+            return super().step(image, prediction, last_good, thresholds)
+
+    fast, plain = FaceTracker(head.description, rng=0), Plain(head.description, rng=0)
+    tracked = 0
+    for frame, gray in enumerate(head_frames[:8]):
+        got, want = fast.track(gray, frame=frame), plain.track(gray, frame=frame)
+        assert (got.reason, got.evaluations, got.score) == (want.reason, want.evaluations,
+                                                           want.score)  # fmt: skip
+        assert np.array_equal(got.params, want.params)
+        tracked += got.reason == "tracked"
+    assert tracked >= 6
+    template = fast.template
+    width = float(np.ptp(project(template.model, template.params)[:, 0]))
+    assert template.face_width_px == width and template.face_width_px == width  # kept
