@@ -82,6 +82,26 @@ def test_the_face_luma_from_one_projection_is_the_plain_one(scene) -> None:
     assert drawn == 16  # every pose but the one outside the picture drew a face
 
 
+def test_the_face_pasted_on_a_drawing_reuses_its_projection(head, scene) -> None:
+    """A receiver drawing with the description's face pastes it from the layered drawing's
+    projection of the same frame: the same picture as projecting again."""
+    from uma.mbc.scene_render import SceneRenderer
+
+    _, later, later_params, poses = scene
+    renderer, plain = (SceneRenderer(head.description, (352, 288)) for _ in range(2))
+    plain.kept_points = lambda params: None  # the face projected on its own every time
+    for each in (renderer, plain):
+        each.set_reference(later, later_params)
+        each.set_face_source(True)
+    for params in poses[:3]:
+        got, got_face = renderer.render(params, (1.1, -3.0))
+        assert renderer.kept_points(params) is renderer.scene_points(params)
+        assert np.array_equal(renderer.kept_points(params), renderer.scene.points(params))
+        want, want_face = plain.render(params, (1.1, -3.0))
+        assert np.array_equal(got, want) and np.array_equal(got_face, want_face)
+    assert renderer.kept_points(poses[3]) is None
+
+
 def test_the_receivers_map_holding_nothing_shows_what_the_long_way_shows() -> None:
     """The engine's map (always the long way: it chooses against the source) and a receiver
     taking its changes agree on every frame: the picture shown, the state and the bits;
