@@ -204,3 +204,19 @@ def test_the_tracker_projecting_the_prediction_once_tracks_as_the_plain_way(head
     template = fast.template
     width = float(np.ptp(project(template.model, template.params)[:, 0]))
     assert template.face_width_px == width and template.face_width_px == width  # kept
+
+
+def test_the_description_reference_kept_is_the_one_made(head) -> None:
+    """The description's picture is made once per size and kept: every call gets what
+    making it gives, in its own copy."""
+    from uma.mbc.scene_reference import _reference, description_reference
+
+    for size in ((352, 288), (176, 144), (352, 288)):
+        picture, params = description_reference(head.description, size)
+        want, want_params = _reference(head.description, size)
+        assert np.array_equal(picture, want) and np.array_equal(params, want_params)
+        picture[:] = 0  # a caller drawing on its copy changes no later one
+        params[:] = 0
+    again, again_params = description_reference(head.description, (352, 288))
+    assert again.any() and np.array_equal(again_params, _reference(head.description,
+                                                                   (352, 288))[1])  # fmt: skip
