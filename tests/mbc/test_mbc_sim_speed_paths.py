@@ -82,6 +82,26 @@ def test_the_face_luma_from_one_projection_is_the_plain_one(scene) -> None:
     assert drawn == 16  # every pose but the one outside the picture drew a face
 
 
+def test_the_face_pasted_on_a_drawing_reuses_its_projection(head, scene) -> None:
+    """A receiver drawing with the description's face pastes it from the layered drawing's
+    projection of the same frame: the same picture as projecting again."""
+    from uma.mbc.scene_render import SceneRenderer
+
+    _, later, later_params, poses = scene
+    renderer, plain = (SceneRenderer(head.description, (352, 288)) for _ in range(2))
+    plain.kept_points = lambda params: None  # the face projected on its own every time
+    for each in (renderer, plain):
+        each.set_reference(later, later_params)
+        each.set_face_source(True)
+    for params in poses[:3]:
+        got, got_face = renderer.render(params, (1.1, -3.0))
+        assert renderer.kept_points(params) is renderer.scene_points(params)
+        assert np.array_equal(renderer.kept_points(params), renderer.scene.points(params))
+        want, want_face = plain.render(params, (1.1, -3.0))
+        assert np.array_equal(got, want) and np.array_equal(got_face, want_face)
+    assert renderer.kept_points(poses[3]) is None
+
+
 def test_the_receivers_map_holding_nothing_shows_what_the_long_way_shows() -> None:
     """The engine's map (always the long way: it chooses against the source) and a receiver
     taking its changes agree on every frame: the picture shown, the state and the bits;
@@ -157,3 +177,46 @@ def test_the_light_read_through_the_mask_is_the_plain_one() -> None:
     assert kinds == {"neutral", "clipped", "fitted"}
     with pytest.raises(ValueError, match="shape"):
         estimate_light(rendered, actual[1:], mask)
+
+
+def test_the_tracker_projecting_the_prediction_once_tracks_as_the_plain_way(head, head_frames):
+    """The prediction projected once for the share inside and the step's crop, the template's
+    face width kept: the same poses, scores and work as projecting each time."""
+    from uma.face.geometry import project
+    from uma.mbc import FaceTracker
+
+    class Plain(FaceTracker):
+        def _inside(self, params, shape, points=None):
+            return super()._inside(params, shape)
+
+        def step(self, image, prediction, last_good=None, thresholds=None, *, points=None):
+            return super().step(image, prediction, last_good, thresholds)
+
+    fast, plain = FaceTracker(head.description, rng=0), Plain(head.description, rng=0)
+    tracked = 0
+    for frame, gray in enumerate(head_frames[:8]):
+        got, want = fast.track(gray, frame=frame), plain.track(gray, frame=frame)
+        assert (got.reason, got.evaluations, got.score) == (want.reason, want.evaluations,
+                                                           want.score)  # fmt: skip
+        assert np.array_equal(got.params, want.params)
+        tracked += got.reason == "tracked"
+    assert tracked >= 6
+    template = fast.template
+    width = float(np.ptp(project(template.model, template.params)[:, 0]))
+    assert template.face_width_px == width and template.face_width_px == width  # kept
+
+
+def test_the_description_reference_kept_is_the_one_made(head) -> None:
+    """The description's picture is made once per size and kept: every call gets what
+    making it gives, in its own copy."""
+    from uma.mbc.scene_reference import _reference, description_reference
+
+    for size in ((352, 288), (176, 144), (352, 288)):
+        picture, params = description_reference(head.description, size)
+        want, want_params = _reference(head.description, size)
+        assert np.array_equal(picture, want) and np.array_equal(params, want_params)
+        picture[:] = 0  # a caller drawing on its copy changes no later one
+        params[:] = 0
+    again, again_params = description_reference(head.description, (352, 288))
+    assert again.any() and np.array_equal(again_params, _reference(head.description,
+                                                                   (352, 288))[1])  # fmt: skip

@@ -103,8 +103,12 @@ class FitTemplate:
 
     @property
     def face_width_px(self) -> float:
-        points = project(self.model, self.params)
-        return float(np.ptp(points[:, 0]))
+        """The face's width at the template's pose (kept: the template is immutable)."""
+        width = self.__dict__.get("_face_width_px")
+        if width is None:
+            width = float(np.ptp(project(self.model, self.params)[:, 0]))
+            self.__dict__["_face_width_px"] = width
+        return width
 
 
 def batch_visible(model: FaceModel, points: np.ndarray) -> np.ndarray:

@@ -112,8 +112,9 @@ class FaceTracker:
         self._previous = self._before = None
         self._held, self._next_init = 0, None
 
-    def _inside(self, params: np.ndarray, shape: tuple[int, int]) -> float:
-        points = project(self.template.model, params)
+    def _inside(self, params: np.ndarray, shape: tuple[int, int], points=None) -> float:
+        """The share of the model's vertices at `params` (projected: `points`) in the picture."""
+        points = project(self.template.model, params) if points is None else points
         ok = (
             (points[:, 0] >= 0)
             & (points[:, 0] <= shape[1] - 1)
@@ -137,6 +138,8 @@ class FaceTracker:
         prediction: np.ndarray,
         last_good: np.ndarray | None = None,
         thresholds: tuple[float, float] | None = None,
+        *,
+        points: np.ndarray | None = None,
     ):
         """One tracking step from `prediction`: (fit, score, evaluations). A step scoring below
         the doubtful score also starts from the best `other_starts` of the starts around
@@ -146,17 +149,13 @@ class FaceTracker:
         Gauss-Newton sees only the picture around the predicted face (a margin of 0.4 face
         widths, beyond the 0.25 its search box allows): its blur and gradients then cost a
         third of a CIF frame's. Translation is additive, so the crop only shifts tx and ty.
+        `points`: the prediction's projection (`project`), when the caller has it.
         """
         config = self.config
         lost, doubt = thresholds or (config.lost_below, config.doubt_below)
         width = self.template.face_width_px * prediction[2] / self.template.params[2]
-        points = project(self.template.model, prediction)
-        margin = 0.4 * width + 8.0
-        height_px, width_px = image.shape
-        x0 = int(max(0, np.floor(points[:, 0].min() - margin)))
-        y0 = int(max(0, np.floor(points[:, 1].min() - margin)))
-        x1 = int(min(width_px, np.ceil(points[:, 0].max() + margin) + 1))
-        y1 = int(min(height_px, np.ceil(points[:, 1].max() + margin) + 1))
+        points = project(self.template.model, prediction) if points is None else points
+        x0, y0, x1, y1 = _crop_box(points, 0.4 * width + 8.0, image.shape)
         crop = image[y0:y1, x0:x1]
         offset = np.zeros_like(prediction)
         offset[:2] = (x0, y0)
@@ -215,12 +214,15 @@ class FaceTracker:
         if self._before is not None:
             velocity = self._previous[:N_POSE] - self._before[:N_POSE]
             prediction[:N_POSE] += self.config.velocity_damping * velocity
-        inside = self._inside(prediction, image.shape)
+        points = project(self.template.model, prediction)  # once: the share inside, the crop
+        inside = self._inside(prediction, image.shape, points)
         if inside < self.config.min_inside:
             why = f"face leaving the picture ({100 * inside:.0f} % inside)"
             return self._lost(image, frame, why, spent=0, score=float("nan"))
         lost, doubt = self._thresholds()
-        params, score, evaluations = self.step(image, prediction, self._previous, (lost, doubt))
+        params, score, evaluations = self.step(
+            image, prediction, self._previous, (lost, doubt), points=points
+        )
         if score < lost:
             why = f"track lost (score {score:.2f} < {lost:.2f})"
             return self._lost(image, frame, why, spent=evaluations, score=score)
@@ -348,3 +350,14 @@ class FaceTracker:
             return f"initialisation found a face only {100 * inside:.0f} % inside the picture"
         covered = self._covered(image, params, self.config.occluded_init_above)
         return f"initialisation found a {covered}" if covered else ""
+
+
+def _crop_box(points: np.ndarray, margin: float, shape: tuple[int, int]) -> tuple[int, ...]:
+    """(x0, y0, x1, y1): the box about `points` (N, 2) `margin` px wider, in a picture of
+    `shape` (H, W)."""
+    height_px, width_px = shape
+    x0 = int(max(0, np.floor(points[:, 0].min() - margin)))
+    y0 = int(max(0, np.floor(points[:, 1].min() - margin)))
+    x1 = int(min(width_px, np.ceil(points[:, 0].max() + margin) + 1))
+    y1 = int(min(height_px, np.ceil(points[:, 1].max() + margin) + 1))
+    return x0, y0, x1, y1

@@ -3,10 +3,12 @@ the encoder measures light against and what a receiver pastes from the descripti
 
 Units: pixels; parameters as in `uma.face.geometry`; luma uint8.
 
-The model is projected once a call: the box, the triangles facing the camera and the labels
-all come from that one projection. Where the face reads from (the reference's pose, or the
-description's when the face comes from it) changes only with a new reference or face source,
-so its triangles' corners are gathered once for each and kept on the renderer.
+The model is projected once a call, or not at all when the renderer's layered drawing of the
+same frame already did (`SceneRenderer.scene_points`): the box, the triangles facing the
+camera and the labels all come from that one projection. Where the face reads from (the
+reference's pose, or the description's when the face comes from it) changes only with a new
+reference or face source, so its triangles' corners are gathered once for each and kept on
+the renderer.
 """
 
 from __future__ import annotations
@@ -47,7 +49,8 @@ def face_luma(renderer, params: np.ndarray) -> tuple[np.ndarray, np.ndarray, tup
 
     model = renderer.description.model
     width, height = renderer.size
-    target = project(model, params)
+    kept = renderer.kept_points(params)  # the layered drawing's of this frame, if any
+    target = project(model, params) if kept is None else kept[: model.n_vertices]
     x0, y0 = np.maximum(np.floor(target.min(axis=0)).astype(int), 0)
     x1 = min(int(np.ceil(target[:, 0].max())) + 1, width)
     y1 = min(int(np.ceil(target[:, 1].max())) + 1, height)

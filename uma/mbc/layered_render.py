@@ -213,7 +213,7 @@ def compose_layers(renderer, params: np.ndarray, body: np.ndarray | None, chroma
     width, height = renderer.size
     size = (width, height)
     scene = renderer.scene
-    target = scene.points(params)
+    target = renderer.scene_points(params)
     head_forward = rigid_fit(renderer._reference_ring, head_ring_points(scene, target))
     out, plate, torso, body_moved = _torso_layer(renderer, body, chroma)
     halo = _warped_mask(renderer.halo_mask, renderer._halo_box, head_forward, size)

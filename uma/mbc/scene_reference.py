@@ -14,7 +14,19 @@ __all__ = ["description_reference"]
 
 def description_reference(description: ContentDescription, size: tuple[int, int]):
     """The description's picture at the source size `size` (W, H) as YUV 4:2:0, and the pose
-    of its model there: the texture pasted where it was cut from, mid-grey around it."""
+    of its model there: the texture pasted where it was cut from, mid-grey around it. Made
+    once per description and size (a receiver asks again at every change of face source) and
+    kept on the description; each call gets its own copies."""
+    cache = description.__dict__.setdefault("_scene_references", {})
+    key = tuple(int(v) for v in size)
+    if key not in cache:
+        cache[key] = _reference(description, key)
+    picture, params = cache[key]
+    return picture.copy(), params.copy()
+
+
+def _reference(description: ContentDescription, size: tuple[int, int]):
+    """`description_reference`'s picture and pose, made."""
     from uma.face.colour import bgr_to_ycbcr
 
     width, height = size

@@ -123,6 +123,7 @@ class SceneRenderer:
         self._face_source = None
         self._face_chroma = None
         self._last_face = None
+        self._points_kept = None  # `scene_points`: (params' bytes, the scene's points)
         self._memo = RenderMemo()  # cleared by every new reference and face source
         self.luma_only = False  # `set_luma_only`
         self.set_reference(*description_reference(description, self.size))
@@ -191,6 +192,21 @@ class SceneRenderer:
         self._memo.clear()
         if self.plate is not None:
             self.plate.luma_only = self.luma_only
+
+    def scene_points(self, params: np.ndarray) -> np.ndarray:
+        """`self.scene.points(params)`, kept for the last `params` asked (the layered drawing's
+        and the face paste's of one frame: the model projected once); never written to."""
+        key = np.asarray(params, dtype=np.float64).tobytes()
+        kept = self._points_kept
+        if kept is None or kept[0] != key:
+            kept = self._points_kept = (key, self.scene.points(params))
+        return kept[1]
+
+    def kept_points(self, params: np.ndarray) -> np.ndarray | None:
+        """The scene's points at `params` when `scene_points` has them, else None."""
+        kept = self._points_kept
+        key = np.asarray(params, dtype=np.float64).tobytes()
+        return kept[1] if kept is not None and kept[0] == key else None
 
     def _drawn(self, target: np.ndarray) -> np.ndarray:
         """Triangles to draw: the face's front-facing ones and every background strip (a strip

@@ -64,11 +64,12 @@ def settings_key(codec: str, sender, *, width: int, height: int, fps: float) -> 
 
 
 def chain(key: bytes, frame: np.ndarray) -> bytes:
-    """The address of `frame` after the frames whose address is `key`."""
-    digest = hashlib.blake2b(key, digest_size=20)
+    """The address of `frame` after the frames whose address is `key`: the first 20 bytes of
+    a SHA-256 (a content address, never an output; docs/mbc.md, session mbc12)."""
+    digest = hashlib.sha256(key)
     digest.update(repr((frame.shape, str(frame.dtype))).encode())
     digest.update(np.ascontiguousarray(frame).data)
-    return digest.digest()
+    return digest.digest()[:20]
 
 
 @dataclass
