@@ -53,3 +53,17 @@ def test_no_probe_into_a_link_that_owes_a_packet(no_probe, due):
     controller.on_report(_arrived(0.0, 20.0, 100.0))
     probe = controller.on_report(_empty(1000.0, 1100.0), due=due).probe
     assert (probe is None) is (no_probe and due == (1040.0, 9600))
+
+
+@pytest.mark.parametrize("into_silence", [False, True])
+@pytest.mark.parametrize("due", [(1040.0, 9600), (790.0, 9600)])
+def test_no_probe_once_the_link_has_been_quiet_for_a_silence(into_silence, due):
+    """The packet sent at 790 ms was due at 842 ms: by the empty report's end (1,100 ms) the
+    link has been quiet 258 ms, a silence's worth (250): with the key no probe (the cut comes
+    first), without it a probe sized on the old estimate. One due at 1,092 ms (8 ms of
+    quiet) is no outage yet: a probe either way."""
+    settings = UmaSettings(initial_kbps=300.0, no_probe_into_silence=into_silence)
+    controller = UmaController(settings)
+    controller.on_report(_arrived(0.0, 20.0, 100.0))
+    probe = controller.on_report(_empty(1000.0, 1100.0), due=due).probe
+    assert (probe is None) is (into_silence and due == (790.0, 9600))

@@ -8,7 +8,12 @@ from uma.config.engine import EstimatorConfig
 from uma.config.scenario import EngineConfig, FeedbackConfig
 from uma.engine.rate import make_rate
 
-KEYS = ("recover_after_silence", "overdue_in_any_report", "no_probe_while_owed")
+KEYS = (
+    "recover_after_silence",
+    "overdue_in_any_report",
+    "no_probe_while_owed",
+    "no_probe_into_silence",
+)
 
 
 @pytest.mark.parametrize("key", KEYS)

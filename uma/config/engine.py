@@ -57,6 +57,8 @@ class EstimatorConfig(Section):
     starts the quiet clock at the due time of the packet after them when that one is overdue
     (and pauses the sender at once; docs/rate-control.md, `rc13`). `no_probe_while_owed`
     (`uma` only; off): no probe after a report that counted a packet due before its end.
+    `no_probe_into_silence` (`uma` only; off): no probe once the quiet clock has run a
+    silence's length (the cut is due first).
     """
 
     initial_kbps: PosNum = 300.0
@@ -67,6 +69,7 @@ class EstimatorConfig(Section):
     recover_after_silence: Bool = False
     overdue_in_any_report: Bool = False
     no_probe_while_owed: Bool = False
+    no_probe_into_silence: Bool = False
 
     @model_validator(mode="after")
     def _consistent(self) -> EstimatorConfig:

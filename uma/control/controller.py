@@ -21,7 +21,8 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
   sent back to back, whose spacing measures the link, sized to queue about `probe_ms`;
   with `no_probe_while_owed` (off by default) none after a report that counted a packet due
   before its end and not in it (an outage read as application-limited: a probe sent into it
-  only waits behind what is stuck);
+  only waits behind what is stuck); with `no_probe_into_silence` (off by default) none once
+  the quiet clock has run `silence_ms` (the silence cut is due: an outage, not an idle sender);
 - **pause**: no report for `pause_ms` (1.5 report intervals): `paused` says the sender should
   code nothing new until one comes (the skip rule's caller asks), so a handover's gap or an
   outage gets little of the stream, and a lost report costs a frame or two, not a rate. A
@@ -303,6 +304,9 @@ class UmaController:
             return None
         if s.no_probe_while_owed and self._owed:
             return None  # it would only wait behind what the link owes
+        quiet_ms = self.quiet_ms(now_ms)
+        if s.no_probe_into_silence and quiet_ms is not None and quiet_ms >= s.silence_ms:
+            return None  # an outage, not an idle sender: the silence cut is due first
         if now_ms - self._last_probe_ms < s.probe_interval_ms:
             return None
         self._last_probe_ms = now_ms

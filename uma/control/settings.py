@@ -50,6 +50,7 @@ class UmaSettings:
     recover_window_ms: float = 5000.0
     overdue_in_any_report: bool = False
     no_probe_while_owed: bool = False
+    no_probe_into_silence: bool = False
     priors_kbps: Mapping[str, float] = field(default_factory=lambda: DEFAULT_PRIORS_KBPS)
 
     def __post_init__(self) -> None:

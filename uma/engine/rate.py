@@ -179,6 +179,7 @@ class UmaRate(RateControl):
                 recover_after_silence=cfg.recover_after_silence,
                 overdue_in_any_report=cfg.overdue_in_any_report,
                 no_probe_while_owed=cfg.no_probe_while_owed,
+                no_probe_into_silence=cfg.no_probe_into_silence,
             )
         )
         self._report_ms: float | None = None  # the last report's end, on the receiver's clock
