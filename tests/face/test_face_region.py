@@ -88,3 +88,37 @@ def test_the_cascade_answers_a_picture_it_has_seen_from_memory(monkeypatch):
     found = detect.detect_faces(luma)
     found.clear()  # a caller's list is its own
     assert detect.detect_faces(luma) == [first]
+
+
+def _plain_points_box(points, width, height, margin=0.1):
+    """`points_box` as it was (session mbc12 took Python floats): numpy scalars throughout."""
+    from uma.face.detect import Box
+
+    points = np.asarray(points, dtype=np.float64)
+    points = points[np.all(np.isfinite(points), axis=1)]
+    if points.size == 0:
+        return None
+    x0, y0 = points.min(axis=0)
+    x1, y1 = points.max(axis=0)
+    dx, dy = margin * (x1 - x0), margin * (y1 - y0)
+    left, top = max(0, int(np.floor(x0 - dx))), max(0, int(np.floor(y0 - dy)))
+    right, bottom = min(width, int(np.ceil(x1 + dx)) + 1), min(height, int(np.ceil(y1 + dy)) + 1)
+    if right <= left or bottom <= top:
+        return None
+    return Box(left, top, right - left, bottom - top)
+
+
+def test_points_box_is_the_plain_one_on_any_points() -> None:
+    rng = np.random.default_rng(8)
+    seen = set()
+    for k in range(400):
+        points = rng.normal(150, 80, (90, 2)) * (1e-3, 1.0, 10.0)[k % 3]
+        if k % 7 == 0:
+            points[rng.integers(0, 90, 5)] = np.nan
+        if k % 11 == 0:
+            points[:] = np.inf
+        margin = 0.1 * (k % 3)
+        got = points_box(points, 352, 288, margin=margin)
+        assert got == _plain_points_box(points, 352, 288, margin)
+        seen.add(got is None)
+    assert seen == {True, False}

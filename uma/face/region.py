@@ -10,6 +10,7 @@ found (none before the first: that frame has no face score); for the synthetic p
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Iterator
 
 import numpy as np
@@ -26,14 +27,16 @@ def points_box(
 ) -> Box | None:
     """The bounding box of `points` (N, 2) widened by `margin` a side, clipped to the frame."""
     points = np.asarray(points, dtype=np.float64)
-    points = points[np.all(np.isfinite(points), axis=1)]
+    finite = np.isfinite(points)
+    if not finite.all():  # the usual all-finite set is taken whole
+        points = points[finite.all(axis=1)]
     if points.size == 0:
         return None
-    x0, y0 = points.min(axis=0)
-    x1, y1 = points.max(axis=0)
+    # Python floats from here: the same double arithmetic without numpy's scalar overhead.
+    (x0, y0), (x1, y1) = points.min(axis=0).tolist(), points.max(axis=0).tolist()
     dx, dy = margin * (x1 - x0), margin * (y1 - y0)
-    left, top = max(0, int(np.floor(x0 - dx))), max(0, int(np.floor(y0 - dy)))
-    right, bottom = min(width, int(np.ceil(x1 + dx)) + 1), min(height, int(np.ceil(y1 + dy)) + 1)
+    left, top = max(0, math.floor(x0 - dx)), max(0, math.floor(y0 - dy))
+    right, bottom = min(width, math.ceil(x1 + dx) + 1), min(height, math.ceil(y1 + dy) + 1)
     if right <= left or bottom <= top:
         return None
     return Box(left, top, right - left, bottom - top)
