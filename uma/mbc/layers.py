@@ -24,6 +24,7 @@ import numpy as np
 
 from uma.mbc.errors import SceneError
 from uma.mbc.fill_kernels import pull_level, settle
+from uma.mbc.fill_memo import FillMemo
 
 __all__ = [
     "BODY_NAMES",
@@ -265,6 +266,10 @@ def _continue_edges(filled: np.ndarray, known: np.ndarray, edge: str, band_px: i
     return np.where(where, painted, filled)
 
 
+# The plates' luma fills by content: a mirror's plate and the receiver's fill the same luma.
+LUMA_FILLS = FillMemo(fill_unknown)
+
+
 class Plate:
     """The background the receiver knows: a YUV 4:2:0 picture, the mask of its pixels seen
     outside the person, and the same picture with the rest filled (`picture`). A `luma_only`
@@ -314,7 +319,7 @@ class Plate:
         seen = self.seen[height:].reshape(2, height // 2, width // 2)
         new = picture[height:].reshape(2, height // 2, width // 2)
         self.picture = np.empty_like(self.seen)
-        self.picture[:height] = fill_unknown(self.seen[:height], self.known)
+        self.picture[:height] = LUMA_FILLS.fill(self.seen[:height], self.known)
         filled = self.picture[height:].reshape(2, height // 2, width // 2)
         if self.luma_only:
             filled[:] = 128
