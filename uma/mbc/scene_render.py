@@ -123,6 +123,7 @@ class SceneRenderer:
         self._face_source = None
         self._face_chroma = None
         self._last_face = None
+        self._face_read = None  # `face_luma`'s picture and triangle corners, kept
         self._points_kept = None  # `scene_points`: (params' bytes, the scene's points)
         self._memo = RenderMemo()  # cleared by every new reference and face source
         self.luma_only = False  # `set_luma_only`
@@ -160,6 +161,7 @@ class SceneRenderer:
                 f"scale, got {np.array2string(params, precision=3, threshold=8)}"
             )
         self._memo.clear()
+        self._face_read = None
         self.reference = np.ascontiguousarray(picture)
         self.reference_params = params.copy()
         self.reference_serial = getattr(self, "reference_serial", 0) + 1  # one per reference
@@ -179,7 +181,7 @@ class SceneRenderer:
         known exactly) and only the rest of the scene from the reference: for a reference whose
         pose is only approximately known (the receiver's last picture, shown a while before the
         stream's first pose)."""
-        self._face_source = None
+        self._face_source = self._face_read = None
         self._memo.clear()
         if use_description:
             self._face_source = description_reference(self.description, self.size)
@@ -243,9 +245,23 @@ class SceneRenderer:
         """The face's own luma at `params` without light, over its bounding box only: (patch,
         mask, (x0, y0) of the box); what the encoder measures light against, at a fraction of
         `render`'s cost (`uma.mbc.face_patch`). Empty when the face lies outside the picture."""
-        from uma.mbc.face_patch import face_luma
+        from uma.face.geometry import project
+        from uma.mbc.face_patch import face_corners, face_luma
 
-        return face_luma(self, params)
+        model = self.description.model
+        kept = self.kept_points(params)  # the layered drawing's of this frame, if any
+        target = project(model, params) if kept is None else kept[: model.n_vertices]
+        if self._face_read is None:  # where the face reads from: new with each reference
+            picture, source = self.reference, self._reference_points[: model.n_vertices]
+            if self._face_source is not None:
+                picture, source = self._face_source[0], project(model, self._face_source[1])
+            self._face_read = (picture, face_corners(model, source))
+        patch, mask, origin, maps = face_luma(
+            model, self.size, target, *self._face_read, (self._x, self._y)
+        )
+        if maps is not None:
+            self._last_face = maps
+        return patch, mask, origin
 
     def render(
         self,
