@@ -203,7 +203,8 @@ def test_the_tracker_projecting_the_prediction_once_tracks_as_the_plain_way(head
     assert tracked >= 6
     template = fast.template
     width = float(np.ptp(project(template.model, template.params)[:, 0]))
-    assert template.face_width_px == width and template.face_width_px == width  # kept
+    assert template.face_width_px == width
+    assert vars(template)["_face_width_px"] == width  # kept on the template, not projected again
 
 
 def test_the_description_reference_kept_is_the_one_made(head) -> None:

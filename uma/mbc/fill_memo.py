@@ -58,6 +58,3 @@ class FillMemo:
         while len(self._kept) > self.entries:
             self._kept.popitem(last=False)
         return out
-
-    def clear(self) -> None:
-        self._kept.clear()
