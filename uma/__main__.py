@@ -1,9 +1,8 @@
 import sys
 
-try:
-    from uma.cli import main
-except KeyboardInterrupt:  # Ctrl-C while the command line is still being imported
-    sys.stderr.write("uma: interrupted\n")
-    sys.exit(130)
+from uma.interrupt import exit_at_once
+
+exit_at_once()  # Ctrl-C while the command line is still being imported: one line, exit 130
+from uma.cli import main  # noqa: E402
 
 sys.exit(main())

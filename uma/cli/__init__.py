@@ -68,10 +68,12 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 def _main(argv: Sequence[str] | None) -> int:
     from uma.errors import UmaError
+    from uma.interrupt import loading
 
-    parser = build_parser()
     try:
-        args = parser.parse_args(argv)  # a bad option is a ConfigError (`OneLineParser`)
+        with loading():
+            parser = build_parser()
+            args = parser.parse_args(argv)  # a bad option is a ConfigError (`OneLineParser`)
         if not getattr(args, "func", None):
             parser.print_help()
             return 2

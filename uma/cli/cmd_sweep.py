@@ -85,17 +85,20 @@ def _print_summary(experiment, result) -> None:
 def handle(args: argparse.Namespace) -> int:
     from pathlib import Path
 
-    from uma.cli.args import one_executor
-    from uma.experiments import load_experiment, make_executor, run_sweep
-    from uma.experiments.sweep import check_sweep_out
-    from uma.experiments.uplink_store import store_settings
+    from uma.interrupt import loading
 
-    one_executor(args)  # --workers is bounded by its parser
-    experiment = load_experiment(args.experiment)
-    out_dir = check_sweep_out(
-        args.out if args.out is not None else Path("results") / experiment.name
-    )
-    uplink = store_settings()  # a bad UMA_CACHE_MB is refused before any worker starts
+    with loading():  # nothing to clean up yet: Ctrl-C exits at once, even inside an import
+        from uma.cli.args import one_executor
+        from uma.experiments import load_experiment, make_executor, run_sweep
+        from uma.experiments.sweep import check_sweep_out
+        from uma.experiments.uplink_store import store_settings
+
+        one_executor(args)  # --workers is bounded by its parser
+        experiment = load_experiment(args.experiment)
+        out_dir = check_sweep_out(
+            args.out if args.out is not None else Path("results") / experiment.name
+        )
+        uplink = store_settings()  # a bad UMA_CACHE_MB is refused before any worker starts
     executor = make_executor(workers=args.workers, scheduler=args.scheduler, timeout_s=args.timeout)
 
     bar, progress = _progress_bar(args, experiment)
