@@ -13,6 +13,8 @@ KEYS = (
     "overdue_in_any_report",
     "no_probe_while_owed",
     "no_probe_into_silence",
+    "fixed_due_time",
+    "no_probe_while_paused",
 )
 
 
