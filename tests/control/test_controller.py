@@ -311,8 +311,11 @@ def test_no_probe_once_the_link_has_been_quiet_for_a_silence(into_silence, due):
     """The packet sent at 790 ms was due at 842 ms: by the empty report's end (1,100 ms) the
     link has been quiet 258 ms, a silence's worth (250): with the key no probe (the cut comes
     first), without it a probe sized on the old estimate. One due at 1,092 ms (8 ms of
-    quiet) is no outage yet: a probe either way."""
-    settings = UmaSettings(initial_kbps=300.0, no_probe_into_silence=into_silence)
+    quiet) is no outage yet: a probe either way. (The pause's own rule, on by default, would
+    stop that probe too: off here, so the test judges this key alone.)"""
+    settings = UmaSettings(
+        initial_kbps=300.0, no_probe_into_silence=into_silence, no_probe_while_paused=False
+    )
     controller = UmaController(settings)
     controller.on_report(_arrived(0.0, 20.0, 100.0))
     probe = controller.on_report(_empty(1000.0, 1100.0), due=due).probe

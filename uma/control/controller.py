@@ -23,7 +23,7 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
   before its end and not in it (an outage read as application-limited: a probe sent into it
   only waits behind what is stuck); with `no_probe_into_silence` (off by default) none once
   the quiet clock has run `silence_ms` (the silence cut is due: an outage, not an idle sender);
-  with `no_probe_while_paused` (off by default) none while the sender is `paused` (what is out
+  with `no_probe_while_paused` (on by default) none while the sender is `paused` (what is out
   is owed: a probe would only queue behind it);
 - **pause**: no report for `pause_ms` (1.5 report intervals): `paused` says the sender should
   code nothing new until one comes (the skip rule's caller asks), so a handover's gap or an
@@ -34,7 +34,7 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
   estimate, if longer) past it the sender pauses at once (a downlink outage with a live
   uplink: the receiver's reports keep coming, empty); with `overdue_in_any_report` (off by
   default) a report with packets counts the same way when the packet after its last one is
-  overdue (the link stalled mid-report); with `fixed_due_time` (off by default) a packet's
+  overdue (the link stalled mid-report); with `fixed_due_time` (on by default) a packet's
   time at the estimate is taken when it is first found due, so a silence cut of the estimate
   does not move its due time later and end the pause while it is still out;
 - **silence**: no report for `silence_ms` (an outage, a handover's gap) cuts the capacity to
