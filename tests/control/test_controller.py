@@ -311,9 +311,42 @@ def test_no_probe_once_the_link_has_been_quiet_for_a_silence(into_silence, due):
     """The packet sent at 790 ms was due at 842 ms: by the empty report's end (1,100 ms) the
     link has been quiet 258 ms, a silence's worth (250): with the key no probe (the cut comes
     first), without it a probe sized on the old estimate. One due at 1,092 ms (8 ms of
-    quiet) is no outage yet: a probe either way."""
-    settings = UmaSettings(initial_kbps=300.0, no_probe_into_silence=into_silence)
+    quiet) is no outage yet: a probe either way. (The pause's own rule, on by default, would
+    stop that probe too: off here, so the test judges this key alone.)"""
+    settings = UmaSettings(
+        initial_kbps=300.0, no_probe_into_silence=into_silence, no_probe_while_paused=False
+    )
     controller = UmaController(settings)
     controller.on_report(_arrived(0.0, 20.0, 100.0))
     probe = controller.on_report(_empty(1000.0, 1100.0), due=due).probe
     assert (probe is None) is (into_silence and due == (790.0, 9600))
+
+
+@pytest.mark.parametrize("while_paused", [False, True])
+@pytest.mark.parametrize("due", [None, (1040.0, 9600), (790.0, 9600)])
+def test_no_probe_while_the_sender_is_paused(while_paused, due):
+    """Unmeasured for a second, an empty report: the packet sent at 790 ms was due at 842 ms,
+    258 ms before the report's end, so the sender is paused (overdue): with the key no probe.
+    One due at 1,092 ms (8 ms) does not pause, nor does nothing outstanding: a probe."""
+    settings = UmaSettings(initial_kbps=300.0, no_probe_while_paused=while_paused)
+    controller = UmaController(settings)
+    controller.on_report(_arrived(0.0, 20.0, 100.0))
+    probe = controller.on_report(_empty(1000.0, 1100.0), due=due).probe
+    assert controller.paused(1100.0) is (due == (790.0, 9600))
+    assert (probe is None) is (while_paused and due == (790.0, 9600))
+
+
+@pytest.mark.parametrize("fixed", [False, True])
+def test_a_silence_cut_does_not_move_an_overdue_packet_s_due_time(fixed):
+    """The packet sent at 790 ms was due at 842 ms (9,600 bits at 300 kbit/s); at 1,100 ms the
+    silence cuts the estimate to about 20 kbit/s. Timed at the cut estimate the same packet
+    would take 488 ms and seem due only at 1,298 ms: the next empty report (1,200 ms) would
+    restart the quiet clock and end the pause. With `fixed_due_time` its due time stays."""
+    controller = UmaController(UmaSettings(initial_kbps=300.0, fixed_due_time=fixed))
+    controller.on_report(_arrived(0.0, 20.0, 100.0))
+    controller.on_report(_empty(1000.0, 1100.0), due=(790.0, 9600))
+    assert controller.on_silence(1100.0).reason == "silence"
+    assert controller.capacity_kbps < 25.0
+    controller.on_report(_empty(1100.0, 1200.0), due=(790.0, 9600))
+    assert controller.paused(1200.0) is fixed
+    assert controller.quiet_ms(1200.0) == pytest.approx(358.0 if fixed else 0.0)

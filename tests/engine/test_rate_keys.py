@@ -14,6 +14,7 @@ KEYS = (
     "no_probe_while_owed",
     "no_probe_into_silence",
 )
+ON_KEYS = ("fixed_due_time", "no_probe_while_paused")  # adopted (docs/rate-control.md, rc14)
 
 
 @pytest.mark.parametrize("key", KEYS)
@@ -24,3 +25,11 @@ def test_an_estimator_switch_reaches_uma_s_controller_and_is_off_by_default(key)
     assert getattr(on.controller.settings, key) is True
     others = [k for k in KEYS if k != key]
     assert not any(getattr(on.controller.settings, k) for k in others)
+
+
+@pytest.mark.parametrize("key", ON_KEYS)
+def test_an_adopted_estimator_switch_is_on_by_default_and_can_be_turned_off(key):
+    default = make_rate(EngineConfig(estimator=EstimatorConfig()), FeedbackConfig())
+    assert getattr(default.controller.settings, key) is True
+    off = make_rate(EngineConfig(estimator=EstimatorConfig(**{key: False})), FeedbackConfig())
+    assert getattr(off.controller.settings, key) is False

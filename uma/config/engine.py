@@ -59,6 +59,9 @@ class EstimatorConfig(Section):
     (`uma` only; off): no probe after a report that counted a packet due before its end.
     `no_probe_into_silence` (`uma` only; off): no probe once the quiet clock has run a
     silence's length (the cut is due first).
+    `fixed_due_time` (`uma` only; on): an outstanding packet's time at the estimate is
+    taken when it is first found due, so a silence cut does not move its due time later.
+    `no_probe_while_paused` (`uma` only; on): no probe while the sender is paused.
     """
 
     initial_kbps: PosNum = 300.0
@@ -70,6 +73,8 @@ class EstimatorConfig(Section):
     overdue_in_any_report: Bool = False
     no_probe_while_owed: Bool = False
     no_probe_into_silence: Bool = False
+    fixed_due_time: Bool = True
+    no_probe_while_paused: Bool = True
 
     @model_validator(mode="after")
     def _consistent(self) -> EstimatorConfig:

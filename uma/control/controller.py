@@ -23,6 +23,8 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
   before its end and not in it (an outage read as application-limited: a probe sent into it
   only waits behind what is stuck); with `no_probe_into_silence` (off by default) none once
   the quiet clock has run `silence_ms` (the silence cut is due: an outage, not an idle sender);
+  with `no_probe_while_paused` (on by default) none while the sender is `paused` (what is out
+  is owed: a probe would only queue behind it);
 - **pause**: no report for `pause_ms` (1.5 report intervals): `paused` says the sender should
   code nothing new until one comes (the skip rule's caller asks), so a handover's gap or an
   outage gets little of the stream, and a lost report costs a frame or two, not a rate. A
@@ -32,7 +34,9 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
   estimate, if longer) past it the sender pauses at once (a downlink outage with a live
   uplink: the receiver's reports keep coming, empty); with `overdue_in_any_report` (off by
   default) a report with packets counts the same way when the packet after its last one is
-  overdue (the link stalled mid-report);
+  overdue (the link stalled mid-report); with `fixed_due_time` (on by default) a packet's
+  time at the estimate is taken when it is first found due, so a silence cut of the estimate
+  does not move its due time later and end the pause while it is still out;
 - **silence**: no report for `silence_ms` (an outage, a handover's gap) cuts the capacity to
   `silence_factor` of itself or of what arrived over the last `received_tau_ms`, whichever is
   less (an application-limited stream sends no more than that), once per `silence_ms`; when
@@ -91,6 +95,8 @@ class UmaController:
         self._recover_kbps: float | None = None  # a cut's capacity before it, to probe for
         self._recovering_kbps: float | None = None  # a recovery probe's rate, out
         self._recover_until_ms = float("-inf")  # no recovery probe after this
+        self._due: tuple[float, int] | None = None  # the due packet `_service_ms` timed
+        self._due_service_ms = 0.0
 
     def _reset_trend(self) -> None:
         self.groups = InterArrival()
@@ -197,13 +203,23 @@ class UmaController:
         if counts and due is not None and self._base_ms is not None:
             send_ms, size_bits = due
             start_ms = max(send_ms + self._base_ms, self._last_arrival_ms)
-            service_ms = size_bits / self.capacity_kbps
+            service_ms = self._service_ms(due)
             since_ms = min(since_ms, start_ms + service_ms)
             grace_ms = max(grace_ms, service_ms)
         self._overdue = report.end_ms - since_ms >= grace_ms
         self._owed = since_ms < report.end_ms
         if self._quiet_since_ms is None or since_ms > self._quiet_since_ms:
             self._quiet_since_ms, self._silences = since_ms, 0
+
+    def _service_ms(self, due: tuple[float, int]) -> float:
+        """The due packet's time at the capacity estimate; with `fixed_due_time`, at the
+        estimate when that packet was first found due (a later cut does not move it)."""
+        service_ms = due[1] / self.capacity_kbps
+        if not self.settings.fixed_due_time:
+            return service_ms
+        if self._due != due:
+            self._due, self._due_service_ms = due, service_ms
+        return self._due_service_ms
 
     def _bounded(self, target_kbps: float) -> float:
         """`target_kbps` within [min_kbps, max_kbps]: the one place the target is bounded
@@ -307,6 +323,8 @@ class UmaController:
         quiet_ms = self.quiet_ms(now_ms)
         if s.no_probe_into_silence and quiet_ms is not None and quiet_ms >= s.silence_ms:
             return None  # an outage, not an idle sender: the silence cut is due first
+        if s.no_probe_while_paused and self.paused(now_ms):
+            return None  # the link owes what is out: a probe would only queue behind it
         if now_ms - self._last_probe_ms < s.probe_interval_ms:
             return None
         self._last_probe_ms = now_ms

@@ -51,6 +51,8 @@ class UmaSettings:
     overdue_in_any_report: bool = False
     no_probe_while_owed: bool = False
     no_probe_into_silence: bool = False
+    fixed_due_time: bool = True
+    no_probe_while_paused: bool = True
     priors_kbps: Mapping[str, float] = field(default_factory=lambda: DEFAULT_PRIORS_KBPS)
 
     def __post_init__(self) -> None:

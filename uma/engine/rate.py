@@ -180,6 +180,8 @@ class UmaRate(RateControl):
                 overdue_in_any_report=cfg.overdue_in_any_report,
                 no_probe_while_owed=cfg.no_probe_while_owed,
                 no_probe_into_silence=cfg.no_probe_into_silence,
+                fixed_due_time=cfg.fixed_due_time,
+                no_probe_while_paused=cfg.no_probe_while_paused,
             )
         )
         self._report_ms: float | None = None  # the last report's end, on the receiver's clock
