@@ -30,6 +30,10 @@ _BELOW_CHIN_OF_HEIGHT = 0.05
 # A torso whose pixels (half resolution) differ from those of the last aligned picture by
 # less than this mean (luma levels) has not moved: the last motion stands, no alignment.
 STILL_LEVELS = 0.75
+# The alignment's template is the reference's rows holding the torso and this many rows (half
+# resolution) above and below (the torso's pixels move by the body motion as the alignment
+# goes): every iteration warps only those rows instead of the whole picture.
+TEMPLATE_MARGIN_ROWS = 16
 
 
 @dataclass(frozen=True)
@@ -74,6 +78,10 @@ class BodyTracker:
         mask[: max(int(renderer.anchor[1] + _BELOW_CHIN_OF_HEIGHT * height), 0)] = 0
         mask = cv2.resize(mask, half, interpolation=cv2.INTER_NEAREST)
         self._template = (luma.astype(np.float32), mask.astype(np.uint8))
+        rows = np.flatnonzero(mask.any(axis=1))
+        top = max(int(rows[0]) - TEMPLATE_MARGIN_ROWS, 0) if rows.size else 0
+        bottom = min(int(rows[-1]) + 1 + TEMPLATE_MARGIN_ROWS, half[1]) if rows.size else half[1]
+        self._rows = (top, np.ascontiguousarray(self._template[0][top:bottom]))
         if self.camera is not None:
             self.camera.prepare(self._template[0], renderer.person_mask)
         self._key = key
@@ -88,7 +96,7 @@ class BodyTracker:
         if not getattr(renderer, "layered", False):
             return BodyFailure("body motion: the renderer draws no layers")
         self._prepare(renderer)
-        template, mask = self._template
+        _, mask = self._template
         if int(np.count_nonzero(mask)) < _MIN_TORSO_PIXELS:
             return BodyFailure("body motion: too little torso in the picture")
         anchor = renderer.anchor
@@ -102,13 +110,18 @@ class BodyTracker:
         if self._aligned is not None and self._still(picture, mask):
             return self.last  # the torso did not change since it was last aligned
         criteria = (cv2.TERM_CRITERIA_COUNT | cv2.TERM_CRITERIA_EPS, _ITERATIONS, _EPSILON)
+        top, rows = self._rows  # the template's rows about the torso: its row 0 is row `top`
+        start = start.astype(np.float64)
+        start[:, 2] += start[:, 1] * top
         try:
             _, warp = cv2.findTransformECC(
-                template, picture.astype(np.float32), start, cv2.MOTION_EUCLIDEAN, criteria, mask, 3
-            )
+                rows, picture.astype(np.float32), start.astype(np.float32),
+                cv2.MOTION_EUCLIDEAN, criteria, mask, 3,
+            )  # fmt: skip
         except cv2.error as err:
             return BodyFailure(f"body motion: no alignment ({str(err).strip().splitlines()[-1]})")
         warp = warp.astype(np.float64)
+        warp[:, 2] -= warp[:, 1] * top
         warp[:, 2] *= 2.0
         body = np.concatenate([rigid_of(warp, anchor), self.last[N_TORSO:]])
         problem = body_problem(body, renderer.size)

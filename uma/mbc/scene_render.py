@@ -23,6 +23,7 @@ import numpy as np
 
 from uma.face.describe import ContentDescription
 from uma.face.scene import HEAD_RING_SCALE, SceneMesh
+from uma.mbc.cut_memo import CutMemo
 from uma.mbc.errors import SceneError
 from uma.mbc.layered_kernels import STILL_MAP, relight_face, triangle_maps
 from uma.mbc.layered_render import compose_layers, mask_box
@@ -51,6 +52,8 @@ HEAD_RING_OUTLINES = 1.4  # the head ring's radius in face-outline radii (hair, 
 # outside the face that lets them follow only in part (better where the pose is off: akiyo's
 # bow, carphone's turn; docs/mbc.md).
 HEAD_RING_CHOICES = (1.05, HEAD_RING_OUTLINES)
+# The references' cuts by content: a mirror and the receiver cut the same person at a take.
+PERSON_CUTS = CutMemo(cut_person)
 # The halo around the head, in head-ring widths, moved rigidly with the head: hair just outside
 # the head ring goes with the person, never into the plate. Chosen on akiyo's and carphone's
 # frames 150-299 (face box luma PSNR, quantised; the stretched scene: 22.30 | 21.25 dB): halo
@@ -328,7 +331,7 @@ class SceneRenderer:
     def _cut_layers(self, params: np.ndarray, fresh: np.ndarray | None) -> None:
         """The reference cut at `params` (`uma.mbc.layers.cut_person`), the plate taught the
         rest."""
-        head, self.halo_mask, self.torso_mask, self.anchor = cut_person(
+        head, self.halo_mask, self.torso_mask, self.anchor = PERSON_CUTS.cut(
             self.scene, self._reference_points, self.size, HALO_OF_HEAD
         )
         self._reference_ring = head_ring_points(self.scene, self._reference_points)
