@@ -13,6 +13,7 @@ KEYS = (
     "overdue_in_any_report",
     "no_probe_while_owed",
     "no_probe_into_silence",
+    "take_queued_drop",
 )
 ON_KEYS = ("fixed_due_time", "no_probe_while_paused")  # adopted (docs/rate-control.md, rc14)
 

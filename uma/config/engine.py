@@ -62,6 +62,8 @@ class EstimatorConfig(Section):
     `fixed_due_time` (`uma` only; on): an outstanding packet's time at the estimate is
     taken when it is first found due, so a silence cut does not move its due time later.
     `no_probe_while_paused` (`uma` only; on): no probe while the sender is paused.
+    `take_queued_drop` (`uma` only; off): a train that measures less than the estimate while
+    the report's queue builds past the controller's target is taken whole.
     """
 
     initial_kbps: PosNum = 300.0
@@ -75,6 +77,7 @@ class EstimatorConfig(Section):
     no_probe_into_silence: Bool = False
     fixed_due_time: Bool = True
     no_probe_while_paused: Bool = True
+    take_queued_drop: Bool = False
 
     @model_validator(mode="after")
     def _consistent(self) -> EstimatorConfig:

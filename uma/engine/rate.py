@@ -182,6 +182,7 @@ class UmaRate(RateControl):
                 no_probe_into_silence=cfg.no_probe_into_silence,
                 fixed_due_time=cfg.fixed_due_time,
                 no_probe_while_paused=cfg.no_probe_while_paused,
+                take_queued_drop=cfg.take_queued_drop,
             )
         )
         self._report_ms: float | None = None  # the last report's end, on the receiver's clock
