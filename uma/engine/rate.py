@@ -183,6 +183,7 @@ class UmaRate(RateControl):
                 fixed_due_time=cfg.fixed_due_time,
                 no_probe_while_paused=cfg.no_probe_while_paused,
                 take_queued_drop=cfg.take_queued_drop,
+                skip_limit_by_received=cfg.skip_limit_by_received,
             )
         )
         self._report_ms: float | None = None  # the last report's end, on the receiver's clock
@@ -254,9 +255,16 @@ class UmaRate(RateControl):
             if self._skipping_s is None:
                 self._skipping_s = now_s
             skip = now_s - self._skipping_s < s.max_skip_ms / 1000.0
+            skip = skip or (s.skip_limit_by_received and self._silent(frame_bits, now_s))
         if not skip:
             self._skipping_s = None
         return skip
+
+    def _silent(self, frame_bits: float, now_s: float) -> bool:
+        """Paused, and the frame would not drain within the skip limit's length at what
+        arrived over the last `RECEIVED_WINDOW_S`: the link is silent, not trickling."""
+        budget_bits = self.state.received_kbps * self.controller.settings.max_skip_ms
+        return self.paused(now_s) and frame_bits > budget_bits
 
 
 class GccRate(RateControl):
