@@ -14,9 +14,12 @@ KEYS = (
     "no_probe_while_owed",
     "no_probe_into_silence",
     "take_queued_drop",
+)
+ON_KEYS = (  # adopted (docs/rate-control.md, rc14, rc15)
+    "fixed_due_time",
+    "no_probe_while_paused",
     "skip_limit_by_received",
 )
-ON_KEYS = ("fixed_due_time", "no_probe_while_paused")  # adopted (docs/rate-control.md, rc14)
 
 
 @pytest.mark.parametrize("key", KEYS)
@@ -63,6 +66,6 @@ def _skipped_after_a_report(on: bool, received_kbps: float) -> int:
 def test_past_the_skip_limit_a_silent_link_gets_no_frame_and_a_trickle_does(
     on, received_kbps, sent
 ):
-    """Paused for 2 s: the 1-s limit sends a frame after a second of skips; with `skip_limit_by_received`
-    only if 10 kbit drain within that second at what arrived (20 kbit/s, not 2)."""
+    """Paused for 2 s: the 1-s limit sends a frame after a second of skips; with
+    `skip_limit_by_received` only if 10 kbit drain within that second at what arrived (20 kbit/s, not 2)."""
     assert 50 - _skipped_after_a_report(on, received_kbps) == sent

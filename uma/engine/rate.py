@@ -13,7 +13,9 @@ encoder sends at its target; uma's ladder sends at most a rung's rate).
 - `uma`: `uma.control.UmaController` on the report's delivery (trains, queue, trend, loss),
   probes when application-limited, `on_silence` per report interval without a report, the
   technology's prior on a handover, the skip rule, and no frame coded while the controller is
-  `paused` (no report for its `pause_ms`; still never more than `max_skip_ms` in a row);
+  `paused` (no report for its `pause_ms`; never more than `max_skip_ms` in a row, unless
+  still paused and the frame would not drain within that time at what arrived over the last
+  second: `skip_limit_by_received`, a silent link told from a trickle);
   no refresh packet leaves while paused or while the reports are later than their own spacing
   allows (`ReportSpacing`, `refresh_held`: the refresh alone waits for the next report; a
   pause that early for the video cost a measured trace, docs/rate-control.md).
