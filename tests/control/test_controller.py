@@ -350,3 +350,27 @@ def test_a_silence_cut_does_not_move_an_overdue_packet_s_due_time(fixed):
     controller.on_report(_empty(1100.0, 1200.0), due=(790.0, 9600))
     assert controller.paused(1200.0) is fixed
     assert controller.quiet_ms(1200.0) == pytest.approx(358.0 if fixed else 0.0)
+
+
+def _train(end_ms, *, kbps, queue_ms):
+    """A report whose packets made a 100-ms train at `kbps` and met `queue_ms` of queue."""
+    return DeliveryReport(
+        start_ms=end_ms - 100.0, end_ms=end_ms, packets=len(queue_ms),
+        received_bits=int(kbps * 100), lost=0, train_bits=int(kbps * 100), train_ms=100.0,
+        queue_delay_ms=tuple(queue_ms), records=(),
+    )  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("taken", "queue_ms", "whole"),
+    [(False, (20.0, 90.0), False), (True, (20.0, 90.0), True), (True, (90.0, 20.0), False),
+     (True, (20.0, 50.0), False)],
+)  # fmt: skip
+def test_a_train_below_the_estimate_in_a_building_queue_is_taken_whole(taken, queue_ms, whole):
+    """1,000 kbit/s estimated, a train reads 400 while the queue rises 20 -> 90 ms (past the
+    60-ms target): with `take_queued_drop` the estimate is 400; without it (or with the queue
+    falling, or staying under the target) the usual weighing moves it about a quarter."""
+    controller = UmaController(UmaSettings(initial_kbps=1000.0, take_queued_drop=taken))
+    controller.on_report(_train(100.0, kbps=400.0, queue_ms=queue_ms))
+    weighed = 1000.0 - 600.0 * (1.0 - math.exp(-100.0 / 300.0))
+    assert controller.capacity_kbps == pytest.approx(400.0 if whole else weighed)

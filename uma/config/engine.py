@@ -62,6 +62,11 @@ class EstimatorConfig(Section):
     `fixed_due_time` (`uma` only; on): an outstanding packet's time at the estimate is
     taken when it is first found due, so a silence cut does not move its due time later.
     `no_probe_while_paused` (`uma` only; on): no probe while the sender is paused.
+    `take_queued_drop` (`uma` only; off): a train that measures less than the estimate while
+    the report's queue builds past the controller's target is taken whole.
+    `skip_limit_by_received` (`uma` only; on): past the skip rule's 1-s limit a frame is
+    still skipped while the sender is paused and the frame would not drain within that limit
+    at what arrived over the last second (a silent link, not a trickle).
     """
 
     initial_kbps: PosNum = 300.0
@@ -75,6 +80,8 @@ class EstimatorConfig(Section):
     no_probe_into_silence: Bool = False
     fixed_due_time: Bool = True
     no_probe_while_paused: Bool = True
+    take_queued_drop: Bool = False
+    skip_limit_by_received: Bool = True
 
     @model_validator(mode="after")
     def _consistent(self) -> EstimatorConfig:

@@ -9,6 +9,8 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
   capacity_kbps`), smoothed with a time constant over the trains' own measured time, so a
   clump of deliveries reads as the link's rate rather than as a queue; the report after a
   probe weighs at least `probe_weight` (a probe's few packets measure little time);
+  with `take_queued_drop` (off by default) a train below the estimate is taken whole when the
+  report's queueing delay rose past `queue_target_ms` (the stream filled the link: a drop);
 - **queue**: the smallest queueing-delay sample of a report (bursty delivery jitters the
   others; a standing queue raises every one); above `queue_target_ms` the excess is drained
   over `drain_ms`;
@@ -125,6 +127,8 @@ class UmaController:
             weight = 1.0 - math.exp(-report.train_ms / s.capacity_tau_ms)
             if self._probe_pending:
                 weight = max(weight, s.probe_weight)
+            if s.take_queued_drop and self._queued_drop(report):
+                weight = 1.0
             self.capacity_kbps += weight * (report.capacity_kbps - self.capacity_kbps)
             self._recovered(report)
             self._last_train_ms = now_ms
@@ -144,6 +148,15 @@ class UmaController:
         self.target_kbps = self._bounded(target)
         probe = self._recovery_probe(report, technology, now_ms)
         return RateDecision(self.target_kbps, probe or self._probe(report, now_ms), reason)
+
+    def _queued_drop(self, report: DeliveryReport) -> bool:
+        """The report's train measured less than the estimate while its queueing delay rose
+        past `queue_target_ms` (its newest sample above the target and above its first): the
+        stream filled the link, so the train read the link's rate, not the sender's."""
+        queue_ms = report.queue_delay_ms
+        if report.capacity_kbps is None or report.capacity_kbps >= self.capacity_kbps:
+            return False
+        return bool(queue_ms) and queue_ms[-1] > max(self.settings.queue_target_ms, queue_ms[0])
 
     def _clear(self, report: DeliveryReport) -> bool:
         """The report's packets met less than `queue_target_ms` of queue and none was lost:

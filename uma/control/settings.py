@@ -53,6 +53,8 @@ class UmaSettings:
     no_probe_into_silence: bool = False
     fixed_due_time: bool = True
     no_probe_while_paused: bool = True
+    take_queued_drop: bool = False
+    skip_limit_by_received: bool = True
     priors_kbps: Mapping[str, float] = field(default_factory=lambda: DEFAULT_PRIORS_KBPS)
 
     def __post_init__(self) -> None:

@@ -13,7 +13,9 @@ encoder sends at its target; uma's ladder sends at most a rung's rate).
 - `uma`: `uma.control.UmaController` on the report's delivery (trains, queue, trend, loss),
   probes when application-limited, `on_silence` per report interval without a report, the
   technology's prior on a handover, the skip rule, and no frame coded while the controller is
-  `paused` (no report for its `pause_ms`; still never more than `max_skip_ms` in a row);
+  `paused` (no report for its `pause_ms`; never more than `max_skip_ms` in a row, unless
+  still paused and the frame would not drain within that time at what arrived over the last
+  second: `skip_limit_by_received`, a silent link told from a trickle);
   no refresh packet leaves while paused or while the reports are later than their own spacing
   allows (`ReportSpacing`, `refresh_held`: the refresh alone waits for the next report; a
   pause that early for the video cost a measured trace, docs/rate-control.md).
@@ -182,6 +184,8 @@ class UmaRate(RateControl):
                 no_probe_into_silence=cfg.no_probe_into_silence,
                 fixed_due_time=cfg.fixed_due_time,
                 no_probe_while_paused=cfg.no_probe_while_paused,
+                take_queued_drop=cfg.take_queued_drop,
+                skip_limit_by_received=cfg.skip_limit_by_received,
             )
         )
         self._report_ms: float | None = None  # the last report's end, on the receiver's clock
@@ -253,9 +257,16 @@ class UmaRate(RateControl):
             if self._skipping_s is None:
                 self._skipping_s = now_s
             skip = now_s - self._skipping_s < s.max_skip_ms / 1000.0
+            skip = skip or (s.skip_limit_by_received and self._silent(frame_bits, now_s))
         if not skip:
             self._skipping_s = None
         return skip
+
+    def _silent(self, frame_bits: float, now_s: float) -> bool:
+        """Paused, and the frame would not drain within the skip limit's length at what
+        arrived over the last `RECEIVED_WINDOW_S`: the link is silent, not trickling."""
+        budget_bits = self.state.received_kbps * self.controller.settings.max_skip_ms
+        return self.paused(now_s) and frame_bits > budget_bits
 
 
 class GccRate(RateControl):
