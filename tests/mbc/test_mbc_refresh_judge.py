@@ -57,3 +57,20 @@ def test_a_luma_only_rendering_draws_the_same_luma(head, soften: bool) -> None:
     assert renderer.layered and np.array_equal(face, luma_face)
     assert np.array_equal(luma[:288], full[:288])
     assert not np.array_equal(luma[288:], full[288:])  # the chroma was not drawn
+
+
+def test_the_box_psnr_of_uint8_boxes_is_the_float64_formulas_to_the_bit() -> None:
+    import math
+
+    rng = np.random.default_rng(5)
+    picture = rng.integers(0, 256, (288, 352), dtype=np.uint8)
+    truth = rng.integers(0, 256, (288, 352), dtype=np.uint8)
+    truth[:100] = picture[:100] // 2 + 60  # near and far boxes
+    for y0, x0, h, w in ((0, 0, 288, 352), (20, 30, 91, 77), (150, 3, 1, 5), (0, 0, 64, 64)):
+        a, b = picture[y0 : y0 + h, x0 : x0 + w], truth[y0 : y0 + h, x0 : x0 + w]
+        mse = float(np.mean((a.astype(np.float64) - b.astype(np.float64)) ** 2))
+        assert box_psnr_db(a, b) == 10.0 * math.log10(255.0**2 / mse)
+        assert box_psnr_db(a.astype(np.float32), b) == box_psnr_db(a, b)
+    assert box_psnr_db(picture, picture) == 100.0
+    worst = box_psnr_db(np.zeros((288, 352), np.uint8), np.full((288, 352), 255, np.uint8))
+    assert worst == 0.0

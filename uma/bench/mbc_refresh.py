@@ -148,7 +148,7 @@ def _renderer(clip, results, spec, size, profile, luma_only=False):
 
 def _nearer(mirror, face_units, spec, frame, values, picture, base=None) -> bool:
     """Whether a refresh's decoded `picture` is nearer `frame` than the mirror's rendering at
-    `values` (the set coded for that frame): over the box for a face refresh, the judge the
+    `values` (the set decoded for that frame): over the box for a face refresh, the judge the
     simulation uses (`uma.mbc.refresh_gain_db`), over the picture's luma otherwise; a
     residual's composed box against `base`, the rendering it was coded against."""
     from uma.mbc.refresh_judge import refresh_gain_db, residual_gain_db
@@ -205,8 +205,7 @@ class _Sender:
     def schedule(self):
         from uma.mbc.refresh import schedule_refresh
 
-        clip = self.clip
-        rate_kbps = max(self.budget_kbps, 1e-9)
+        clip, rate_kbps = self.clip, max(self.budget_kbps, 1e-9)
         return schedule_refresh(
             self.units, len(clip.frames), clip.fps, rate_kbps, latency_s=self.spec.latency_s
         )
@@ -227,9 +226,9 @@ class _Sender:
         self.current = k
         return taken
 
-    def code(self, index: int, mirror, values: np.ndarray, decoded_values: np.ndarray) -> None:
-        """Code frame `index`'s refresh unit if it is a refresh frame (`values` the set coded
-        for it, `decoded_values` as the receiver decodes it) and adopt it if it is worth it."""
+    def code(self, index: int, mirror, values: np.ndarray) -> None:
+        """Code frame `index`'s refresh unit if it is a refresh frame; adopt it if it beats the
+        mirror's drawing of `values`, its set as decoded (the simulation's judge)."""
         from uma.mbc.refresh import RefreshUnit
 
         if index not in self.at:
@@ -238,8 +237,8 @@ class _Sender:
         begin, cpu = time.perf_counter(), time.process_time()
         base = None
         if self.spec.region == "residual":
-            params, light = units.split(decoded_values)
-            base = self.ahead.render(params, light, units.body_of(decoded_values))[0]
+            params, light = units.split(values)
+            base = self.ahead.render(params, light, units.body_of(values))[0]
         bits, keyframe, picture = self.coder.code(frame, self.corners.get(index), base=base)
         k = len(self.units)
         self.units.append(RefreshUnit(index, bits, keyframe))
@@ -255,7 +254,7 @@ class _Sender:
             self.adopted.add(k)
             if base is not None:
                 begin, cpu = time.perf_counter(), time.process_time()
-                take_refresh(self.ahead, units, decoded_values, picture)
+                take_refresh(self.ahead, units, values, picture)
                 _add(self.seconds, begin, cpu)
 
 
@@ -296,7 +295,7 @@ def _engine(clip, results, face_units, stream_config, sender, mirror):
             decoded.update(decoder.decode(packet.to_bytes()).frames)
         packets += out
         if values is not None:  # decided on the unit's own frame, before it can arrive
-            sender.code(index, mirror, values, encoder.decoded)
+            sender.code(index, mirror, encoder.decoded)
     return packets, decoded, switches
 
 

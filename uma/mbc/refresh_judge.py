@@ -30,8 +30,15 @@ def needs_judging(min_gain_db: float, *, first_always: bool, refresh_taken: bool
 
 
 def box_psnr_db(picture: np.ndarray, truth: np.ndarray) -> float:
-    """Luma PSNR (dB) of `picture` against `truth`, same shape; 100 for identical ones."""
-    mse = float(np.mean((picture.astype(np.float64) - truth.astype(np.float64)) ** 2))
+    """Luma PSNR (dB) of `picture` against `truth`, same shape; 100 for identical ones.
+    Two uint8 pictures' squared errors are summed as integers: the float64 mean of the same
+    integers is exact too, so the value is the same to the bit, at a third of the cost."""
+    if picture.dtype == truth.dtype == np.uint8 and picture.shape == truth.shape:
+        diff = np.subtract(picture, truth, dtype=np.int32)
+        np.multiply(diff, diff, out=diff)  # at most 255 ** 2 a pixel
+        mse = int(diff.sum(dtype=np.int64)) / diff.size if diff.size else float("nan")
+    else:
+        mse = float(np.mean((picture.astype(np.float64) - truth.astype(np.float64)) ** 2))
     return 100.0 if mse <= 1e-10 else 10.0 * math.log10(255.0**2 / mse)
 
 
