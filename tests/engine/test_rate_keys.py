@@ -1,4 +1,5 @@
-"""`engine.estimator`'s switches for uma's controller reach its settings (off by default)."""
+"""`engine.estimator`'s switches for uma's controller reach its settings (off by default, but
+the adopted ones), and the skip limit's switch acts through the engine's public calls."""
 
 from __future__ import annotations
 
@@ -42,21 +43,21 @@ def test_an_adopted_estimator_switch_is_on_by_default_and_can_be_turned_off(key)
 
 def _skipped_after_a_report(on: bool, received_kbps: float) -> int:
     """Frames of 10 kbit asked every 40 ms for 2 s after the last report (the sender paused
-    from 150 ms on), with `received_kbps` arriving over the last second: how many not sent."""
-    from dataclasses import replace
-
+    from 150 ms after it), that report counting `received_kbps` over one second: how many
+    were not sent."""
     from uma.control.delivery import DeliveryReport, PacketRecord
     from uma.engine.reports import ReceiverReport
 
     estimator = EstimatorConfig(skip_limit_by_received=on)
     rate = make_rate(EngineConfig(estimator=estimator), FeedbackConfig())
+    bits = int(received_kbps * 1000.0)
     delivery = DeliveryReport(
-        start_ms=0.0, end_ms=100.0, packets=1, received_bits=9600, lost=0, train_bits=0,
-        train_ms=0.0, queue_delay_ms=(0.0,), records=(PacketRecord(0, 50.0, 70.0, 9600),),
+        start_ms=0.0, end_ms=1000.0, packets=1, received_bits=bits, lost=0, train_bits=0,
+        train_ms=0.0, queue_delay_ms=(0.0,), records=(PacketRecord(0, 950.0, 970.0, bits),),
     )  # fmt: skip
-    rate.on_report(ReceiverReport(0.1, 0.1, 9600, 1, 0, 0, 0.0, delivery=delivery), 0.1)
-    rate.state = replace(rate.state, received_kbps=received_kbps)
-    times_s = [0.3 + 0.04 * k for k in range(50)]
+    rate.on_report(ReceiverReport(1.0, 1.0, bits, 1, 0, 0, 0.0, delivery=delivery), 1.0)
+    assert rate.state.received_kbps == pytest.approx(received_kbps)
+    times_s = [1.2 + 0.04 * k for k in range(50)]
     return sum(rate.skip(10_000.0, 0.0, now_s) for now_s in times_s)
 
 
@@ -67,5 +68,6 @@ def test_past_the_skip_limit_a_silent_link_gets_no_frame_and_a_trickle_does(
     on, received_kbps, sent
 ):
     """Paused for 2 s: the 1-s limit sends a frame after a second of skips; with
-    `skip_limit_by_received` only if 10 kbit drain within that second at what arrived (20 kbit/s, not 2)."""
+    `skip_limit_by_received` only if its 10 kbit drain within that second at what arrived
+    (20 kbit/s, not 2)."""
     assert 50 - _skipped_after_a_report(on, received_kbps) == sent
