@@ -374,3 +374,42 @@ def test_a_train_below_the_estimate_in_a_building_queue_is_taken_whole(taken, qu
     controller.on_report(_train(100.0, kbps=400.0, queue_ms=queue_ms))
     weighed = 1000.0 - 600.0 * (1.0 - math.exp(-100.0 / 300.0))
     assert controller.capacity_kbps == pytest.approx(400.0 if whole else weighed)
+
+
+@pytest.mark.parametrize("bounded", [False, True])
+def test_a_drop_read_in_a_building_queue_halves_the_estimate_per_report(bounded):
+    """1,000 kbit/s estimated; two 100-ms trains read 400 while the queue builds 10 -> 45 ms,
+    then 45 -> 80 (past the 20-ms low mark). With `bounded_queued_drop` the first report cuts
+    to 500 (at most a half per report), the second takes the train whole (400 > 250); without
+    it each moves the estimate 1 - exp(-100/300) = 0.283 of the way."""
+    controller = UmaController(UmaSettings(initial_kbps=1000.0, bounded_queued_drop=bounded))
+    weight = 1.0 - math.exp(-100.0 / 300.0)
+    controller.on_report(_train(100.0, kbps=400.0, queue_ms=(10.0, 45.0)))
+    first = 1000.0 - 600.0 * weight
+    assert controller.capacity_kbps == pytest.approx(500.0 if bounded else first)
+    controller.on_report(_train(200.0, kbps=400.0, queue_ms=(45.0, 80.0)))
+    assert controller.capacity_kbps == pytest.approx(
+        400.0 if bounded else first - (first - 400.0) * weight
+    )
+
+
+@pytest.mark.parametrize("queue_ms", [(45.0, 10.0), (5.0, 15.0), (30.0, 30.0)])
+def test_a_low_train_without_a_building_queue_is_weighed_as_usual(queue_ms):
+    """The same 400-kbit/s train with the queue falling, staying under the 20-ms low mark, or
+    flat: bursty delivery, not a drop the queue confirms; the usual weighing (0.283)."""
+    controller = UmaController(UmaSettings(initial_kbps=1000.0, bounded_queued_drop=True))
+    controller.on_report(_train(100.0, kbps=400.0, queue_ms=queue_ms))
+    weighed = 1000.0 - 600.0 * (1.0 - math.exp(-100.0 / 300.0))
+    assert controller.capacity_kbps == pytest.approx(weighed)
+
+
+def test_a_bounded_drop_never_cuts_less_than_the_usual_weighing():
+    """A 900-ms train at 100 kbit/s (weight 0.95) in a building queue: the usual weighing
+    already cuts below half (145 kbit/s); the bound does not raise it back to 500."""
+    controller = UmaController(UmaSettings(initial_kbps=1000.0, bounded_queued_drop=True))
+    report = DeliveryReport(
+        start_ms=0.0, end_ms=1000.0, packets=2, received_bits=90_000, lost=0,
+        train_bits=90_000, train_ms=900.0, queue_delay_ms=(10.0, 90.0), records=(),
+    )  # fmt: skip
+    controller.on_report(report)
+    assert controller.capacity_kbps == pytest.approx(1000.0 - 900.0 * (1.0 - math.exp(-3.0)))

@@ -64,6 +64,8 @@ class EstimatorConfig(Section):
     `no_probe_while_paused` (`uma` only; on): no probe while the sender is paused.
     `take_queued_drop` (`uma` only; off): a train that measures less than the estimate while
     the report's queue builds past the controller's target is taken whole.
+    `bounded_queued_drop` (`uma` only; off): such a train is taken whole once the queue
+    builds past the controller's low mark, but one report at most halves the estimate.
     `skip_limit_by_received` (`uma` only; on): past the skip rule's 1-s limit a frame is
     still skipped while the sender is paused and the frame would not drain within that limit
     at what arrived over the last second (a silent link, not a trickle).
@@ -81,6 +83,7 @@ class EstimatorConfig(Section):
     fixed_due_time: Bool = True
     no_probe_while_paused: Bool = True
     take_queued_drop: Bool = False
+    bounded_queued_drop: Bool = False
     skip_limit_by_received: Bool = True
 
     @model_validator(mode="after")

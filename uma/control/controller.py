@@ -11,6 +11,9 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
   probe weighs at least `probe_weight` (a probe's few packets measure little time);
   with `take_queued_drop` (off by default) a train below the estimate is taken whole when the
   report's queueing delay rose past `queue_target_ms` (the stream filled the link: a drop);
+  with `bounded_queued_drop` (off by default) such a train is taken whole once the newest
+  sample is past `queue_low_ms`, but one report cuts the estimate at most to
+  `queued_drop_floor` (a half) of itself;
 - **queue**: the smallest queueing-delay sample of a report (bursty delivery jitters the
   others; a standing queue raises every one); above `queue_target_ms` the excess is drained
   over `drain_ms`;
@@ -129,7 +132,7 @@ class UmaController:
                 weight = max(weight, s.probe_weight)
             if s.take_queued_drop and self._queued_drop(report):
                 weight = 1.0
-            self.capacity_kbps += weight * (report.capacity_kbps - self.capacity_kbps)
+            self.capacity_kbps = self._weighed(report, report.capacity_kbps, weight)
             self._recovered(report)
             self._last_train_ms = now_ms
             self._probe_pending = False
@@ -149,14 +152,33 @@ class UmaController:
         probe = self._recovery_probe(report, technology, now_ms)
         return RateDecision(self.target_kbps, probe or self._probe(report, now_ms), reason)
 
+    def _weighed(self, report: DeliveryReport, train_kbps: float, weight: float) -> float:
+        """The estimate moved `weight` of the way to the train; with `bounded_queued_drop`, a
+        train below the estimate in a queue that built within the report (`_building`) is
+        taken whole, but one report cuts the estimate to no less than `queued_drop_floor` of
+        itself (a multiplicative decrease: a lasting drop halves it again next report)."""
+        s = self.settings
+        moved_kbps = self.capacity_kbps + weight * (train_kbps - self.capacity_kbps)
+        if not (s.bounded_queued_drop and train_kbps < self.capacity_kbps):
+            return moved_kbps
+        if not self._building(report, s.queue_low_ms):
+            return moved_kbps
+        return min(moved_kbps, max(train_kbps, s.queued_drop_floor * self.capacity_kbps))
+
+    @staticmethod
+    def _building(report: DeliveryReport, above_ms: float) -> bool:
+        """The report's newest queueing-delay sample is above `above_ms` and above its first:
+        the stream filled the link within the report."""
+        queue_ms = report.queue_delay_ms
+        return bool(queue_ms) and queue_ms[-1] > max(above_ms, queue_ms[0])
+
     def _queued_drop(self, report: DeliveryReport) -> bool:
         """The report's train measured less than the estimate while its queueing delay rose
         past `queue_target_ms` (its newest sample above the target and above its first): the
         stream filled the link, so the train read the link's rate, not the sender's."""
-        queue_ms = report.queue_delay_ms
         if report.capacity_kbps is None or report.capacity_kbps >= self.capacity_kbps:
             return False
-        return bool(queue_ms) and queue_ms[-1] > max(self.settings.queue_target_ms, queue_ms[0])
+        return self._building(report, self.settings.queue_target_ms)
 
     def _clear(self, report: DeliveryReport) -> bool:
         """The report's packets met less than `queue_target_ms` of queue and none was lost:

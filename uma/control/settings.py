@@ -54,6 +54,8 @@ class UmaSettings:
     fixed_due_time: bool = True
     no_probe_while_paused: bool = True
     take_queued_drop: bool = False
+    bounded_queued_drop: bool = False
+    queued_drop_floor: float = 0.5
     skip_limit_by_received: bool = True
     priors_kbps: Mapping[str, float] = field(default_factory=lambda: DEFAULT_PRIORS_KBPS)
 
@@ -70,6 +72,7 @@ class UmaSettings:
             "silence_factor",
             "probe_weight",
             "recover_fraction",
+            "queued_drop_floor",
         ):
             if not 0 < getattr(self, name) <= 1:
                 raise ValueError(

@@ -185,6 +185,7 @@ class UmaRate(RateControl):
                 fixed_due_time=cfg.fixed_due_time,
                 no_probe_while_paused=cfg.no_probe_while_paused,
                 take_queued_drop=cfg.take_queued_drop,
+                bounded_queued_drop=cfg.bounded_queued_drop,
                 skip_limit_by_received=cfg.skip_limit_by_received,
             )
         )
