@@ -147,3 +147,31 @@ def test_the_outline_box_from_the_mask_is_the_box_of_its_pixels() -> None:
         points = cv2.findNonZero(mask)
         want = (0, 0, 0, 0) if points is None else cv2.boundingRect(points)
         assert cv2.boundingRect(mask) == want
+
+
+def test_a_drawing_for_one_box_is_the_whole_drawing_there(moved) -> None:
+    """A luma drawing for a caller reading one box (the engine's map: its window and its blurs'
+    margin; boxes at the picture's edges and corners) has the whole drawing's luma in that box
+    and its face mask everywhere, with the torso moved, turned or still and the outline soft."""
+    from uma.mbc.block_map import BlockMap
+
+    renderer, sets = moved
+    whole, windowed = renderer(), renderer()
+    block_map = BlockMap((352, 288), 25.0)
+    boxes = [
+        block_map.read_box,
+        lambda face: (0, 0, 64, 48),
+        lambda face: (300, 240, 352, 288),
+        lambda face: (110, 60, 190, 150),
+    ]
+    for params, light, body in sets:
+        want, want_face = whole.render(params, light, body, luma_only=True)
+        for only in boxes:
+            windowed._memo.clear()
+            got, face = windowed.render(params, light, body, luma_only=True, only=only)
+            assert np.array_equal(face, want_face)
+            x0, y0, x1, y1 = only(want_face)
+            assert np.array_equal(got[y0:y1, x0:x1], want[y0:y1, x0:x1])
+        # Never kept: the next whole drawing is drawn whole.
+        again, _ = windowed.render(params, light, body, luma_only=True)
+        assert np.array_equal(again[:288], want[:288])

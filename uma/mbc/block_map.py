@@ -26,6 +26,10 @@ import math
 
 import numpy as np
 
+from uma.mbc.block_window import BLOCK_PX, WINDOW_BLOCKS
+from uma.mbc.block_window import margin_box as _margin_box
+from uma.mbc.block_window import window_about as _window_about
+from uma.mbc.block_window import window_crop as _window_crop
 from uma.mbc.errors import SceneError
 
 __all__ = [
@@ -38,7 +42,6 @@ __all__ = [
     "count_bits",
 ]
 
-BLOCK_PX = 8
 # A chosen block's edge fades into its neighbours over this (Gaussian sigma; 0 hard): hard
 # 8x8 steps showed along akiyo's hair. Frames 150-299, face box dB akiyo | carphone: 0 23.207
 # | 21.424, 1.5 23.258 | 21.495, 3 23.263 | 21.533 (docs/mbc.md, session mbc7).
@@ -47,14 +50,12 @@ FEATHER_SIGMA_PX = 3.0
 # it (both ends see the drawn face): a plate or reference block left behind by a moving head
 # would show a piece of the old scene beside the new one.
 STALE_PX = 8.0
-WINDOW_BLOCKS = 16  # a side: 128 px at CIF, the head and the outline about it
 CHOICES = ("rendering", "softened", "blurred", "plate", "reference")
 BLUR_SIGMAS_PX = (1.0, 2.0)  # "softened", "blurred": the rendering's Gaussian blur
 MAP_TOTAL_KBPS = 2.4  # the parameter stream and the map together (the target is 2.5)
 # At most this much allowance saved for a later frame, or owed after the stream's own peaks
 # (an intra set); the map pays its count's bit every frame even when it owes.
 BUCKET_MAX_BITS = 200.0
-_BLUR_MARGIN_PX = 8  # the blur reads this far outside the window
 
 
 def count_bits(count: int) -> int:
@@ -97,18 +98,19 @@ class BlockMap:
     def window(self, face: np.ndarray) -> tuple[int, int, int, int] | None:
         """The window (b0, a0, b1, a1) in blocks (columns b, rows a) about the drawn `face`
         (H, W bool); None without a face."""
-        import cv2
+        found = _window_about(face, self.grid)
+        if found is not None:
+            self._centre = found[1]
+        return None if found is None else found[0]
 
-        x, y, w, h = cv2.boundingRect(face.view(np.uint8))
-        if w == 0 or h == 0:
+    def read_box(self, face: np.ndarray) -> tuple[int, int, int, int] | None:
+        """The box (x0, y0, x1, y1) of the picture the engine's choice reads on a frame whose
+        drawn face is `face`: the window and its blurs' margin; None without a face."""
+        found = _window_about(face, self.grid)
+        if found is None:
             return None
-        self._centre = (x + w / 2, y + h / 2)
-        rows, cols = self.grid
-        side_r, side_c = min(WINDOW_BLOCKS, rows), min(WINDOW_BLOCKS, cols)
-        c0 = int(round((x + w / 2) / BLOCK_PX - side_c / 2))
-        r0 = int(round((y + h / 2) / BLOCK_PX - side_r / 2))
-        c0, r0 = min(max(c0, 0), cols - side_c), min(max(r0, 0), rows - side_r)
-        return c0, r0, c0 + side_c, r0 + side_r
+        y0, x0, y1, x1 = _margin_box(found[0], face.shape[::-1])[1]
+        return x0, y0, x1, y1
 
     def step(self, shown, face, plate, reference, source=None, stream_bits=0.0, plate_known=None,
              changes=None, *, compose=True):  # fmt: skip
@@ -278,22 +280,6 @@ def _barred(face: np.ndarray, plate_known, window) -> np.ndarray:
     out[CHOICES.index("softened")] = inside
     out[CHOICES.index("blurred")] = inside
     return out
-
-
-def _margin_box(window, size) -> tuple[tuple, tuple]:
-    """The window's pixel box (y0, x0, y1, x1) and the box a blur of it reads."""
-    width, height = size
-    c0, r0, c1, r1 = window
-    y0, x0, y1, x1 = r0 * BLOCK_PX, c0 * BLOCK_PX, r1 * BLOCK_PX, c1 * BLOCK_PX
-    m = _BLUR_MARGIN_PX
-    return (y0, x0, y1, x1), (max(y0 - m, 0), max(x0 - m, 0), min(y1 + m, height),
-                              min(x1 + m, width))  # fmt: skip
-
-
-def _window_crop(mask: np.ndarray, window) -> np.ndarray:
-    """`mask` (H, W) cut to the window's pixels."""
-    c0, r0, c1, r1 = window
-    return mask[r0 * BLOCK_PX : r1 * BLOCK_PX, c0 * BLOCK_PX : c1 * BLOCK_PX]
 
 
 def _candidates(shown, plate, reference, window, on_face) -> list[np.ndarray]:

@@ -14,6 +14,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from uma.mbc.layer_boxes import ONLY_MARGIN_PX, ONLY_MARGIN_SOFT_PX, mask_box
+from uma.mbc.layer_boxes import clip_box as _clip_of
+from uma.mbc.layer_boxes import crop as _crop
+from uma.mbc.layer_boxes import points_box as _box
+from uma.mbc.layer_boxes import within as _within
 from uma.mbc.layered_kernels import STILL_MAP, blend, triangle_maps
 from uma.mbc.layers import (
     N_BODY,
@@ -43,18 +48,6 @@ def chroma_matrix(matrix: np.ndarray) -> np.ndarray:
     out = np.array(matrix, dtype=np.float64)
     out[:, 2] = (matrix[:, :2] @ (0.5, 0.5) + matrix[:, 2] - 0.5) / 2.0
     return out
-
-
-def _box(points: np.ndarray, size: tuple[int, int]) -> tuple[int, int, int, int] | None:
-    """The even-cornered, even-sized box (x0, y0, x1, y1) around `points` in the picture."""
-    width, height = size
-    x0 = max(int(np.floor(points[:, 0].min())) - 1, 0) // 2 * 2
-    y0 = max(int(np.floor(points[:, 1].min())) - 1, 0) // 2 * 2
-    x1 = min((int(np.ceil(points[:, 0].max())) + 3) // 2 * 2, width)
-    y1 = min((int(np.ceil(points[:, 1].max())) + 3) // 2 * 2, height)
-    if x1 - x0 < 2 or y1 - y0 < 2:
-        return None
-    return x0, y0, x1, y1
 
 
 def _head_labels(renderer, params: np.ndarray, target: np.ndarray, box) -> np.ndarray:
@@ -89,20 +82,20 @@ def face_mask(renderer, params: np.ndarray) -> np.ndarray:
     return face
 
 
-def _head(renderer, params: np.ndarray, target: np.ndarray, box):
-    """The head over `box`: its pixels' triangle labels and where they read the reference."""
+def _head_maps(renderer, labels: np.ndarray, target: np.ndarray, box, drawn):
+    """Where the head's pixels of `drawn` (a box inside the head's `box`, whose `labels` they
+    are) read the reference."""
     from uma.face.render import barycentric_affine
 
     scene = renderer.scene
-    x0, y0, x1, y1 = box
-    labels = _head_labels(renderer, params, target, box)
+    x0, y0, x1, y1 = drawn
     affine = barycentric_affine(target, scene.triangles)
     # (T, 2, 3): the reference's (x, y) as an affine function of the picture's (x, y, 1).
     coeffs = np.matmul(renderer._reference_points[scene.triangles].transpose(0, 2, 1), affine)
     xs, ys = renderer._x[y0:y1, x0:x1], renderer._y[y0:y1, x0:x1]
+    labels = labels[y0 - box[1] : y1 - box[1], x0 - box[0] : x1 - box[0]]
     # Outside the head (label -1) a pixel reads the picture where it is.
-    map_x, map_y = triangle_maps(labels, coeffs, STILL_MAP, xs, ys)
-    return labels, map_x, map_y
+    return triangle_maps(labels, coeffs, STILL_MAP, xs, ys)
 
 
 def _shifted(matrix: np.ndarray, x0: int, y0: int) -> np.ndarray:
@@ -110,21 +103,6 @@ def _shifted(matrix: np.ndarray, x0: int, y0: int) -> np.ndarray:
     out = np.array(matrix, dtype=np.float64)
     out[:, 2] -= (x0, y0)
     return out
-
-
-def mask_box(mask: np.ndarray, margin: int = 0) -> tuple[int, int, int, int] | None:
-    """The even-cornered, even-sized box (x0, y0, x1, y1) around `mask`'s pixels, `margin`
-    pixels wider on every side (clamped to the picture); None when the mask is empty."""
-    import cv2
-
-    x, y, w, h = cv2.boundingRect(mask.view(np.uint8))
-    if w == 0 or h == 0:
-        return None
-    height, width = mask.shape
-    x0, y0 = max(x - margin, 0) // 2 * 2, max(y - margin, 0) // 2 * 2
-    x1 = min((x + w + margin + 1) // 2 * 2, width)
-    y1 = min((y + h + margin + 1) // 2 * 2, height)
-    return x0, y0, x1, y1
 
 
 def _warped_mask(source: np.ndarray, source_box, matrix: np.ndarray, size) -> np.ndarray:
@@ -199,11 +177,16 @@ def _draw_head(renderer, out: np.ndarray, inside: np.ndarray, maps, box, chroma=
         np.copyto(plane[y0 // 2 : y1 // 2, x0 // 2 : x1 // 2], drawn, where=at)
 
 
-def compose_layers(renderer, params: np.ndarray, body: np.ndarray | None, chroma: bool = True):
+def compose_layers(
+    renderer, params: np.ndarray, body: np.ndarray | None, chroma: bool = True, only=None
+):
     """The picture (YUV 4:2:0, no light) of a layered `renderer`
     (`uma.mbc.scene_render.SceneRenderer`) at `params` with the torso at `body` (None:
     still), and the mask of the face's own pixels; without `chroma` its chroma planes are
-    not drawn (they hold no picture), its luma the same.
+    not drawn (they hold no picture), its luma the same. `only` (luma only): a function of
+    the face's mask giving the box (x0, y0, x1, y1) its caller reads (None: all); the luma
+    is then the same inside that box and the face's mask everywhere, the rest of the
+    picture holds whatever each layer's box, cut to that box and a margin, left there.
 
     Every layer is warped over the box it covers only (the plate's pixels elsewhere are
     never touched), which draws the same picture as whole-picture warps at a fraction of
@@ -212,20 +195,13 @@ def compose_layers(renderer, params: np.ndarray, body: np.ndarray | None, chroma
 
     width, height = renderer.size
     size = (width, height)
-    scene = renderer.scene
     target = renderer.scene_points(params)
-    head_forward = rigid_fit(renderer._reference_ring, head_ring_points(scene, target))
-    out, plate, torso, body_moved = _torso_layer(renderer, body, chroma)
+    head_forward = rigid_fit(renderer._reference_ring, head_ring_points(renderer.scene, target))
+    head, face, box, labels = _head_masks(renderer, params, target)
+    margin = ONLY_MARGIN_SOFT_PX if renderer.soft_outline else ONLY_MARGIN_PX
+    clip = None if chroma else _clip_of(only, face, margin)
+    out, plate, torso, body_moved = _torso_layer(renderer, body, chroma, clip)
     halo = _warped_mask(renderer.halo_mask, renderer._halo_box, head_forward, size)
-    head = np.zeros((height, width), np.uint8)
-    face = np.zeros((height, width), bool)
-    n_head = scene.model.n_vertices + len(scene.outline)
-    box = _box(target[:n_head], size)
-    if box is not None:
-        x0, y0, x1, y1 = box
-        labels, map_x, map_y = _head(renderer, params, target, box)
-        head[y0:y1, x0:x1] = labels >= 0
-        face[y0:y1, x0:x1] = labels >= renderer._strips
     # The mesh's edge and the halo's rigid motion part by a pixel here and there: close the
     # gap (it would show the plate as a dotted seam).
     halo = cv2.dilate(halo | head, _GAP_KERNEL) & (1 - head)
@@ -234,28 +210,60 @@ def compose_layers(renderer, params: np.ndarray, body: np.ndarray | None, chroma
     if plate is not None:  # the torso's outer edge only: it meets the head inside
         torso = torso & (1 - person)
         strength = min(body_moved / FEATHER_FULL_PX, 1.0)
-        _feather(out, plate, torso.view(bool), strength, (torso | person).view(bool), chroma)
+        _feather(out, plate, torso.view(bool), strength, (torso | person).view(bool), chroma,
+                 clip)  # fmt: skip
     # The picture moved with the head, around the head and halo: what their seam fades into.
     around_box = mask_box(person, _BLEED_MARGIN_PX) if moved > 0 else mask_box(halo)
-    around = None
-    if around_box is not None:
-        around = _draw_layer(renderer, out, halo, head_forward, around_box, chroma)
-    if box is not None:
-        _draw_head(renderer, out, head[y0:y1, x0:x1].view(bool), (map_x, map_y), box, chroma)
-    if moved > 0 and around is not None:
+    drawn_box, around = _within(around_box, clip, far_only=True), None
+    if drawn_box is not None:
+        around = _draw_layer(renderer, out, halo, head_forward, drawn_box, chroma)
+    head_box = _within(box, clip)
+    if head_box is not None:
+        maps = _head_maps(renderer, labels, target, box, head_box)
+        _draw_head(renderer, out, _crop(head, head_box).view(bool), maps, head_box, chroma)
+    bleed_box = _within(around_box, clip)
+    if moved > 0 and around is not None and bleed_box is not None:
         strength = min(moved / FEATHER_FULL_PX, 1.0)
-        _bleed(out, around, around_box, person.view(bool), strength, chroma)
+        if bleed_box != drawn_box:  # luma only: the moved picture over the bleed's box
+            around = _crop(
+                around,
+                (
+                    bleed_box[0] - drawn_box[0],
+                    bleed_box[1] - drawn_box[1],
+                    bleed_box[2] - drawn_box[0],
+                    bleed_box[3] - drawn_box[1],
+                ),
+            )
+        _bleed(out, around, bleed_box, person.view(bool), strength, chroma)
     if renderer.soft_outline:
         soften_outline(out, person.view(bool), face, moved, chroma)
     return out, face
 
 
-def _torso_layer(renderer, body: np.ndarray | None, chroma: bool):
+def _head_masks(renderer, params: np.ndarray, target: np.ndarray):
+    """The head's and the face's masks (H, W uint8, bool), the head's box (None: outside the
+    picture) and its triangle labels there."""
+    width, height = renderer.size
+    scene = renderer.scene
+    head = np.zeros((height, width), np.uint8)
+    face = np.zeros((height, width), bool)
+    box = _box(target[: scene.model.n_vertices + len(scene.outline)], renderer.size)
+    labels = None
+    if box is not None:
+        x0, y0, x1, y1 = box
+        labels = _head_labels(renderer, params, target, box)
+        head[y0:y1, x0:x1] = labels >= 0
+        face[y0:y1, x0:x1] = labels >= renderer._strips
+    return head, face, box, labels
+
+
+def _torso_layer(renderer, body: np.ndarray | None, chroma: bool, clip=None):
     """The plate with the torso moved by `body` drawn on it (a copy to draw on), the plate
     itself when the torso's edge is to fade into it (None otherwise), the moved torso's mask
     and how far the torso moved. The torso is drawn whole: where the head or its halo covers
     it they are drawn over it, so the picture is the one drawn with the torso cut by them.
-    It depends on the reference and `body` only: kept for the next call with the same."""
+    It depends on the reference and `body` only: kept for the next call with the same; with
+    `clip` (luma only) drawn over that box only and not kept."""
     key = (
         renderer.reference_serial,
         None if body is None else np.asarray(body, np.float64).tobytes(),
@@ -264,7 +272,6 @@ def _torso_layer(renderer, body: np.ndarray | None, chroma: bool):
     if kept is not None and kept[0] == key and (kept[1] or not chroma):
         _, _, out, plate, torso, body_moved = kept
         return out.copy(), plate, torso, body_moved
-    width, height = renderer.size
     torso_forward = body_matrix(NO_BODY_MOTION if body is None else body, renderer.anchor)
     out = _plate(renderer, body)
     torso = _warped_mask(renderer._torso_below, renderer._torso_box, torso_forward, renderer.size)
@@ -273,7 +280,10 @@ def _torso_layer(renderer, body: np.ndarray | None, chroma: bool):
     plate = None
     if torso_box is not None:
         plate = out.copy() if body_moved > 0 else None  # the torso's edge fades into it
-        _draw_layer(renderer, out, torso, torso_forward, torso_box, chroma)
+        if (drawn := _within(torso_box, clip, far_only=True)) is not None:
+            _draw_layer(renderer, out, torso, torso_forward, drawn, chroma)
+    if clip is not None:
+        return out, plate, torso, body_moved
     renderer._torso_kept = (key, chroma, out, plate, torso, body_moved)
     return out.copy(), plate, torso, body_moved
 
@@ -330,17 +340,17 @@ def _head_moved_px(renderer, target: np.ndarray) -> float:
 
 def _feather(
     out: np.ndarray, under: np.ndarray, mask: np.ndarray, strength: float, solid=None,
-    chroma: bool = True,
+    chroma: bool = True, clip=None,
 ) -> None:  # fmt: skip
     """Fade the pixels of `mask` in `out` into `under` near the edge of `solid` (default
     `mask`) over about `FEATHER_SIGMA_PX`, by `strength` (0: a hard edge, as when the layer has
-    not moved); computed over `mask`'s box (and the blur's reach) only; the chroma planes too
-    with `chroma`."""
+    not moved); computed over `mask`'s box (and the blur's reach) only, cut to `clip`; the
+    chroma planes too with `chroma`."""
     import cv2
 
     height = mask.shape[0]
     solid = mask if solid is None else solid
-    box = mask_box(mask, _BLEED_MARGIN_PX)
+    box = _within(mask_box(mask, _BLEED_MARGIN_PX), clip)  # a cut side lies beyond the blur
     if box is None:
         return
     x0, y0, x1, y1 = box

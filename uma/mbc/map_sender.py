@@ -49,8 +49,12 @@ class MapSender:
             self.block_map.hold_with(mirror, face, self.stream_bits)
             self._map_bits_open += self.block_map.bits - bits
             return self.block_map.sent
-        try:  # the choice reads luma only: the mirror draws no chroma, nothing is composed
-            shown, face = mirror.render(params, light, body, luma_only=True)
+        # The choice reads luma only, and only its window's (and its blurs' margin): the mirror
+        # draws no chroma and only about that box, nothing is composed.
+        try:
+            shown, face = mirror.render(
+                params, light, body, luma_only=True, only=self.block_map.read_box
+            )
         except SceneError:
             return None
         self.block_map.step_with(mirror, shown, face, source, self.stream_bits, compose=False)

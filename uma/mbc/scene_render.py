@@ -273,11 +273,15 @@ class SceneRenderer:
         body: np.ndarray | None = None,
         *,
         luma_only: bool = False,
+        only=None,
     ) -> tuple[np.ndarray, np.ndarray]:
         """The picture (YUV 4:2:0) at `params` and the mask of the face's pixels; `light`
         (gain, offset in levels) relights the face's luma against the reference's; `body`
         (layered only) moves the torso (`uma.mbc.layers.BODY_NAMES`; None: still);
-        `luma_only`: the same luma, the chroma planes left undrawn (a judge's). Light out
+        `luma_only`: the same luma, the chroma planes left undrawn (a judge's); with it,
+        `only`: a function of the face's mask giving the box (x0, y0, x1, y1) the caller
+        reads, the luma the same there and the rest of the picture left as drawing that box
+        left it (`uma.mbc.layered_render.compose_layers`; never kept for another call). Light out
         of `LIGHT_GAIN_RANGE`/`LIGHT_OFFSET_RANGE`, an absurd body motion or values not
         finite are a `SceneError` (nothing drawn: the caller keeps its last picture)."""
 
@@ -288,8 +292,10 @@ class SceneRenderer:
         kept = self._memo.get(params, light, body) if memo else None
         if kept is not None:
             return kept
+        memo = memo and (only is None or not luma_only)
         if self.layered:
-            out, face = compose_layers(self, params, body, chroma=not luma_only)
+            only = only if luma_only else None
+            out, face = compose_layers(self, params, body, chroma=not luma_only, only=only)
         else:
             map_x, map_y, face = self.maps(params)
             out = stretched(self.reference, (self._u, self._v), map_x, map_y)
