@@ -225,15 +225,9 @@ def compose_layers(
     if moved > 0 and around is not None and bleed_box is not None:
         strength = min(moved / FEATHER_FULL_PX, 1.0)
         if bleed_box != drawn_box:  # luma only: the moved picture over the bleed's box
-            around = _crop(
-                around,
-                (
-                    bleed_box[0] - drawn_box[0],
-                    bleed_box[1] - drawn_box[1],
-                    bleed_box[2] - drawn_box[0],
-                    bleed_box[3] - drawn_box[1],
-                ),
-            )
+            dx, dy = drawn_box[0], drawn_box[1]
+            inner = (bleed_box[0] - dx, bleed_box[1] - dy, bleed_box[2] - dx, bleed_box[3] - dy)
+            around = _crop(around, inner)
         _bleed(out, around, bleed_box, person.view(bool), strength, chroma)
     if renderer.soft_outline:
         soften_outline(out, person.view(bool), face, moved, chroma)
