@@ -213,3 +213,18 @@ def test_catch_up_off_is_the_fixed_slope():
     off = drive(AdaptivePlayout(AdaptivePlayoutConfig(catch_up_s=0.0), initial_delay_s=0.3), delays)
     assert np.array_equal(base, off)
     assert np.diff(base).min() >= -0.1 / FPS - 1e-12
+
+
+def test_catch_up_max_waits_for_every_frame_of_the_window():
+    # One frame 1.2 s late among 0.1 s ones: the percentile ignores it, `catch_up_max` does not
+    # (the fixed 100 ms/s slope alone until it has left the 2 s window).
+    delays = np.full(300, 0.1)
+    delays[10] = 1.2  # arrives at 1.6 s, leaves the window at 3.6 s
+    plain = AdaptivePlayoutConfig(catch_up_s=1.0)
+    strict = AdaptivePlayoutConfig(catch_up_s=1.0, catch_up_max=True)
+    fast = drive(AdaptivePlayout(plain, initial_delay_s=1.5), delays)
+    held = drive(AdaptivePlayout(strict, initial_delay_s=1.5), delays)
+    at_3s = int(3 * FPS)
+    assert fast[at_3s] < 0.3
+    assert held[at_3s] > 0.5
+    assert held[-1] == pytest.approx(0.12, abs=0.01)

@@ -35,7 +35,9 @@ class AdaptivePlayoutConfig(Section):
     the burst's queue draining). Late frames closer than `burst_gap_ms` are one burst.
     `catch_up_s` (0: off): above the target, the delay also falls by its excess over the target
     per `catch_up_s` (at most 500 ms/s), so a spike whose cause is gone is not held for
-    seconds at 100 ms/s (docs/rate-control.md, rc17).
+    seconds at 100 ms/s (docs/rate-control.md, rc17); with `catch_up_max` it falls only
+    towards the highest delay of the window's frames plus the margin (every one of them, not
+    the percentile, must have left the spike).
     """
 
     window_s: PosNum = 2.0
@@ -49,6 +51,7 @@ class AdaptivePlayoutConfig(Section):
     )
     max_increase_ms_per_s: PosNum = 500.0
     catch_up_s: NonNeg = 0.0
+    catch_up_max: Bool = False
     # Off: measured on the commute and on measured traces (docs/rate-control.md, `rc8`, `rc7`):
     # the commute's p95 falls below 1,000 ms, held-out traces froze 1-2 display instants more.
     reject_bursts: Bool = False

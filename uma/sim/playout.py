@@ -14,7 +14,8 @@ one frame queued through an outage would set seconds of delay in one step), so t
 smooth. With no frame decoded within the window the delay holds. With `catch_up_s` the delay
 falls faster while far above its target (the recent frames no longer ask for it: a queue
 drained, a handover's backlog shown): by its excess over the target per `catch_up_s`, never
-more than `MAX_CATCH_UP` (500 ms a second, so display instants never go back in time).
+more than `MAX_CATCH_UP` (500 ms a second, so display instants never go back in time); with
+`catch_up_max`, towards the highest delay of the window plus the margin instead of the target.
 
 With `reject_bursts` (off by default: measured in docs/rate-control.md, sections `rc8` and `rc7`)
 the target, as WebRTC separates a change of the path's delay (its timestamp extrapolator, which
@@ -200,11 +201,19 @@ class AdaptivePlayout:
                 up_s = 0.0
             down_s = self.config.max_decrease_ms_per_s / 1000.0 * elapsed_s
             if self.config.catch_up_s > 0.0:
-                excess_s = self.current_s - target
+                excess_s = self.current_s - self._catch_up_floor_s(target)
                 slope = min(excess_s / self.config.catch_up_s, MAX_CATCH_UP)
                 down_s = max(down_s, slope * elapsed_s)
             self.current_s += min(max(target - self.current_s, -down_s), up_s)
         return self.current_s
+
+    def _catch_up_floor_s(self, target_s: float) -> float:
+        """What the catch-up falls towards: the target, and never below the latest delay of
+        the window's frames plus the margin (the cause must be gone from every one of them)."""
+        if not self.config.catch_up_max:
+            return target_s
+        highest = max(d for _, d, _ in self._samples) + self.config.margin_ms / 1000.0
+        return max(target_s, highest)
 
 
 def percentile(values: list[float], q: float) -> float:
