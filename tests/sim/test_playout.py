@@ -8,7 +8,7 @@ from hypothesis import strategies as st
 from pydantic import ValidationError
 
 from uma.config.scenario import AdaptivePlayoutConfig, ReceiverConfig
-from uma.sim.playout import AdaptivePlayout, FixedPlayout, make_playout, percentile
+from uma.sim.playout import MAX_CATCH_UP, AdaptivePlayout, FixedPlayout, make_playout, percentile
 
 FPS = 25.0
 REJECT = AdaptivePlayoutConfig(reject_bursts=True)
@@ -188,3 +188,43 @@ def test_holds_when_nothing_arrives():
 )
 def test_the_percentile_is_numpys_to_the_last_bit(values, q):
     assert percentile(values, q) == float(np.percentile(np.array(values), q))
+
+
+def test_catch_up_falls_faster_once_the_cause_is_gone():
+    # A spike of 1.5 s frames for 1 s on a 0.1 s path: once they leave the 2 s window, the
+    # catch-up brings the delay down within about 5 s where 100 ms/s takes over ten.
+    delays = np.r_[np.full(250, 0.1), np.full(25, 1.5), np.full(1000, 0.1)]
+    slow = drive(AdaptivePlayout(AdaptivePlayoutConfig(), initial_delay_s=0.12), delays)
+    fast_config = AdaptivePlayoutConfig(catch_up_s=1.0)
+    fast = drive(AdaptivePlayout(fast_config, initial_delay_s=0.12), delays)
+    after = 250 + 25 + int(8 * FPS)  # 8 s after the spike's last frame
+    assert slow[after] > 0.8
+    assert fast[after] < 0.2
+    # Never below the target (the frames' 0.1 s plus the margin), never faster than 500 ms/s.
+    assert fast[after:].min() >= 0.12 - 1e-9
+    assert np.diff(fast).min() >= -MAX_CATCH_UP / FPS - 1e-12
+    # Up it goes as before.
+    assert fast.max() == pytest.approx(slow.max())
+
+
+def test_catch_up_off_is_the_fixed_slope():
+    delays = np.r_[np.full(100, 0.1), np.full(25, 1.0), np.full(500, 0.1)]
+    base = drive(AdaptivePlayout(AdaptivePlayoutConfig(), initial_delay_s=0.3), delays)
+    off = drive(AdaptivePlayout(AdaptivePlayoutConfig(catch_up_s=0.0), initial_delay_s=0.3), delays)
+    assert np.array_equal(base, off)
+    assert np.diff(base).min() >= -0.1 / FPS - 1e-12
+
+
+def test_catch_up_max_waits_for_every_frame_of_the_window():
+    # One frame 1.2 s late among 0.1 s ones: the percentile ignores it, `catch_up_max` does not
+    # (the fixed 100 ms/s slope alone until it has left the 2 s window).
+    delays = np.full(300, 0.1)
+    delays[10] = 1.2  # arrives at 1.6 s, leaves the window at 3.6 s
+    plain = AdaptivePlayoutConfig(catch_up_s=1.0)
+    strict = AdaptivePlayoutConfig(catch_up_s=1.0, catch_up_max=True)
+    fast = drive(AdaptivePlayout(plain, initial_delay_s=1.5), delays)
+    held = drive(AdaptivePlayout(strict, initial_delay_s=1.5), delays)
+    at_3s = int(3 * FPS)
+    assert fast[at_3s] < 0.3
+    assert held[at_3s] > 0.5
+    assert held[-1] == pytest.approx(0.12, abs=0.01)

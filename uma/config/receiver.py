@@ -33,6 +33,11 @@ class AdaptivePlayoutConfig(Section):
     higher of floor + jitter and the percentile of the frames outside the burst's episode, and
     the delay does not rise while the floor falls (by `drain_drop_ms` within `drain_window_ms`:
     the burst's queue draining). Late frames closer than `burst_gap_ms` are one burst.
+    `catch_up_s` (0: off): above the target, the delay also falls by its excess over the target
+    per `catch_up_s` (at most 500 ms/s), so a spike whose cause is gone is not held for
+    seconds at 100 ms/s (docs/rate-control.md, rc17); with `catch_up_max` it falls only
+    towards the highest delay of the window's frames plus the margin (every one of them, not
+    the percentile, must have left the spike).
     """
 
     window_s: PosNum = 2.0
@@ -45,6 +50,8 @@ class AdaptivePlayoutConfig(Section):
         100.0
     )
     max_increase_ms_per_s: PosNum = 500.0
+    catch_up_s: NonNeg = 0.0
+    catch_up_max: Bool = False
     # Off: measured on the commute and on measured traces (docs/rate-control.md, `rc8`, `rc7`):
     # the commute's p95 falls below 1,000 ms, held-out traces froze 1-2 display instants more.
     reject_bursts: Bool = False

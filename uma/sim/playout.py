@@ -11,7 +11,11 @@ plays as slow or fast motion rather than a jump: down by at most `max_decrease_m
 (WebRTC's VCMTiming: 100 ms per second), up by at most `max_increase_ms_per_s`. WebRTC also
 lets a late frame raise the delay at once by its lateness; here it may not (on cellular traces
 one frame queued through an outage would set seconds of delay in one step), so the delay stays
-smooth. With no frame decoded within the window the delay holds.
+smooth. With no frame decoded within the window the delay holds. With `catch_up_s` the delay
+falls faster while far above its target (the recent frames no longer ask for it: a queue
+drained, a handover's backlog shown): by its excess over the target per `catch_up_s`, never
+more than `MAX_CATCH_UP` (500 ms a second, so display instants never go back in time); with
+`catch_up_max`, towards the highest delay of the window plus the margin instead of the target.
 
 With `reject_bursts` (off by default: measured in docs/rate-control.md, sections `rc8` and `rc7`)
 the target, as WebRTC separates a change of the path's delay (its timestamp extrapolator, which
@@ -43,7 +47,10 @@ from collections import deque
 
 from uma.config.scenario import AdaptivePlayoutConfig, ReceiverConfig
 
-__all__ = ["FixedPlayout", "AdaptivePlayout", "make_playout", "percentile"]
+__all__ = ["FixedPlayout", "AdaptivePlayout", "make_playout", "percentile", "MAX_CATCH_UP"]
+
+# The fastest the catch-up lowers the delay: seconds of delay per second.
+MAX_CATCH_UP = 0.5
 
 
 class FixedPlayout:
@@ -193,8 +200,20 @@ class AdaptivePlayout:
             if not self.turbulent and self.draining(now_s):
                 up_s = 0.0
             down_s = self.config.max_decrease_ms_per_s / 1000.0 * elapsed_s
+            if self.config.catch_up_s > 0.0:
+                excess_s = self.current_s - self._catch_up_floor_s(target)
+                slope = min(excess_s / self.config.catch_up_s, MAX_CATCH_UP)
+                down_s = max(down_s, slope * elapsed_s)
             self.current_s += min(max(target - self.current_s, -down_s), up_s)
         return self.current_s
+
+    def _catch_up_floor_s(self, target_s: float) -> float:
+        """What the catch-up falls towards: the target, and never below the latest delay of
+        the window's frames plus the margin (the cause must be gone from every one of them)."""
+        if not self.config.catch_up_max:
+            return target_s
+        highest = max(d for _, d, _ in self._samples) + self.config.margin_ms / 1000.0
+        return max(target_s, highest)
 
 
 def percentile(values: list[float], q: float) -> float:
