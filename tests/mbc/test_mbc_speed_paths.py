@@ -175,3 +175,26 @@ def test_a_drawing_for_one_box_is_the_whole_drawing_there(moved) -> None:
         # Never kept: the next whole drawing is drawn whole.
         again, _ = windowed.render(params, light, body, luma_only=True)
         assert np.array_equal(again[:288], want[:288])
+
+
+def test_a_drawing_for_one_box_keeps_the_whole_torso(moved) -> None:
+    """A windowed luma drawing (the engine's map) keeps its torso layer whole: the next drawing
+    with the same body motion, windowed or whole, takes it and draws what a fresh renderer
+    draws; a box far from the torso (a corner) does not cut the kept layer."""
+    renderer, sets = moved
+    windowed, whole = renderer(), renderer()
+    corner = lambda face: (0, 0, 64, 48)  # noqa: E731
+    for params, light, body in sets:
+        windowed._memo.clear()
+        windowed.render(params, light, body, luma_only=True, only=corner)
+        whole._memo.clear()
+        want, _ = whole.render(params, light, body, luma_only=True)
+        assert np.array_equal(windowed._torso_kept[2][:288], whole._torso_kept[2][:288])
+        kept = windowed._torso_kept
+        moved_params = params.copy()
+        moved_params[0] += 1.0  # another head pose, the same body: the torso is taken
+        windowed.render(moved_params, light, body, luma_only=True, only=corner)
+        assert windowed._torso_kept is kept
+        windowed._memo.clear()
+        again, _ = windowed.render(params, light, body, luma_only=True)
+        assert np.array_equal(again[:288], want[:288])

@@ -161,15 +161,18 @@ def _as_decoded(first, units, stream_config):
 
 def _renderers(clip: ClipSpec, results, reference: str, profile):
     """The encoder's mirror, the same stream's rendering from the other reference, the
-    simulation's choice (the scene from the picture, the face from the description), and the
-    receiver."""
+    simulation's choice (the scene from the picture, the face from the description), the
+    receiver, and its twin for the scores' own drawings (the unquantised set, the truth's
+    mask): the receiver draws only what a receiver draws, so what it keeps between frames
+    (the torso layer, the scene's points) is a receiver's."""
     size = (clip.frames[0].shape[1], clip.frames[0].shape[0] * 2 // 3)
     mirror = _renderer(clip, reference, results[0], size, profile)
     other_kind = "description" if reference == "picture" else "picture"
     other = _renderer(clip, other_kind, results[0], size, profile)
     mixed = _renderer(clip, "picture", results[0], size, profile)
     mixed.set_face_source(True)
-    return mirror, other, mixed, _renderer(clip, reference, results[0], size, profile)
+    receiver, scorer = (_renderer(clip, reference, results[0], size, profile) for _ in range(2))
+    return mirror, other, mixed, receiver, scorer
 
 
 def _check_tracked(clip: ClipSpec, results) -> None:
@@ -219,7 +222,7 @@ def run_clip(
     profile = MbcConfig() if profile is None else profile
     # The ring the clip's description carries (its sender's choice), else the profile's.
     ring = clip.description.head_ring_outlines or profile.head_ring_outlines
-    *renderers, receiver = _renderers(clip, results, reference, profile)
+    *renderers, receiver, scorer = _renderers(clip, results, reference, profile)
     coded = encode(lumas, results, units, stream_config, renderers, clock)
     decoded, shares = decode(units, stream_config, coded.packets, clock, coded.map_blocks,
                              map_changes := {})  # fmt: skip
@@ -234,7 +237,8 @@ def run_clip(
         for name, spec in refresh.items()
     }
     scored = _score(clip, results, units, coded, (decoded, shares, map_changes),
-                    (receiver, *renderers[1:]), displays, refreshed, clock, keep_frame, kept)  # fmt: skip
+                    (receiver, *renderers[1:], scorer), displays, refreshed, clock, keep_frame,
+                    kept)  # fmt: skip
     out = {"frames": len(lumas), "kept_frame": keep_frame, "reference": reference,
            "head_ring_outlines": ring, "fps": round(clip.fps, 3)}  # fmt: skip
     out.update(rates(lumas, coded.packets, stream_config, scored))
@@ -274,7 +278,7 @@ def _score(clip, results, units, coded, received, renderers, displays, refreshed
     from uma.face.geometry import project
     from uma.fit.mde import mde_px
 
-    receiver, other, mixed = renderers
+    receiver, other, mixed, scorer = renderers
     decoded, shares, map_changes = received
     names = BASE_DISPLAYS + tuple(refreshed)
     sums = {d: RegionSums() for d in names}
@@ -286,7 +290,7 @@ def _score(clip, results, units, coded, received, renderers, displays, refreshed
     block_map = BlockMap((clip.frames[0].shape[1], height), SCALED_FPS)  # rates at 25 frames/s
     for index, result in enumerate(results):
         if result:  # no face: the last good picture stays (no mask in the wrong place)
-            shown["unquantised"], model_mask = receiver.render(
+            shown["unquantised"], model_mask = scorer.render(
                 result.params, coded.lights[index], coded.bodies[index]
             )
         if index in decoded:
@@ -302,7 +306,7 @@ def _score(clip, results, units, coded, received, renderers, displays, refreshed
             truth_points = project(clip.description.model, truth)
             if result:
                 mde.append(mde_px(clip.description.model, result.params, truth))
-            _, model_mask = receiver.render(truth)
+            _, model_mask = scorer.render(truth)
         box = face_box(clip.frames[index][:height], truth_points, box)
         if index == 0:
             continue

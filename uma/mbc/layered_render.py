@@ -200,7 +200,7 @@ def compose_layers(
     head, face, box, labels = _head_masks(renderer, params, target)
     margin = ONLY_MARGIN_SOFT_PX if renderer.soft_outline else ONLY_MARGIN_PX
     clip = None if chroma else _clip_of(only, face, margin)
-    out, plate, torso, body_moved = _torso_layer(renderer, body, chroma, clip)
+    out, plate, torso, body_moved = _torso_layer(renderer, body, chroma)
     halo = _warped_mask(renderer.halo_mask, renderer._halo_box, head_forward, size)
     # The mesh's edge and the halo's rigid motion part by a pixel here and there: close the
     # gap (it would show the plate as a dotted seam).
@@ -251,13 +251,14 @@ def _head_masks(renderer, params: np.ndarray, target: np.ndarray):
     return head, face, box, labels
 
 
-def _torso_layer(renderer, body: np.ndarray | None, chroma: bool, clip=None):
+def _torso_layer(renderer, body: np.ndarray | None, chroma: bool):
     """The plate with the torso moved by `body` drawn on it (a copy to draw on), the plate
     itself when the torso's edge is to fade into it (None otherwise), the moved torso's mask
     and how far the torso moved. The torso is drawn whole: where the head or its halo covers
     it they are drawn over it, so the picture is the one drawn with the torso cut by them.
-    It depends on the reference and `body` only: kept for the next call with the same; with
-    `clip` (luma only) drawn over that box only and not kept."""
+    It depends on the reference and `body` only: kept for the next call with the same, and
+    drawn whole for that even for a drawing of one box (`compose_layers`' `only`: the next
+    frame's set often decodes the same body motion; a whole torso is the same inside any box)."""
     key = (
         renderer.reference_serial,
         None if body is None else np.asarray(body, np.float64).tobytes(),
@@ -274,10 +275,7 @@ def _torso_layer(renderer, body: np.ndarray | None, chroma: bool, clip=None):
     plate = None
     if torso_box is not None:
         plate = out.copy() if body_moved > 0 else None  # the torso's edge fades into it
-        if (drawn := _within(torso_box, clip, far_only=True)) is not None:
-            _draw_layer(renderer, out, torso, torso_forward, drawn, chroma)
-    if clip is not None:
-        return out, plate, torso, body_moved
+        _draw_layer(renderer, out, torso, torso_forward, torso_box, chroma)
     renderer._torso_kept = (key, chroma, out, plate, torso, body_moved)
     return out.copy(), plate, torso, body_moved
 
