@@ -230,12 +230,8 @@ def run_clip(
     # The refresh spends the rung's rate minus the plain stream's, both at the clip's own rate.
     refresh = DEFAULT_REFRESH if refresh is None else refresh
     model_clip_kbps = sum(p.size_bytes for p in coded.packets) * 8 / (len(lumas) / clip.fps) / 1000
-    refreshed = {
-        name: refresh_display(
-            clip, results, units, stream_config, model_clip_kbps, spec, profile=profile
-        )
-        for name, spec in refresh.items()
-    }
+    refreshed = {name: refresh_display(clip, results, units, stream_config, model_clip_kbps, spec,
+                                       profile=profile) for name, spec in refresh.items()}  # fmt: skip
     scored = _score(clip, results, units, coded, (decoded, shares, map_changes),
                     (receiver, *renderers[1:], scorer), displays, refreshed, clock, keep_frame,
                     kept)  # fmt: skip
