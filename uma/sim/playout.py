@@ -208,7 +208,7 @@ class AdaptivePlayout:
         return self.current_s
 
     def _catch_up_floor_s(self, target_s: float) -> float:
-        """What the catch-up falls towards: the target, and never below the latest delay of
+        """What the catch-up falls towards: the target, and never below the highest delay of
         the window's frames plus the margin (the cause must be gone from every one of them)."""
         if not self.config.catch_up_max:
             return target_s
