@@ -266,18 +266,16 @@ def _continue_edges(filled: np.ndarray, known: np.ndarray, edge: str, band_px: i
     return np.where(where, painted, filled)
 
 
-# The plates' luma fills by content: a mirror's plate and the receiver's fill the same luma.
-LUMA_FILLS = FillMemo(fill_unknown)
-
-
 class Plate:
     """The background the receiver knows: a YUV 4:2:0 picture, the mask of its pixels seen
     outside the person, and the same picture with the rest filled (`picture`). A `luma_only`
     plate (an engine's mirror, which reads luma only) learns and fills no chroma: its chroma
-    planes stay mid-grey, its luma is the same as a full plate's."""
+    planes stay mid-grey, its luma is the same as a full plate's. `fills` keeps its luma fills
+    by content (`uma.mbc.fill_memo.FillMemo`; None: its own)."""
 
-    def __init__(self, size: tuple[int, int]) -> None:
+    def __init__(self, size: tuple[int, int], fills: FillMemo | None = None) -> None:
         width, height = size
+        self.fills = FillMemo(fill_unknown) if fills is None else fills
         self.size = (width, height)
         self.known = np.zeros((height, width), bool)
         self.seen = np.full((height * 3 // 2, width), 128, np.uint8)
@@ -319,7 +317,7 @@ class Plate:
         seen = self.seen[height:].reshape(2, height // 2, width // 2)
         new = picture[height:].reshape(2, height // 2, width // 2)
         self.picture = np.empty_like(self.seen)
-        self.picture[:height] = LUMA_FILLS.fill(self.seen[:height], self.known)
+        self.picture[:height] = self.fills.fill(self.seen[:height], self.known)
         filled = self.picture[height:].reshape(2, height // 2, width // 2)
         if self.luma_only:
             filled[:] = 128
