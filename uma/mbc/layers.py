@@ -40,6 +40,7 @@ __all__ = [
     "rigid_fit",
     "invert_affine",
     "fill_unknown",
+    "fill_unknown_planes",
     "shift_yuv",
     "torso_polygon",
 ]
@@ -215,50 +216,82 @@ def fill_unknown(plane: np.ndarray, known: np.ndarray, edge: str | None = None) 
     push-pull pyramid: averages of the known pixels at ever coarser levels, pulled back
     down), the band next to the known pixels by `edge` (`_continue_edges`; None:
     `EDGE_FILL`). Known pixels are kept exactly; with none known, mid-grey."""
+    return fill_unknown_planes((plane,), known, edge)[0]
+
+
+def fill_unknown_planes(planes, known: np.ndarray, edge: str | None = None) -> list[np.ndarray]:
+    """Each of `planes` ((H, W) each) as `fill_unknown` fills it over the one mask `known`;
+    what depends on the mask alone (the weights' pyramid, the band and, for "nearest", each
+    band pixel's nearest known one) is computed once for all."""
     import cv2
 
     if not known.any():
-        return np.full_like(plane, 128)
-    weight = known.astype(np.float32)
-    values = plane.astype(np.float32) * weight
-    levels = [(values, weight)]
-    while min(levels[-1][0].shape) > 2:
-        v, w = levels[-1]
-        size = (max(v.shape[1] // 2, 1), max(v.shape[0] // 2, 1))
-        levels.append((cv2.resize(v, size, interpolation=cv2.INTER_AREA),
-                       cv2.resize(w, size, interpolation=cv2.INTER_AREA)))  # fmt: skip
-    v, w = levels[-1]
-    filled = np.where(w > 1e-6, v / np.maximum(w, 1e-6), float(values.sum() / weight.sum()))
-    for v, w in reversed(levels[:-1]):
+        return [np.full_like(plane, 128) for plane in planes]
+    weights = [known.astype(np.float32)]
+    while min(weights[-1].shape) > 2:
+        w = weights[-1]
+        size = (max(w.shape[1] // 2, 1), max(w.shape[0] // 2, 1))
+        weights.append(cv2.resize(w, size, interpolation=cv2.INTER_AREA))
+    edge = EDGE_FILL if edge is None else edge
+    band = _edge_band(known, edge)
+    return [_continue_edges(_push_pull(plane, known, weights), known, edge, band=band)
+            for plane in planes]  # fmt: skip
+
+
+def _push_pull(plane: np.ndarray, known: np.ndarray, weights: list[np.ndarray]) -> np.ndarray:
+    """`plane` where `known`, elsewhere its known pixels' averages at ever coarser levels
+    (`weights`: the known mask's pyramid, float32) pulled back down, rounded to uint8."""
+    import cv2
+
+    values = plane.astype(np.float32) * weights[0]
+    levels = [values]
+    for w in weights[1:]:
+        levels.append(cv2.resize(levels[-1], (w.shape[1], w.shape[0]),
+                                 interpolation=cv2.INTER_AREA))  # fmt: skip
+    v, w = levels[-1], weights[-1]
+    filled = np.where(w > 1e-6, v / np.maximum(w, 1e-6), float(values.sum() / weights[0].sum()))
+    for v, w in zip(reversed(levels[:-1]), reversed(weights[:-1]), strict=True):
         up = cv2.resize(filled, (v.shape[1], v.shape[0]), interpolation=cv2.INTER_LINEAR)
         filled = np.empty_like(v)  # t (v / max(w, 1e-6)) + (1 - t) up, t = clip(w, 0, 1)
         pull_level(v, w, up, np.float32(1e-6), filled)
     out = np.empty_like(plane)  # plane where known, else rint(filled) clipped to 0-255
     settle(np.ascontiguousarray(plane), known, filled, out)
-    return _continue_edges(out, known, EDGE_FILL if edge is None else edge)
+    return out
 
 
-def _continue_edges(filled: np.ndarray, known: np.ndarray, edge: str, band_px: int = EDGE_BAND_PX):
+def _edge_band(known: np.ndarray, edge: str, band_px: int = EDGE_BAND_PX):
+    """The unknown pixels within `band_px` of a known one (uint8 0/1) and, for `edge`
+    "nearest", every pixel's nearest known one (labels numbering the known pixels in raster
+    order from 1; an exact Euclidean distance transform), else None."""
+    import cv2
+
+    kernel = np.ones((2 * band_px + 1, 2 * band_px + 1), np.uint8)
+    near = cv2.dilate(known.view(np.uint8), kernel) & ~known.view(np.uint8) & 1
+    labels = None
+    if edge == "nearest" and near.any():
+        _, labels = cv2.distanceTransformWithLabels(
+            (~known).view(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE,
+            labelType=cv2.DIST_LABEL_PIXEL,
+        )  # fmt: skip
+    return near, labels
+
+
+def _continue_edges(filled: np.ndarray, known: np.ndarray, edge: str, band_px: int = EDGE_BAND_PX,
+                    band=None):  # fmt: skip
     """`filled` (uint8, the push-pull fill) with the unknown pixels within `band_px` of a known
     one taken instead from the known background: its nearest known pixel (`edge`
-    "nearest", an exact Euclidean distance transform with labels) or OpenCV's Telea
-    inpainting from the known pixels and the fill beyond ("telea"). Either way edges and
+    "nearest") or OpenCV's Telea inpainting from the known pixels and the fill beyond
+    ("telea"); `band`: `_edge_band`'s for this mask (None: found here). Either way edges and
     gradients of the background continue into the band: a person moved by a pixel uncovers
     it, and the smooth fill alone, an average of what lies on both sides of an edge, showed
     there as a dotted line along the person's outline."""
     import cv2
 
-    kernel = np.ones((2 * band_px + 1, 2 * band_px + 1), np.uint8)
-    near = cv2.dilate(known.view(np.uint8), kernel) & ~known.view(np.uint8) & 1
+    near, labels = _edge_band(known, edge, band_px) if band is None else band
     if filled.dtype != np.uint8 or not near.any():
         return filled
     where = near.view(bool)
     if edge == "nearest":
-        # Labels number the known (zero) pixels in raster order, from 1.
-        _, labels = cv2.distanceTransformWithLabels(
-            (~known).view(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE,
-            labelType=cv2.DIST_LABEL_PIXEL,
-        )  # fmt: skip
         out = filled.copy()
         out[where] = filled[known][labels[where] - 1]
         return out
@@ -275,7 +308,7 @@ class Plate:
 
     def __init__(self, size: tuple[int, int], fills: FillMemo | None = None) -> None:
         width, height = size
-        self.fills = FillMemo(fill_unknown) if fills is None else fills
+        self.fills = fills
         self.size = (width, height)
         self.known = np.zeros((height, width), bool)
         self.seen = np.full((height * 3 // 2, width), 128, np.uint8)
@@ -317,13 +350,15 @@ class Plate:
         seen = self.seen[height:].reshape(2, height // 2, width // 2)
         new = picture[height:].reshape(2, height // 2, width // 2)
         self.picture = np.empty_like(self.seen)
-        self.picture[:height] = self.fills.fill(self.seen[:height], self.known)
+        fill = fill_unknown if self.fills is None else self.fills.fill
+        self.picture[:height] = fill(self.seen[:height], self.known)
         filled = self.picture[height:].reshape(2, height // 2, width // 2)
         if self.luma_only:
             filled[:] = 128
-        for k in range(0 if self.luma_only else 2):
-            seen[k][chroma_out] = new[k][chroma_out]
-            filled[k] = fill_unknown(seen[k], known_chroma, EDGE_FILL_CHROMA)
+        if not self.luma_only:  # both chroma planes over one mask: its band found once
+            for k in range(2):
+                seen[k][chroma_out] = new[k][chroma_out]
+            filled[:] = fill_unknown_planes(seen, known_chroma, EDGE_FILL_CHROMA)
         self.reason = reason
         return reason
 

@@ -26,7 +26,7 @@ from uma.face.scene import HEAD_RING_SCALE, SceneMesh
 from uma.mbc.errors import SceneError
 from uma.mbc.layered_kernels import STILL_MAP, relight_face, triangle_maps
 from uma.mbc.layered_render import compose_layers, mask_box
-from uma.mbc.layers import Plate, body_problem, head_ring_points
+from uma.mbc.layers import Plate, body_problem, cut_person, head_ring_points
 from uma.mbc.render_memo import RenderMemo
 from uma.mbc.scene_memos import SceneMemos
 from uma.mbc.scene_reference import description_reference
@@ -83,8 +83,8 @@ class SceneRenderer:
     head's own scene: its far ring 1.5 frame diagonals away) instead of the receiver's;
     `head_ring_outlines` sizes the receiver's head ring (default `HEAD_RING_OUTLINES`);
     `soften_outline`: soften the drawn outline as the head moves (`uma.mbc.outline`). The
-    receiver's settings come from the codec's profile (`uma.mbc.profile`). `memos`: what this
-    end keeps by content (`uma.mbc.scene_memos.SceneMemos`; None: the renderer's own).
+    receiver's settings come from the codec's profile (`uma.mbc.profile`). `memos`: its end's
+    `uma.mbc.scene_memos.SceneMemos`, shared by that end's renderers (None: none).
     """
 
     def __init__(
@@ -120,8 +120,8 @@ class SceneRenderer:
         )
         self._strips = len(self.scene.triangles) - len(description.model.triangles)
         self.layered = not talking_head_scene if layered is None else bool(layered)
-        self.memos = SceneMemos() if memos is None else memos  # this end's, never another's
-        self.plate = Plate((width, height), self.memos.fills) if self.layered else None
+        self.memos = memos  # this end's, never another's (None: nothing kept by content)
+        self.plate = Plate((width, height), memos and memos.fills) if self.layered else None
         ys, xs = np.mgrid[0:height, 0:width].astype(np.float32)
         self._x, self._y = xs, ys
         self._face_source = None
@@ -338,7 +338,8 @@ class SceneRenderer:
     def _cut_layers(self, params: np.ndarray, fresh: np.ndarray | None) -> None:
         """The reference cut at `params` (`uma.mbc.layers.cut_person`), the plate taught the
         rest."""
-        head, self.halo_mask, self.torso_mask, self.anchor = self.memos.cuts.cut(
+        cut = cut_person if self.memos is None else self.memos.cuts.cut
+        head, self.halo_mask, self.torso_mask, self.anchor = cut(
             self.scene, self._reference_points, self.size, HALO_OF_HEAD
         )
         self._reference_ring = head_ring_points(self.scene, self._reference_points)
