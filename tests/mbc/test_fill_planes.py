@@ -94,3 +94,52 @@ def test_a_plates_chroma_is_each_planes_own_fill() -> None:
     assert np.array_equal(
         plate.picture[:height], _own_band_fill(plate.seen[:height], plate.known, "telea")
     )
+
+
+def _plate_as_before(plate_seen, plate_known, picture, person, fresh):
+    """`Plate.update` as written before (fancy indexing, each chroma plane filled on its own):
+    (seen, known, picture, started again)."""
+    height, width = person.shape
+    seen, known = plate_seen.copy(), plate_known.copy()
+    outside = ~person if fresh is None else ~person & (fresh | ~known)
+    both = outside & known
+    again = False
+    if both.mean() > 0.05:
+        diff = np.abs(
+            picture[:height][both].astype(np.int16) - seen[:height][both].astype(np.int16)
+        )
+        again = float(np.median(diff)) > layers.PLATE_MISMATCH_LEVELS
+        if again:
+            known[:] = False
+    seen[:height][outside] = picture[:height][outside]
+    chroma_out = outside[0::2, 0::2] & outside[1::2, 1::2]
+    known |= outside
+    known_chroma = known[0::2, 0::2] & known[1::2, 1::2]
+    out = np.empty_like(seen)
+    out[:height] = _own_band_fill(seen[:height], known, "telea")
+    planes, new = (p[height:].reshape(2, height // 2, width // 2) for p in (seen, picture))
+    filled = out[height:].reshape(2, height // 2, width // 2)
+    for k in range(2):
+        planes[k][chroma_out] = new[k][chroma_out]
+        filled[k] = _own_band_fill(planes[k], known_chroma, "nearest")
+    return seen, known, out, again
+
+
+def test_a_plate_learns_and_fills_as_it_did_before() -> None:
+    height, width = 96, 128
+    rng = np.random.default_rng(5)
+    plate = layers.Plate((width, height))
+    person = np.zeros((height, width), bool)
+    person[20:90, 40:90] = True
+    fresh = np.zeros_like(person)
+    fresh[10:60, 30:100] = True
+    base = rng.integers(60, 200, (height * 3 // 2, width), dtype=np.uint8)
+    steps = [(base, person, None), (base + rng.integers(0, 3, base.shape, dtype=np.uint8),
+             np.roll(person, 9, axis=1), fresh), (255 - base, person, None)]  # fmt: skip
+    for picture, who, decoded in steps:  # the last departs from the plate: it starts again
+        want = _plate_as_before(plate.seen, plate.known, picture, who, decoded)
+        reason = plate.update(picture, who, decoded)
+        assert (reason != "") == want[3]
+        for got, expected in zip((plate.seen, plate.known, plate.picture), want[:3], strict=True):
+            assert np.array_equal(got, expected)
+    assert reason

@@ -334,7 +334,7 @@ class Plate:
         outside = ~person if fresh is None else ~person & (fresh | ~self.known)
         reason = ""
         both = outside & self.known
-        if both.mean() > _PLATE_MIN_OVERLAP:
+        if np.count_nonzero(both) / both.size > _PLATE_MIN_OVERLAP:  # both.mean(), to the bit
             luma = picture[:height]
             diff = np.abs(luma[both].astype(np.int16) - self.seen[:height][both].astype(np.int16))
             if float(np.median(diff)) > PLATE_MISMATCH_LEVELS:
@@ -343,7 +343,7 @@ class Plate:
                     f"{float(np.median(diff)):.0f} levels (> {PLATE_MISMATCH_LEVELS:.0f}): started again"
                 )
                 self.known[:] = False
-        self.seen[:height][outside] = picture[:height][outside]
+        np.copyto(self.seen[:height], picture[:height], where=outside)
         chroma_out = outside[0::2, 0::2] & outside[1::2, 1::2]
         self.known |= outside
         known_chroma = self.known[0::2, 0::2] & self.known[1::2, 1::2]
@@ -355,9 +355,9 @@ class Plate:
         filled = self.picture[height:].reshape(2, height // 2, width // 2)
         if self.luma_only:
             filled[:] = 128
-        if not self.luma_only:  # both chroma planes over one mask: its band found once
+        else:  # both chroma planes over one mask: its band found once
             for k in range(2):
-                seen[k][chroma_out] = new[k][chroma_out]
+                np.copyto(seen[k], new[k], where=chroma_out)
             filled[:] = fill_unknown_planes(seen, known_chroma, EDGE_FILL_CHROMA)
         self.reason = reason
         return reason
