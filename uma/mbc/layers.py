@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from uma.mbc.band_parts import inpaint_band
 from uma.mbc.errors import SceneError
 from uma.mbc.fill_kernels import pull_level, settle
 from uma.mbc.fill_memo import FillMemo
@@ -285,8 +286,6 @@ def _continue_edges(filled: np.ndarray, known: np.ndarray, edge: str, band_px: i
     gradients of the background continue into the band: a person moved by a pixel uncovers
     it, and the smooth fill alone, an average of what lies on both sides of an edge, showed
     there as a dotted line along the person's outline."""
-    import cv2
-
     near, labels = _edge_band(known, edge, band_px) if band is None else band
     if filled.dtype != np.uint8 or not near.any():
         return filled
@@ -295,8 +294,7 @@ def _continue_edges(filled: np.ndarray, known: np.ndarray, edge: str, band_px: i
         out = filled.copy()
         out[where] = filled[known][labels[where] - 1]
         return out
-    painted = cv2.inpaint(np.ascontiguousarray(filled), near, band_px, cv2.INPAINT_TELEA)
-    return np.where(where, painted, filled)
+    return np.where(where, inpaint_band(filled, near, band_px), filled)  # Telea, part by part
 
 
 class Plate:
