@@ -135,3 +135,20 @@ def test_a_handover_after_a_refresh_arrived_whole_does_not_quiet_it():
     plan.on_report(report(80.0), 80.35, 30.0, False)
     assert plan.on_report(report(80.6, "GSM"), 80.85, 5.0, True) == []
     assert not plan.quiet
+
+
+def test_reported_paces_but_a_packet_leaves_only_after_a_report():
+    """`reported`: the credit accrues at the spare rate as `paced` (23.2 kbit/s: a 4,320-bit
+    packet's worth in 186 ms), but a packet leaves only at the first frame after a report:
+    p0 waits for the 0.95-s report; the credit is back above zero at 1.106 s, so p1 waits for
+    the 1.15-s report (frame 1.16); then nothing until a report arrives again."""
+    plan = sending(release="reported")
+    plan.coded(PACKETS, 0.92, intra=False)
+    left = {}
+    for frame in range(23, 40):  # frames every 40 ms, 0.92 ... 1.56 s
+        now_s = frame / FPS
+        if frame in (24, 29):  # reports arriving at 0.95 and 1.15 s
+            plan.on_report(report(now_s - 0.35), now_s - 0.01, 30.0, False)
+        left[round(now_s, 2)] = [name for name, _ in plan.pace(now_s, queue_delay_ms=0.0)]
+    assert {t: names for t, names in left.items() if names} == {0.96: ["p0"], 1.16: ["p1"]}
+    assert len(plan.queue) == 2

@@ -244,8 +244,8 @@ class RefreshPlanner:
         # The credit never stores more than one packet's worth: no burst after a pause.
         self.credit_bits = min(self.credit_bits, 8.0 * self.config.packet_bytes + 320.0)
         count = 0
-        for _, bits in self.queue:
-            if self.credit_bits < 0.0:
+        for _, bits in self.queue:  # `reported`: the credit waits for a report's arrival
+            if self.credit_bits < 0.0 or (self.config.release == "reported" and not report_arrived):
                 break
             self.credit_bits -= bits
             count += 1
