@@ -29,7 +29,11 @@ the model codec is dropped, and the next is intra; so is one whose remaining bit
 more than `handover_drain_ms` at the estimate when the reports name a new technology (they
 would hold the parameters behind them on a slower link). The receiver reports the newest refresh
 it renders from; the engine hands it on once (`take_adopted`), so the encoder's mirror of
-the receiver's reference changes only when the receiver's did.
+the receiver's reference changes only when the receiver's did. Two switches, off (measured
+in docs/rate-control.md "Branch rc18"): `release` `burst` (a refresh's packets leave
+together at the first frame after a report) or `reported` (paced, a packet only then), and
+`handover_quiet` (a handover that finds refresh bits sent after the receiver's previous
+report stops the refresh until a report's queueing delay reads at most `quiet_queue_ms`).
 
 One Enum of states, one transition table, as `uma.engine.model` keeps the model codec's.
 """
