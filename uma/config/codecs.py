@@ -65,12 +65,6 @@ class RefreshConfig(Section):
     modelled compute of coding one refresh, decoding it again for the mirror and that check.
     `handover_drain_ms`: when the reports name a new technology, a refresh under way whose
     remaining bits would take longer than this at the new estimate is dropped (the next intra).
-    `release`: `paced` (at the spare rate, as above), `burst` (each refresh's packets leave
-    together at the first frame after a report arrives; the ordering keeps the same rate) or
-    `reported` (paced, but a packet leaves only at the first frame after a report arrives).
-    `handover_quiet`: when the reports name a new technology and refresh bits left after the
-    previous report was sent (they may be in the handover's gap), no refresh is ordered or
-    leaves until a report's queueing delay reads at most `quiet_queue_ms`.
     """
 
     enabled: Bool = False
@@ -91,9 +85,6 @@ class RefreshConfig(Section):
     first_always: Bool = False
     encode_ms: NonNeg = 12.0
     handover_drain_ms: PosNum = 500.0
-    release: Literal["paced", "burst", "reported"] = "paced"
-    handover_quiet: Bool = False
-    quiet_queue_ms: NonNeg = 20.0
 
     @model_validator(mode="after")
     def _intervals(self) -> RefreshConfig:

@@ -29,11 +29,7 @@ the model codec is dropped, and the next is intra; so is one whose remaining bit
 more than `handover_drain_ms` at the estimate when the reports name a new technology (they
 would hold the parameters behind them on a slower link). The receiver reports the newest refresh
 it renders from; the engine hands it on once (`take_adopted`), so the encoder's mirror of
-the receiver's reference changes only when the receiver's did. Two switches, off (measured
-in docs/rate-control.md "Branch rc18"): `release` `burst` (a refresh's packets leave
-together at the first frame after a report) or `reported` (paced, a packet only then), and
-`handover_quiet` (a handover that finds refresh bits sent after the receiver's previous
-report stops the refresh until a report's queueing delay reads at most `quiet_queue_ms`).
+the receiver's reference changes only when the receiver's did.
 
 One Enum of states, one transition table, as `uma.engine.model` keeps the model codec's.
 """
@@ -101,10 +97,6 @@ class RefreshPlanner:
         self.released_bits = 0  # since the last `take_released_bits`
         self.acked_frame = -1
         self.adopted: int | None = None  # a refresh the receiver took, not yet handed on
-        self.report_arrived = False  # a report arrived since the last `pace` (`burst`)
-        self.report_sent_s = -math.inf  # when the receiver sent the last report
-        self.releases: deque[tuple[float, int]] = deque()  # (now_s, bits) of the last 5 s
-        self.quiet = False  # `handover_quiet`: nothing until the queue reads empty
 
     def fire(self, event: RefreshEvent) -> None:
         key = (self.state, event)
@@ -146,8 +138,6 @@ class RefreshPlanner:
     ) -> RefreshOrder | None:
         config = self.config
         self.fire(RefreshEvent.ENTER)
-        if self.quiet:
-            return None
         delivered_kbps = self._delivered(now_s, received_kbps)
         self.spare_kbps = max(0.0, min(budget_kbps, delivered_kbps) - model_kbps)
         if self.spare_kbps < config.min_spare_kbps:
@@ -233,37 +223,22 @@ class RefreshPlanner:
         while delays and delays[-1][1] >= queue_delay_ms:
             delays.pop()  # a later, lower delay is the window's least from now on
         delays.append((now_s, queue_delay_ms))
-        self.quiet = self.quiet and queue_delay_ms > self.config.quiet_queue_ms
-        report_arrived, self.report_arrived = self.report_arrived, False
-        if self.state is not RefreshState.SENDING or self.quiet:
+        if self.state is not RefreshState.SENDING:
             return []
         elapsed_s = max(0.0, now_s - (self.last_pace_s if self.last_pace_s is not None else now_s))
         self.last_pace_s = now_s
         if held or queue_delay_ms - delays[0][1] > self.config.queue_high_ms:
             return []
-        if self.config.release == "burst":
-            return self._release(now_s, len(self.queue) if report_arrived else 0)
         rate_kbps = max(self.spare_kbps, 0.5 * self.config.min_spare_kbps)
         self.credit_bits += rate_kbps * 1000.0 * elapsed_s
         # The credit never stores more than one packet's worth: no burst after a pause.
         self.credit_bits = min(self.credit_bits, 8.0 * self.config.packet_bytes + 320.0)
-        count = 0
-        for _, bits in self.queue:  # `reported`: the credit waits for a report's arrival
-            if self.credit_bits < 0.0 or (self.config.release == "reported" and not report_arrived):
-                break
+        out = []
+        while self.queue and self.credit_bits >= 0.0:
+            packet, bits = self.queue.popleft()
             self.credit_bits -= bits
-            count += 1
-        return self._release(now_s, count)
-
-    def _release(self, now_s: float, count: int) -> list[tuple[object, int]]:
-        """The first `count` queued packets leave at `now_s`."""
-        out = [self.queue.popleft() for _ in range(count)]
-        bits = sum(size for _, size in out)
-        self.released_bits += bits
-        if bits:
-            self.releases.append((now_s, bits))
-        while self.releases and self.releases[0][0] < now_s - 5.0:
-            self.releases.popleft()
+            self.released_bits += bits
+            out.append((packet, bits))
         if not self.queue:
             self.fire(RefreshEvent.DRAINED)
         return out
@@ -293,22 +268,7 @@ class RefreshPlanner:
         control took the report and the new technology's prior), `on_handover` at
         `estimate_kbps`."""
         actions = self.on_ack(report.refresh_frame)
-        self.report_arrived = True
-        since_s, self.report_sent_s = self.report_sent_s, report.sent_s
-        if not handover:
-            return actions
-        actions += self.on_handover(now_s, estimate_kbps)
-        return actions + self._quiet(now_s, since_s)
-
-    def _quiet(self, now_s: float, since_s: float) -> list:
-        """`handover_quiet`: refresh bits that left after the receiver sent its previous
-        report (`since_s`) may be in the handover's gap: nothing more until the queue reads
-        empty."""
-        gap_bits = sum(bits for t_s, bits in self.releases if t_s > since_s)
-        if not self.config.handover_quiet or gap_bits == 0:
-            return []
-        self.quiet = True
-        return [EngineEvent(now_s, "refresh_quiet", f"{gap_bits} bits left since {since_s:.3f} s")]
+        return actions + self.on_handover(now_s, estimate_kbps) if handover else actions
 
     def on_ack(self, frame: int) -> list:
         """A report says the receiver renders from the refresh of `frame`."""
