@@ -8,7 +8,7 @@ import pytest
 from uma.face.talking_head import Motion, TalkingHeadSource
 from uma.mbc.cut_memo import CutMemo
 from uma.mbc.layers import cut_person
-from uma.mbc.scene_render import HALO_OF_HEAD, PERSON_CUTS, SceneRenderer
+from uma.mbc.scene_render import HALO_OF_HEAD, SceneRenderer
 
 SIZE = (176, 144)
 
@@ -38,22 +38,3 @@ def test_a_kept_cut_is_the_plain_cut_and_a_changed_input_is_cut_again(descriptio
                  cut_person(scene, moved, SIZE, HALO_OF_HEAD))  # fmt: skip
     assert _same(memo.cut(scene, points, SIZE, 0.3), cut_person(scene, points, SIZE, 0.3))
     assert memo.hits == 1
-
-
-def test_a_mirror_and_a_receiver_taking_one_reference_cut_it_once(description) -> None:
-    params = np.asarray(description.params, dtype=np.float64).copy()
-    params[0] += 3.0
-    mirror, receiver = SceneRenderer(description, SIZE), SceneRenderer(description, SIZE)
-    mirror.set_luma_only(True)
-    picture = receiver.render(params)[0]
-    hits = PERSON_CUTS.hits
-    mirror.set_reference(picture, params)
-    receiver.set_reference(picture, params)
-    assert PERSON_CUTS.hits == hits + 1
-    head, halo, torso, anchor = cut_person(receiver.scene, receiver.scene.points(params), SIZE,
-                                           HALO_OF_HEAD)  # fmt: skip
-    for renderer in (mirror, receiver):
-        assert np.array_equal(renderer.halo_mask, halo)
-        assert np.array_equal(renderer.torso_mask, torso)
-        assert np.array_equal(renderer.anchor, anchor)
-        assert np.array_equal(renderer.person_mask, (head | halo | torso) > 0)

@@ -33,21 +33,3 @@ def test_a_kept_fill_is_the_plain_fill_and_a_changed_input_is_filled_again() -> 
                           layers.fill_unknown(plane, known, "nearest"))  # fmt: skip
     assert memo.hits == 1
     assert not first.flags.writeable
-
-
-def test_two_plates_taught_the_same_luma_fill_what_one_plain_fill_gives() -> None:
-    # A luma-only mirror's plate and a receiver's: the second fill comes from the memo.
-    height, width = 48, 64
-    rng = np.random.default_rng(1)
-    picture = rng.integers(0, 256, (height * 3 // 2, width), dtype=np.uint8)
-    person = np.zeros((height, width), bool)
-    person[12:40, 16:40] = True
-    mirror, receiver = layers.Plate((width, height)), layers.Plate((width, height))
-    mirror.luma_only = True
-    hits = layers.LUMA_FILLS.hits
-    mirror.update(picture, person)
-    receiver.update(picture, person)
-    assert layers.LUMA_FILLS.hits == hits + 1
-    plain = layers.fill_unknown(receiver.seen[:height], receiver.known)
-    assert np.array_equal(mirror.picture[:height], plain)
-    assert np.array_equal(receiver.picture[:height], plain)

@@ -1,7 +1,7 @@
-"""The person's cut on a reference, kept by content: the engine's mirror and the receiver take
-the same refreshes at the same decoded sets, so they cut the same person from the same scene
-points (`uma.mbc.layers.cut_person` reads geometry only, never the picture); the second cut of
-those inputs is the first's.
+"""The person's cut on a reference, kept by content: `uma.mbc.layers.cut_person` reads geometry
+only, never the picture, so the second cut of the same scene points is the first's. One end
+owns it (`uma.mbc.scene_memos.SceneMemos`, held by its renderers); the engine's mirror and the
+receiver never share one.
 
 Units: pixels; masks (H, W) uint8 0/1, as `cut_person` returns them.
 
@@ -9,8 +9,7 @@ The key is the SHA-256 of the scene's triangles and outline, the model's vertex 
 counts, the points' float64 bytes with their shape, the picture size and the halo (a content
 address, as `uma.mbc.fill_memo`'s). The masks are kept bit-packed (13 kB each at CIF) and
 every hit unpacks fresh arrays (a caller may write into them). Bounded: the newest
-`CUT_ENTRIES` cuts (a bench clip's mirror takes all its refreshes before its receiver takes
-any).
+`CUT_ENTRIES` cuts.
 """
 
 from __future__ import annotations

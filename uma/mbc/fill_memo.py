@@ -1,13 +1,12 @@
-"""The plate's luma fill, kept by content: the engine's mirror and the receiver take the same
-refreshes, so their plates fill the same luma over the same known mask (a mirror's luma is the
-receiver's, `SceneRenderer.set_luma_only`); the second fill of those inputs is the first's.
+"""The plate's luma fill, kept by content: the second fill of the same luma over the same known
+mask is the first's. One end owns it (`uma.mbc.scene_memos.SceneMemos`, held by its
+renderers); the engine's mirror and the receiver never share one.
 
 Units: pixels; a plane (H, W) uint8, its known mask (H, W) bool.
 
 The key is the SHA-256 of the plane's and the mask's bytes with their shape and the edge rule
 (a content address, as the uplink memo's); a kept fill is read-only and the same array for
-every hit (the plate copies it into its picture). Bounded: the newest `MEMO_ENTRIES` fills
-(a bench clip's mirror takes all its refreshes before its receiver takes any).
+every hit (the plate copies it into its picture). Bounded: the newest `MEMO_ENTRIES` fills.
 """
 
 from __future__ import annotations

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from uma.mbc.band_parts import inpaint_band
 from uma.mbc.errors import SceneError
 from uma.mbc.fill_kernels import pull_level, settle
 from uma.mbc.fill_memo import FillMemo
@@ -40,6 +41,7 @@ __all__ = [
     "rigid_fit",
     "invert_affine",
     "fill_unknown",
+    "fill_unknown_planes",
     "shift_yuv",
     "torso_polygon",
 ]
@@ -215,69 +217,96 @@ def fill_unknown(plane: np.ndarray, known: np.ndarray, edge: str | None = None) 
     push-pull pyramid: averages of the known pixels at ever coarser levels, pulled back
     down), the band next to the known pixels by `edge` (`_continue_edges`; None:
     `EDGE_FILL`). Known pixels are kept exactly; with none known, mid-grey."""
+    return fill_unknown_planes((plane,), known, edge)[0]
+
+
+def fill_unknown_planes(planes, known: np.ndarray, edge: str | None = None) -> list[np.ndarray]:
+    """Each of `planes` ((H, W) each) as `fill_unknown` fills it over the one mask `known`;
+    what depends on the mask alone (the weights' pyramid, the band and, for "nearest", each
+    band pixel's nearest known one) is computed once for all."""
     import cv2
 
     if not known.any():
-        return np.full_like(plane, 128)
-    weight = known.astype(np.float32)
-    values = plane.astype(np.float32) * weight
-    levels = [(values, weight)]
-    while min(levels[-1][0].shape) > 2:
-        v, w = levels[-1]
-        size = (max(v.shape[1] // 2, 1), max(v.shape[0] // 2, 1))
-        levels.append((cv2.resize(v, size, interpolation=cv2.INTER_AREA),
-                       cv2.resize(w, size, interpolation=cv2.INTER_AREA)))  # fmt: skip
-    v, w = levels[-1]
-    filled = np.where(w > 1e-6, v / np.maximum(w, 1e-6), float(values.sum() / weight.sum()))
-    for v, w in reversed(levels[:-1]):
+        return [np.full_like(plane, 128) for plane in planes]
+    weights = [known.astype(np.float32)]
+    while min(weights[-1].shape) > 2:
+        w = weights[-1]
+        size = (max(w.shape[1] // 2, 1), max(w.shape[0] // 2, 1))
+        weights.append(cv2.resize(w, size, interpolation=cv2.INTER_AREA))
+    edge = EDGE_FILL if edge is None else edge
+    band = _edge_band(known, edge)
+    return [_continue_edges(_push_pull(plane, known, weights), known, edge, band=band)
+            for plane in planes]  # fmt: skip
+
+
+def _push_pull(plane: np.ndarray, known: np.ndarray, weights: list[np.ndarray]) -> np.ndarray:
+    """`plane` where `known`, elsewhere its known pixels' averages at ever coarser levels
+    (`weights`: the known mask's pyramid, float32) pulled back down, rounded to uint8."""
+    import cv2
+
+    values = plane.astype(np.float32) * weights[0]
+    levels = [values]
+    for w in weights[1:]:
+        levels.append(cv2.resize(levels[-1], (w.shape[1], w.shape[0]),
+                                 interpolation=cv2.INTER_AREA))  # fmt: skip
+    v, w = levels[-1], weights[-1]
+    filled = np.where(w > 1e-6, v / np.maximum(w, 1e-6), float(values.sum() / weights[0].sum()))
+    for v, w in zip(reversed(levels[:-1]), reversed(weights[:-1]), strict=True):
         up = cv2.resize(filled, (v.shape[1], v.shape[0]), interpolation=cv2.INTER_LINEAR)
         filled = np.empty_like(v)  # t (v / max(w, 1e-6)) + (1 - t) up, t = clip(w, 0, 1)
         pull_level(v, w, up, np.float32(1e-6), filled)
     out = np.empty_like(plane)  # plane where known, else rint(filled) clipped to 0-255
     settle(np.ascontiguousarray(plane), known, filled, out)
-    return _continue_edges(out, known, EDGE_FILL if edge is None else edge)
+    return out
 
 
-def _continue_edges(filled: np.ndarray, known: np.ndarray, edge: str, band_px: int = EDGE_BAND_PX):
-    """`filled` (uint8, the push-pull fill) with the unknown pixels within `band_px` of a known
-    one taken instead from the known background: its nearest known pixel (`edge`
-    "nearest", an exact Euclidean distance transform with labels) or OpenCV's Telea
-    inpainting from the known pixels and the fill beyond ("telea"). Either way edges and
-    gradients of the background continue into the band: a person moved by a pixel uncovers
-    it, and the smooth fill alone, an average of what lies on both sides of an edge, showed
-    there as a dotted line along the person's outline."""
+def _edge_band(known: np.ndarray, edge: str, band_px: int = EDGE_BAND_PX):
+    """The unknown pixels within `band_px` of a known one (uint8 0/1) and, for `edge`
+    "nearest", every pixel's nearest known one (labels numbering the known pixels in raster
+    order from 1; an exact Euclidean distance transform), else None."""
     import cv2
 
     kernel = np.ones((2 * band_px + 1, 2 * band_px + 1), np.uint8)
     near = cv2.dilate(known.view(np.uint8), kernel) & ~known.view(np.uint8) & 1
-    if filled.dtype != np.uint8 or not near.any():
-        return filled
-    where = near.view(bool)
-    if edge == "nearest":
-        # Labels number the known (zero) pixels in raster order, from 1.
+    labels = None
+    if edge == "nearest" and near.any():
         _, labels = cv2.distanceTransformWithLabels(
             (~known).view(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE,
             labelType=cv2.DIST_LABEL_PIXEL,
         )  # fmt: skip
+    return near, labels
+
+
+def _continue_edges(filled: np.ndarray, known: np.ndarray, edge: str, band_px: int = EDGE_BAND_PX,
+                    band=None):  # fmt: skip
+    """`filled` (uint8, the push-pull fill) with the unknown pixels within `band_px` of a known
+    one taken instead from the known background: its nearest known pixel (`edge`
+    "nearest") or OpenCV's Telea inpainting from the known pixels and the fill beyond
+    ("telea"); `band`: `_edge_band`'s for this mask (None: found here). Either way edges and
+    gradients of the background continue into the band: a person moved by a pixel uncovers
+    it, and the smooth fill alone, an average of what lies on both sides of an edge, showed
+    there as a dotted line along the person's outline."""
+    near, labels = _edge_band(known, edge, band_px) if band is None else band
+    if filled.dtype != np.uint8 or not near.any():
+        return filled
+    where = near.view(bool)
+    if edge == "nearest":
         out = filled.copy()
         out[where] = filled[known][labels[where] - 1]
         return out
-    painted = cv2.inpaint(np.ascontiguousarray(filled), near, band_px, cv2.INPAINT_TELEA)
-    return np.where(where, painted, filled)
-
-
-# The plates' luma fills by content: a mirror's plate and the receiver's fill the same luma.
-LUMA_FILLS = FillMemo(fill_unknown)
+    return np.where(where, inpaint_band(filled, near, band_px), filled)  # Telea, part by part
 
 
 class Plate:
     """The background the receiver knows: a YUV 4:2:0 picture, the mask of its pixels seen
     outside the person, and the same picture with the rest filled (`picture`). A `luma_only`
     plate (an engine's mirror, which reads luma only) learns and fills no chroma: its chroma
-    planes stay mid-grey, its luma is the same as a full plate's."""
+    planes stay mid-grey, its luma is the same as a full plate's. `fills` keeps its luma fills
+    by content (`uma.mbc.fill_memo.FillMemo`; None: its own)."""
 
-    def __init__(self, size: tuple[int, int]) -> None:
+    def __init__(self, size: tuple[int, int], fills: FillMemo | None = None) -> None:
         width, height = size
+        self.fills = fills
         self.size = (width, height)
         self.known = np.zeros((height, width), bool)
         self.seen = np.full((height * 3 // 2, width), 128, np.uint8)
@@ -303,7 +332,7 @@ class Plate:
         outside = ~person if fresh is None else ~person & (fresh | ~self.known)
         reason = ""
         both = outside & self.known
-        if both.mean() > _PLATE_MIN_OVERLAP:
+        if np.count_nonzero(both) / both.size > _PLATE_MIN_OVERLAP:  # both.mean(), to the bit
             luma = picture[:height]
             diff = np.abs(luma[both].astype(np.int16) - self.seen[:height][both].astype(np.int16))
             if float(np.median(diff)) > PLATE_MISMATCH_LEVELS:
@@ -312,20 +341,22 @@ class Plate:
                     f"{float(np.median(diff)):.0f} levels (> {PLATE_MISMATCH_LEVELS:.0f}): started again"
                 )
                 self.known[:] = False
-        self.seen[:height][outside] = picture[:height][outside]
+        np.copyto(self.seen[:height], picture[:height], where=outside)
         chroma_out = outside[0::2, 0::2] & outside[1::2, 1::2]
         self.known |= outside
         known_chroma = self.known[0::2, 0::2] & self.known[1::2, 1::2]
         seen = self.seen[height:].reshape(2, height // 2, width // 2)
         new = picture[height:].reshape(2, height // 2, width // 2)
         self.picture = np.empty_like(self.seen)
-        self.picture[:height] = LUMA_FILLS.fill(self.seen[:height], self.known)
+        fill = fill_unknown if self.fills is None else self.fills.fill
+        self.picture[:height] = fill(self.seen[:height], self.known)
         filled = self.picture[height:].reshape(2, height // 2, width // 2)
         if self.luma_only:
             filled[:] = 128
-        for k in range(0 if self.luma_only else 2):
-            seen[k][chroma_out] = new[k][chroma_out]
-            filled[k] = fill_unknown(seen[k], known_chroma, EDGE_FILL_CHROMA)
+        else:  # both chroma planes over one mask: its band found once
+            for k in range(2):
+                np.copyto(seen[k], new[k], where=chroma_out)
+            filled[:] = fill_unknown_planes(seen, known_chroma, EDGE_FILL_CHROMA)
         self.reason = reason
         return reason
 

@@ -23,12 +23,12 @@ import numpy as np
 
 from uma.face.describe import ContentDescription
 from uma.face.scene import HEAD_RING_SCALE, SceneMesh
-from uma.mbc.cut_memo import CutMemo
 from uma.mbc.errors import SceneError
 from uma.mbc.layered_kernels import STILL_MAP, relight_face, triangle_maps
 from uma.mbc.layered_render import compose_layers, mask_box
 from uma.mbc.layers import Plate, body_problem, cut_person, head_ring_points
 from uma.mbc.render_memo import RenderMemo
+from uma.mbc.scene_memos import SceneMemos
 from uma.mbc.scene_reference import description_reference
 from uma.mbc.stretched_render import stretched
 
@@ -52,8 +52,6 @@ HEAD_RING_OUTLINES = 1.4  # the head ring's radius in face-outline radii (hair, 
 # outside the face that lets them follow only in part (better where the pose is off: akiyo's
 # bow, carphone's turn; docs/mbc.md).
 HEAD_RING_CHOICES = (1.05, HEAD_RING_OUTLINES)
-# The references' cuts by content: a mirror and the receiver cut the same person at a take.
-PERSON_CUTS = CutMemo(cut_person)
 # The halo around the head, in head-ring widths, moved rigidly with the head: hair just outside
 # the head ring goes with the person, never into the plate. Chosen on akiyo's and carphone's
 # frames 150-299 (face box luma PSNR, quantised; the stretched scene: 22.30 | 21.25 dB): halo
@@ -85,7 +83,8 @@ class SceneRenderer:
     head's own scene: its far ring 1.5 frame diagonals away) instead of the receiver's;
     `head_ring_outlines` sizes the receiver's head ring (default `HEAD_RING_OUTLINES`);
     `soften_outline`: soften the drawn outline as the head moves (`uma.mbc.outline`). The
-    receiver's settings come from the codec's profile (`uma.mbc.profile`).
+    receiver's settings come from the codec's profile (`uma.mbc.profile`). `memos`: its end's
+    `uma.mbc.scene_memos.SceneMemos`, shared by that end's renderers (None: none).
     """
 
     def __init__(
@@ -98,6 +97,7 @@ class SceneRenderer:
         far_ring_head_radii: float | None = None,
         layered: bool | None = None,
         soften_outline: bool = False,
+        memos: SceneMemos | None = None,
     ):
         width, height = (int(v) for v in size)
         if width < 2 or height < 2 or width % 2 or height % 2:
@@ -120,7 +120,8 @@ class SceneRenderer:
         )
         self._strips = len(self.scene.triangles) - len(description.model.triangles)
         self.layered = not talking_head_scene if layered is None else bool(layered)
-        self.plate = Plate((width, height)) if self.layered else None
+        self.memos = memos  # this end's, never another's (None: nothing kept by content)
+        self.plate = Plate((width, height), memos and memos.fills) if self.layered else None
         ys, xs = np.mgrid[0:height, 0:width].astype(np.float32)
         self._x, self._y = xs, ys
         self._face_source = None
@@ -337,7 +338,8 @@ class SceneRenderer:
     def _cut_layers(self, params: np.ndarray, fresh: np.ndarray | None) -> None:
         """The reference cut at `params` (`uma.mbc.layers.cut_person`), the plate taught the
         rest."""
-        head, self.halo_mask, self.torso_mask, self.anchor = PERSON_CUTS.cut(
+        cut = cut_person if self.memos is None else self.memos.cuts.cut
+        head, self.halo_mask, self.torso_mask, self.anchor = cut(
             self.scene, self._reference_points, self.size, HALO_OF_HEAD
         )
         self._reference_ring = head_ring_points(self.scene, self._reference_points)
