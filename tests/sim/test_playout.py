@@ -228,3 +228,71 @@ def test_catch_up_max_waits_for_every_frame_of_the_window():
     assert fast[at_3s] < 0.3
     assert held[at_3s] > 0.5
     assert held[-1] == pytest.approx(0.12, abs=0.01)
+
+
+def drive_labelled(playout, delays_s, technology_at):
+    """As `drive`, telling the playout the receiver's technology at each instant."""
+    arrivals = sorted((i / FPS + d, i / FPS) for i, d in enumerate(delays_s))
+    out, j = [], 0
+    for i in range(len(delays_s)):
+        now_s = i / FPS
+        while j < len(arrivals) and arrivals[j][0] <= now_s:
+            playout.on_decoded(arrivals[j][1], arrivals[j][0])
+            j += 1
+        out.append(playout.delay_s(now_s, technology_at(now_s)))
+    return np.array(out)
+
+
+def flushed_burst():
+    """0.1 s frames; from 4 s the link stalls for 1.5 s and its queue leaves in one burst at
+    5.5 s (the frames captured in the stall arrive together), then 0.1 s again."""
+    capture_s = np.arange(500) / FPS
+    delays = np.full(500, 0.1)
+    stalled = (capture_s >= 4.0) & (capture_s < 5.5)
+    delays[stalled] = 5.5 - capture_s[stalled]
+    return delays
+
+
+def test_the_rise_follows_the_newest_frames_not_a_flushed_burst():
+    delays = flushed_burst()
+    plain = drive(AdaptivePlayout(AdaptivePlayoutConfig(), initial_delay_s=0.12), delays)
+    bounded_config = AdaptivePlayoutConfig(rise_window_s=0.5)
+    bounded = drive(AdaptivePlayout(bounded_config, initial_delay_s=0.12), delays)
+    # Without the bound the delay climbs towards the burst's 1.5 s after it was shown and
+    # descends at 100 ms/s; with it, it stops when the burst leaves the last 0.5 s.
+    assert plain.max() > 1.0
+    assert bounded.max() < 0.5
+    at_8s = int(8 * FPS)
+    assert plain[at_8s] > bounded[at_8s] + 0.5
+    # Before the stall both are the same.
+    assert np.array_equal(plain[: int(5.5 * FPS)], bounded[: int(5.5 * FPS)])
+
+
+def test_after_handover_only_acts_after_a_named_handover():
+    delays = flushed_burst()
+    config = AdaptivePlayoutConfig(rise_window_s=0.5, catch_up_s=1.0, after_handover_s=10.0)
+    plain = drive(AdaptivePlayout(AdaptivePlayoutConfig(), initial_delay_s=0.12), delays)
+    # No named technology (a measured trace): no handover, so exactly the plain playout.
+    unnamed = drive_labelled(AdaptivePlayout(config, initial_delay_s=0.12), delays, lambda t: "")
+    assert np.array_equal(unnamed, plain)
+    # The same technology throughout: no handover either.
+    same = drive_labelled(AdaptivePlayout(config, initial_delay_s=0.12), delays, lambda t: "3G")
+    assert np.array_equal(same, plain)
+    # A handover at 4 s (3G to GPRS): the bound acts for 10 s after it.
+    handover = drive_labelled(
+        AdaptivePlayout(config, initial_delay_s=0.12), delays, lambda t: "3G" if t < 4.0 else "GPRS"
+    )
+    assert handover.max() < 0.5
+    always = AdaptivePlayoutConfig(rise_window_s=0.5, catch_up_s=1.0)
+    assert np.array_equal(handover, drive(AdaptivePlayout(always, initial_delay_s=0.12), delays))
+
+
+def test_after_handover_ends_its_window():
+    # A handover at 1 s, the stall at 4 s: with a 2 s window the bound has expired.
+    delays = flushed_burst()
+    config = AdaptivePlayoutConfig(rise_window_s=0.5, after_handover_s=2.0)
+    late = drive_labelled(
+        AdaptivePlayout(config, initial_delay_s=0.12), delays, lambda t: "3G" if t < 1.0 else "GPRS"
+    )
+    plain = drive(AdaptivePlayout(AdaptivePlayoutConfig(), initial_delay_s=0.12), delays)
+    assert np.array_equal(late, plain)

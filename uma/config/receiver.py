@@ -37,7 +37,13 @@ class AdaptivePlayoutConfig(Section):
     per `catch_up_s` (at most 500 ms/s), so a spike whose cause is gone is not held for
     seconds at 100 ms/s (docs/rate-control.md, rc17); with `catch_up_max` it falls only
     towards the highest delay of the window's frames plus the margin (every one of them, not
-    the percentile, must have left the spike).
+    the percentile, must have left the spike). `rise_window_s` (0: off): the delay rises only
+    towards the highest delay of the frames decoded in the last `rise_window_s` plus the margin
+    (a queue flushed in one burst has been shown by the time the window's percentile asks for
+    it). `after_handover_s` (0: always): the catch-up and the rise's bound act only within
+    that long after a handover, the receiver's technology changing between two named ones
+    (a link with no named technologies never has one). All three off: docs/rate-control.md,
+    "Lead, session 20".
     """
 
     window_s: PosNum = 2.0
@@ -52,6 +58,8 @@ class AdaptivePlayoutConfig(Section):
     max_increase_ms_per_s: PosNum = 500.0
     catch_up_s: NonNeg = 0.0
     catch_up_max: Bool = False
+    rise_window_s: NonNeg = 0.0
+    after_handover_s: NonNeg = 0.0
     # Off: measured on the commute and on measured traces (docs/rate-control.md, `rc8`, `rc7`):
     # the commute's p95 falls below 1,000 ms, held-out traces froze 1-2 display instants more.
     reject_bursts: Bool = False

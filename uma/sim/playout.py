@@ -16,6 +16,11 @@ falls faster while far above its target (the recent frames no longer ask for it:
 drained, a handover's backlog shown): by its excess over the target per `catch_up_s`, never
 more than `MAX_CATCH_UP` (500 ms a second, so display instants never go back in time); with
 `catch_up_max`, towards the highest delay of the window plus the margin instead of the target.
+With `rise_window_s` the delay rises only towards what the newest frames ask for (the highest
+delay of those decoded in the last `rise_window_s`, plus the margin): frames queued through an
+outage arrive in one burst and are shown at once, late whatever the delay; rising to the window's
+percentile afterwards delays only the frames behind them. With `after_handover_s` both act only
+within that long after a handover (`delay_s`'s `technology` changing between two named ones).
 
 With `reject_bursts` (off by default: measured in docs/rate-control.md, sections `rc8` and `rc7`)
 the target, as WebRTC separates a change of the path's delay (its timestamp extrapolator, which
@@ -62,7 +67,7 @@ class FixedPlayout:
     def on_decoded(self, capture_s: float, arrival_s: float) -> None:
         pass
 
-    def delay_s(self, now_s: float) -> float:
+    def delay_s(self, now_s: float, technology: str = "") -> float:
         return self._delay_s
 
 
@@ -86,6 +91,8 @@ class AdaptivePlayout:
         # Until a calm spell is seen, the link counts as turbulent (the start included).
         self.turbulent = True
         self._last_s: float | None = None
+        self._technology = ""  # the receiver's technology at the last display instant
+        self._handover_s = -math.inf  # when it last changed between two named technologies
 
     def _expire(self, now_s: float) -> None:
         window_start_s = now_s - self.config.window_s
@@ -191,21 +198,45 @@ class AdaptivePlayout:
         """Whether the floor fell by `drain_drop_ms` from one `floor_window_s` to the next."""
         return self._fell(now_s, self.config.floor_window_s)
 
-    def delay_s(self, now_s: float) -> float:
+    def delay_s(self, now_s: float, technology: str = "") -> float:
+        """The playout delay at `now_s`; `technology`: the receiver's link then ("": unnamed)."""
         elapsed_s = 0.0 if self._last_s is None else max(0.0, now_s - self._last_s)
         self._last_s = now_s
+        self._note_technology(now_s, technology)
         target = self.target_s(now_s)
         if target is not None:
             up_s = self.config.max_increase_ms_per_s / 1000.0 * elapsed_s
+            if self.config.rise_window_s > 0.0 and self._armed(now_s):
+                up_s = min(up_s, max(0.0, self._recent_need_s(now_s) - self.current_s))
             if not self.turbulent and self.draining(now_s):
                 up_s = 0.0
             down_s = self.config.max_decrease_ms_per_s / 1000.0 * elapsed_s
-            if self.config.catch_up_s > 0.0:
+            if self.config.catch_up_s > 0.0 and self._armed(now_s):
                 excess_s = self.current_s - self._catch_up_floor_s(target)
                 slope = min(excess_s / self.config.catch_up_s, MAX_CATCH_UP)
                 down_s = max(down_s, slope * elapsed_s)
             self.current_s += min(max(target - self.current_s, -down_s), up_s)
         return self.current_s
+
+    def _recent_need_s(self, now_s: float) -> float:
+        """The highest delay of the frames decoded in the last `rise_window_s`, plus the
+        margin: what the frames arriving now ask for (0 when none arrived)."""
+        start_s = now_s - self.config.rise_window_s
+        recent = [d for a, d, _ in self._samples if a >= start_s]
+        return max(recent, default=0.0) + self.config.margin_ms / 1000.0
+
+    def _note_technology(self, now_s: float, technology: str) -> None:
+        """A change between two named technologies is a handover (unnamed links have none)."""
+        if technology and self._technology and technology != self._technology:
+            self._handover_s = now_s
+        if technology:
+            self._technology = technology
+
+    def _armed(self, now_s: float) -> bool:
+        """Whether the catch-up and the rise's bound act: always, or within `after_handover_s`
+        of a handover."""
+        window_s = self.config.after_handover_s
+        return window_s == 0.0 or now_s - self._handover_s <= window_s
 
     def _catch_up_floor_s(self, target_s: float) -> float:
         """What the catch-up falls towards: the target, and never below the highest delay of

@@ -225,7 +225,11 @@ def display_process(env: simpy.Environment, world: World):
     log = world.log
     last_scheduled = -1
     for index in range(world.frames):
-        delay_s = playout_s if world.playout is None else world.playout.delay_s(env.now)
+        delay_s = (
+            playout_s
+            if world.playout is None
+            else world.playout.delay_s(env.now, world.capacity.technology_at(env.now))
+        )
         deadline_s = max(env.now, index / world.fps + delay_s)
         if env.now < deadline_s:
             yield env.timeout(deadline_s - env.now)
