@@ -71,7 +71,7 @@ EDGE_FILL = "telea"
 EDGE_FILL_CHROMA = "nearest"
 HAIR_OF_HEAD = 0.2  # how far above the head ring the halo reaches, in head-ring heights
 # The never-seen plate's luma: this share of the newest reference blurred (sigma, px), the rest
-REFERENCE_OF_FILL, REFERENCE_BLUR_PX = 0.5, 4.0  # the fill (docs/mbc.md, session mbc19)
+REFERENCE_OF_FILL, REFERENCE_BLUR_PX = 0.25, 4.0  # the fill (docs/mbc.md, session mbc19)
 _PLATE_MIN_OVERLAP = 0.05  # of the picture, to judge a mismatch at all
 
 
