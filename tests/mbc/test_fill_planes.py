@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from uma.mbc import layers
+from uma.mbc.plate_lean import lean_on_reference
 
 
 def _push_pull(plane: np.ndarray, known: np.ndarray) -> np.ndarray:
@@ -92,7 +93,7 @@ def test_a_plates_chroma_is_each_planes_own_fill() -> None:
     for k in range(2):
         assert np.array_equal(chroma[k], _own_band_fill(seen[k], known, "nearest"))
     luma = _own_band_fill(plate.seen[:height], plate.known, "telea")
-    layers._lean_on_reference(luma, picture[:height], plate.known)  # the never-seen luma
+    lean_on_reference(luma, picture[:height], plate.known)  # the never-seen luma
     assert np.array_equal(plate.picture[:height], luma)
 
 

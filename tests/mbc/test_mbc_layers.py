@@ -175,7 +175,8 @@ def test_the_plate_leans_its_never_seen_luma_toward_the_blurred_reference() -> N
     and the chroma planes are as the fill alone gives them."""
     import cv2
 
-    from uma.mbc.layers import REFERENCE_BLUR_PX, REFERENCE_OF_FILL, fill_unknown_planes
+    from uma.mbc.layers import fill_unknown_planes
+    from uma.mbc.plate_lean import REFERENCE_BLUR_PX, REFERENCE_OF_FILL
 
     width, height = 64, 48
     picture = np.full((height * 3 // 2, width), 120, np.uint8)

@@ -26,6 +26,7 @@ from uma.mbc.band_parts import inpaint_band
 from uma.mbc.errors import SceneError
 from uma.mbc.fill_kernels import pull_level, settle
 from uma.mbc.fill_memo import FillMemo
+from uma.mbc.plate_lean import lean_on_reference
 
 __all__ = [
     "BODY_NAMES",
@@ -70,8 +71,6 @@ EDGE_BAND_PX = 3  # the unknown band along the known background that is inpainte
 EDGE_FILL = "telea"
 EDGE_FILL_CHROMA = "nearest"
 HAIR_OF_HEAD = 0.2  # how far above the head ring the halo reaches, in head-ring heights
-# The never-seen plate's luma: this share of the newest reference blurred (sigma, px), the rest
-REFERENCE_OF_FILL, REFERENCE_BLUR_PX = 0.25, 4.0  # the fill (docs/mbc.md, session mbc19)
 _PLATE_MIN_OVERLAP = 0.05  # of the picture, to judge a mismatch at all
 
 
@@ -279,17 +278,6 @@ def _edge_band(known: np.ndarray, edge: str, band_px: int = EDGE_BAND_PX):
     return near, labels
 
 
-def _lean_on_reference(filled: np.ndarray, reference: np.ndarray, known: np.ndarray) -> None:
-    """`filled`'s pixels not `known` moved, in place, `REFERENCE_OF_FILL` of the way toward
-    `reference` blurred over `REFERENCE_BLUR_PX` (the fill alone averages what lies around)."""
-    import cv2
-
-    if REFERENCE_OF_FILL > 0.0 and not known.all():
-        blurred = cv2.GaussianBlur(reference, (0, 0), REFERENCE_BLUR_PX)[~known]
-        mixed = (1.0 - REFERENCE_OF_FILL) * filled[~known] + REFERENCE_OF_FILL * blurred
-        filled[~known] = np.rint(mixed).astype(np.uint8)
-
-
 def _continue_edges(filled: np.ndarray, known: np.ndarray, edge: str, band_px: int = EDGE_BAND_PX,
                     band=None):  # fmt: skip
     """`filled` (uint8, the push-pull fill) with the unknown pixels within `band_px` of a known
@@ -363,7 +351,7 @@ class Plate:
         self.picture = np.empty_like(self.seen)
         fill = fill_unknown if self.fills is None else self.fills.fill
         self.picture[:height] = fill(self.seen[:height], self.known)
-        _lean_on_reference(self.picture[:height], picture[:height], self.known)
+        lean_on_reference(self.picture[:height], picture[:height], self.known)
         filled = self.picture[height:].reshape(2, height // 2, width // 2)
         if self.luma_only:
             filled[:] = 128
