@@ -166,33 +166,3 @@ def test_the_fill_continues_an_edge_into_the_band_next_to_known_background() -> 
     nearest = fill_unknown(plane, known, "nearest")
     assert np.array_equal(nearest[known], plane[known])
     assert np.all(nearest[band & (ys > 34)] == 170) and np.all(nearest[band & (ys < 26)] == 90)
-
-
-def test_the_plate_leans_its_never_seen_luma_toward_the_blurred_reference() -> None:
-    """A dark person on a mid-grey background: where the plate never saw the background its
-    luma leans `REFERENCE_OF_FILL` of the way from the fill (the grey around) to the blurred
-    reference (the person's dark), so an uncovered spot is not a flat average of what lies around; the known pixels
-    and the chroma planes are as the fill alone gives them."""
-    import cv2
-
-    from uma.mbc.layers import fill_unknown_planes
-    from uma.mbc.plate_lean import REFERENCE_BLUR_PX, REFERENCE_OF_FILL
-
-    width, height = 64, 48
-    picture = np.full((height * 3 // 2, width), 120, np.uint8)
-    person = np.zeros((height, width), bool)
-    person[8:40, 16:48] = True
-    picture[:height][person] = 30
-    plate = Plate((width, height))
-    plate.update(picture, person)
-    luma = plate.picture[:height]
-    filled = fill_unknown(plate.seen[:height], ~person)
-    blurred = cv2.GaussianBlur(picture[:height], (0, 0), REFERENCE_BLUR_PX)
-    expected = np.rint((1 - REFERENCE_OF_FILL) * filled + REFERENCE_OF_FILL * blurred)
-    assert np.array_equal(luma[person], expected[person].astype(np.uint8))
-    assert np.array_equal(luma[~person], picture[:height][~person])
-    assert 85 <= luma[24, 32] <= 110  # the fill alone: 120 (the grey around)
-    known_chroma = ~person[0::2, 0::2]
-    seen = plate.seen[height:].reshape(2, height // 2, width // 2)
-    chroma = fill_unknown_planes(seen, known_chroma, "nearest")
-    assert np.array_equal(plate.picture[height:].reshape(2, height // 2, -1), np.stack(chroma))

@@ -26,7 +26,6 @@ from uma.mbc.band_parts import inpaint_band
 from uma.mbc.errors import SceneError
 from uma.mbc.fill_kernels import pull_level, settle
 from uma.mbc.fill_memo import FillMemo
-from uma.mbc.plate_lean import lean_on_reference
 
 __all__ = [
     "BODY_NAMES",
@@ -351,7 +350,6 @@ class Plate:
         self.picture = np.empty_like(self.seen)
         fill = fill_unknown if self.fills is None else self.fills.fill
         self.picture[:height] = fill(self.seen[:height], self.known)
-        lean_on_reference(self.picture[:height], picture[:height], self.known)
         filled = self.picture[height:].reshape(2, height // 2, width // 2)
         if self.luma_only:
             filled[:] = 128
