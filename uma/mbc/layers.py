@@ -25,7 +25,6 @@ import numpy as np
 from uma.mbc.band_parts import inpaint_band
 from uma.mbc.errors import SceneError
 from uma.mbc.fill_kernels import pull_level, settle
-from uma.mbc.fill_memo import FillMemo
 
 __all__ = [
     "BODY_NAMES",
@@ -301,12 +300,10 @@ class Plate:
     """The background the receiver knows: a YUV 4:2:0 picture, the mask of its pixels seen
     outside the person, and the same picture with the rest filled (`picture`). A `luma_only`
     plate (an engine's mirror, which reads luma only) learns and fills no chroma: its chroma
-    planes stay mid-grey, its luma is the same as a full plate's. `fills` keeps its luma fills
-    by content (`uma.mbc.fill_memo.FillMemo`; None: its own)."""
+    planes stay mid-grey, its luma is the same as a full plate's."""
 
-    def __init__(self, size: tuple[int, int], fills: FillMemo | None = None) -> None:
+    def __init__(self, size: tuple[int, int]) -> None:
         width, height = size
-        self.fills = fills
         self.size = (width, height)
         self.known = np.zeros((height, width), bool)
         self.seen = np.full((height * 3 // 2, width), 128, np.uint8)
@@ -348,8 +345,7 @@ class Plate:
         seen = self.seen[height:].reshape(2, height // 2, width // 2)
         new = picture[height:].reshape(2, height // 2, width // 2)
         self.picture = np.empty_like(self.seen)
-        fill = fill_unknown if self.fills is None else self.fills.fill
-        self.picture[:height] = fill(self.seen[:height], self.known)
+        self.picture[:height] = fill_unknown(self.seen[:height], self.known)
         filled = self.picture[height:].reshape(2, height // 2, width // 2)
         if self.luma_only:
             filled[:] = 128

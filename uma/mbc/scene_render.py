@@ -28,7 +28,6 @@ from uma.mbc.layered_kernels import STILL_MAP, relight_face, triangle_maps
 from uma.mbc.layered_render import compose_layers, mask_box
 from uma.mbc.layers import Plate, body_problem, cut_person, head_ring_points
 from uma.mbc.render_memo import RenderMemo
-from uma.mbc.scene_memos import SceneMemos
 from uma.mbc.scene_reference import description_reference
 from uma.mbc.stretched_render import stretched
 
@@ -83,8 +82,7 @@ class SceneRenderer:
     head's own scene: its far ring 1.5 frame diagonals away) instead of the receiver's;
     `head_ring_outlines` sizes the receiver's head ring (default `HEAD_RING_OUTLINES`);
     `soften_outline`: soften the drawn outline as the head moves (`uma.mbc.outline`). The
-    receiver's settings come from the codec's profile (`uma.mbc.profile`). `memos`: its end's
-    `uma.mbc.scene_memos.SceneMemos`, shared by that end's renderers (None: none).
+    receiver's settings come from the codec's profile (`uma.mbc.profile`).
     """
 
     def __init__(
@@ -97,7 +95,6 @@ class SceneRenderer:
         far_ring_head_radii: float | None = None,
         layered: bool | None = None,
         soften_outline: bool = False,
-        memos: SceneMemos | None = None,
     ):
         width, height = (int(v) for v in size)
         if width < 2 or height < 2 or width % 2 or height % 2:
@@ -120,8 +117,7 @@ class SceneRenderer:
         )
         self._strips = len(self.scene.triangles) - len(description.model.triangles)
         self.layered = not talking_head_scene if layered is None else bool(layered)
-        self.memos = memos  # this end's, never another's (None: nothing kept by content)
-        self.plate = Plate((width, height), memos and memos.fills) if self.layered else None
+        self.plate = Plate((width, height)) if self.layered else None
         ys, xs = np.mgrid[0:height, 0:width].astype(np.float32)
         self._x, self._y = xs, ys
         self._face_source = None
@@ -338,8 +334,7 @@ class SceneRenderer:
     def _cut_layers(self, params: np.ndarray, fresh: np.ndarray | None) -> None:
         """The reference cut at `params` (`uma.mbc.layers.cut_person`), the plate taught the
         rest."""
-        cut = cut_person if self.memos is None else self.memos.cuts.cut
-        head, self.halo_mask, self.torso_mask, self.anchor = cut(
+        head, self.halo_mask, self.torso_mask, self.anchor = cut_person(
             self.scene, self._reference_points, self.size, HALO_OF_HEAD
         )
         self._reference_ring = head_ring_points(self.scene, self._reference_points)

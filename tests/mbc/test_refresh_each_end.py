@@ -1,5 +1,6 @@
-"""Each end owns what it keeps by content: the receiver cuts and fills its own references,
-whatever the engine's mirror took before it in the same process."""
+"""Each end pays for its own references: the receiver cuts and fills a refresh itself, whatever
+the engine's mirror took before it in the same process (nothing is shared through module state,
+as the memos removed in session 20 were)."""
 
 from __future__ import annotations
 
@@ -7,7 +8,6 @@ import numpy as np
 
 from uma.mbc import layers
 from uma.mbc.refresh_coder import take_refresh
-from uma.mbc.scene_memos import SceneMemos
 from uma.mbc.scene_render import SceneRenderer
 from uma.mbc.units import FaceUnits
 
@@ -51,19 +51,3 @@ def test_the_receiver_cuts_and_fills_a_refresh_the_mirror_took_before_it(head, m
     height = SIZE[1]
     assert np.array_equal(receiver.person_mask, mirror.person_mask)
     assert np.array_equal(receiver.plate.picture[:height], mirror.plate.picture[:height])
-
-
-def test_renderers_handed_one_ends_memos_cut_and_fill_a_reference_once(head, monkeypatch):
-    memos = SceneMemos()
-    one, other = (SceneRenderer(head.description, SIZE, memos=memos) for _ in range(2))
-    alone = SceneRenderer(head.description, SIZE)
-    units, values, picture = _refresh(head)
-    take_refresh(one, units, values, picture)
-    counts = _counted(monkeypatch)
-    take_refresh(other, units, values, picture)
-    assert counts == {"cuts": 0, "luma_fills": 0} and memos.cuts.hits >= 1
-    take_refresh(alone, units, values, picture)
-    assert counts == {"cuts": 1, "luma_fills": 1}
-    for renderer in (one, other):
-        assert np.array_equal(renderer.person_mask, alone.person_mask)
-        assert np.array_equal(renderer.plate.picture, alone.plate.picture)
