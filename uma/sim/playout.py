@@ -207,7 +207,8 @@ class AdaptivePlayout:
         if target is not None:
             up_s = self.config.max_increase_ms_per_s / 1000.0 * elapsed_s
             if self.config.rise_window_s > 0.0 and self._armed(now_s):
-                up_s = min(up_s, max(0.0, self._recent_need_s(now_s) - self.current_s))
+                recent_s = self._highest_s(now_s - self.config.rise_window_s)
+                up_s = min(up_s, max(0.0, recent_s - self.current_s))
             if not self.turbulent and self.draining(now_s):
                 up_s = 0.0
             down_s = self.config.max_decrease_ms_per_s / 1000.0 * elapsed_s
@@ -218,12 +219,11 @@ class AdaptivePlayout:
             self.current_s += min(max(target - self.current_s, -down_s), up_s)
         return self.current_s
 
-    def _recent_need_s(self, now_s: float) -> float:
-        """The highest delay of the frames decoded in the last `rise_window_s`, plus the
-        margin: what the frames arriving now ask for (0 when none arrived)."""
-        start_s = now_s - self.config.rise_window_s
-        recent = [d for a, d, _ in self._samples if a >= start_s]
-        return max(recent, default=0.0) + self.config.margin_ms / 1000.0
+    def _highest_s(self, since_s: float = -math.inf) -> float:
+        """The highest delay of the window's frames decoded since `since_s`, plus the margin
+        (the margin alone when none was): what those frames ask for."""
+        delays = [d for a, d, _ in self._samples if a >= since_s]
+        return max(delays, default=0.0) + self.config.margin_ms / 1000.0
 
     def _note_technology(self, now_s: float, technology: str) -> None:
         """A change between two named technologies is a handover (unnamed links have none)."""
@@ -241,10 +241,7 @@ class AdaptivePlayout:
     def _catch_up_floor_s(self, target_s: float) -> float:
         """What the catch-up falls towards: the target, and never below the highest delay of
         the window's frames plus the margin (the cause must be gone from every one of them)."""
-        if not self.config.catch_up_max:
-            return target_s
-        highest = max(d for _, d, _ in self._samples) + self.config.margin_ms / 1000.0
-        return max(target_s, highest)
+        return max(target_s, self._highest_s()) if self.config.catch_up_max else target_s
 
 
 def percentile(values: list[float], q: float) -> float:
