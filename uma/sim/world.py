@@ -39,7 +39,7 @@ from uma.sim.sources import open_source
 from uma.sim.state import World
 from uma.sim.uplink import UplinkMemo
 
-__all__ = ["RunResult", "run_scenario", "build_capacity"]
+__all__ = ["RunResult", "run_scenario", "build_capacity", "scenario_link"]
 
 
 def build_capacity(scenario: Scenario, rng: np.random.Generator) -> CapacitySchedule:
@@ -61,6 +61,15 @@ def build_capacity(scenario: Scenario, rng: np.random.Generator) -> CapacitySche
     return CapacitySchedule.from_trace(
         trace, handover_gap_s=scenario.downlink.handover_gap_ms / 1000.0
     )
+
+
+def scenario_link(scenario: Scenario) -> tuple[CapacitySchedule, Callable[[str], float]]:
+    """The downlink a run of `scenario` meets: its capacity (the route from the scenario's seed,
+    handover gaps, outage faults) and the one-way delay in s of each technology."""
+    route_rng = np.random.default_rng(np.random.SeedSequence(scenario.seed).spawn(3)[0])
+    capacity = with_outages(build_capacity(scenario, route_rng), scenario.faults.outages)
+    props = _link_props(scenario)
+    return capacity, lambda technology: props(technology).delay_s
 
 
 def _link_props(scenario: Scenario) -> Callable[[str], LinkProps]:
@@ -120,12 +129,11 @@ def run_scenario(
     the picture shown (None before the first), for `uma report --video`. `uplink`: a memo of
     the sender's stream (`uma.sim.uplink`) to take it from and add to; results are the same.
     """
-    route_rng, loss_rng, feedback_rng = (
+    _, loss_rng, feedback_rng = (
         np.random.default_rng(s) for s in np.random.SeedSequence(scenario.seed).spawn(3)
     )
-    capacity = build_capacity(scenario, route_rng)
+    capacity, _ = scenario_link(scenario)
     faults = Faults(scenario.faults, rng=fault_rng(scenario.seed))
-    capacity = with_outages(capacity, scenario.faults.outages)
     ladder = load_run_ladder(scenario)
     source = source if source is not None else open_source(scenario.source, seed=scenario.seed)
     plan = model_plan(scenario, source)
