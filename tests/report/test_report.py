@@ -33,7 +33,23 @@ def png_size(path):
 
 def test_run_report_draws_the_timeline(run_dir):
     width, height = png_size(run_dir / "timeline.png")
-    assert (width, height) == (1100, 900)  # four panels: the queues beside the rates
+    assert (width, height) == (1100, 1050)  # five panels: the delays and the queues beside the rates
+
+
+def test_the_delay_panel_draws_the_links_bound_when_the_scenario_loads(run_dir, tmp_path):
+    import shutil
+
+    from uma.report.timeline import timeline_figure
+
+    def labels(folder):
+        delays = timeline_figure(folder).axes[2]
+        return [line.get_label() for line in delays.get_lines()]
+
+    assert labels(run_dir) == ["delay", "least the link allowed (40-byte packets)"]
+    moved = tmp_path / "moved"
+    shutil.copytree(run_dir, moved)
+    (moved / "scenario.yaml").write_text("name: [not, a, scenario\n")
+    assert labels(moved) == ["delay"]
 
 
 def test_video_shows_source_beside_the_display_for_every_instant(run_dir, capsys):

@@ -1,11 +1,13 @@
 """The timeline of one run as a PNG: capacity and technology, estimate, bit rate, quality, freezes.
 
-Units: time in seconds on the x axis; rates in kbit/s (log scale); PSNR in dB. Three panels
-share the time axis: (1) the trace's capacity over coloured technology bands, the engine's
-estimate and the bit rate sent per codec (1 s windows); (2) displayed PSNR with frozen display
-instants marked; (3) the bytes waiting in the bottleneck's queue and in the engine's own (its
-pacer), when the run logged them; (4) the rung, with rung switches, handovers and keyframe
-requests.
+Units: time in seconds on the x axis; rates in kbit/s (log scale); PSNR in dB; delay in ms (log
+scale). Five panels share the time axis: (1) the trace's capacity over coloured technology
+bands, the engine's estimate and the bit rate sent per codec (1 s windows); (2) displayed PSNR
+with frozen display instants marked; (3) each frame's capture-to-display delay beside the least
+its link allowed any engine (`uma.metrics.link_bound`, a 40-byte packet alone on the link,
+when the run's scenario.yaml still loads: its traces where they were); (4) the bytes waiting in
+the bottleneck's queue and in the engine's own (its pacer), when the run logged them; (5) the
+rung, with rung switches, handovers and keyframe requests.
 Drawn with matplotlib's object API on the Agg canvas (no global pyplot state, no display).
 """
 
@@ -140,8 +142,10 @@ def _figure(run: RunFiles):
 
     f = run.frames
     t_s = f["capture_ms"] / 1000.0
-    fig = Figure(figsize=(11, 9), dpi=100, layout="constrained")
-    rates, quality, queues, rungs = fig.subplots(4, 1, sharex=True, height_ratios=[3, 2, 1.2, 1.2])
+    fig = Figure(figsize=(11, 10.5), dpi=100, layout="constrained")
+    rates, quality, delays, queues, rungs = fig.subplots(
+        5, 1, sharex=True, height_ratios=[3, 2, 1.5, 1.2, 1.2]
+    )
     name = run.metrics.get("scenario", run.folder.name)
     fig.suptitle(
         f"{name}: freeze {run.metrics.get('freeze_ratio')}, PSNR {run.metrics.get('psnr_db')} dB, "
@@ -149,10 +153,11 @@ def _figure(run: RunFiles):
         fontsize=10,
     )
     technology = f.get("technology", np.array([""] * t_s.size))
-    for ax in (rates, quality, queues, rungs):
+    for ax in (rates, quality, delays, queues, rungs):
         _bands(ax, t_s, technology)
     _rates(rates, t_s, f)
     _quality(quality, f["display_ms"] / 1000.0, f)
+    _delays(delays, t_s, f, _link_bound_ms(run.folder, t_s))
     _queues(queues, t_s, f)
     _rungs(rates, rungs, t_s, f, run.events)
     rates.set_xlim(0, max(float(t_s[-1]) if t_s.size else 1.0, 1e-3))
@@ -167,6 +172,41 @@ def _numbers(values: np.ndarray, column: str) -> np.ndarray:
         return np.array([float(v) if v != "" else 0.0 for v in values])
     except ValueError:
         raise ConfigError(f"frames.csv ({column}): expected numbers") from None
+
+
+def _link_bound_ms(folder: Path, capture_s: np.ndarray) -> np.ndarray | None:
+    """The least delay the run's link allowed each frame, or None if its scenario is gone."""
+    from uma.errors import UmaError
+
+    path = folder / "scenario.yaml"
+    if capture_s.size == 0 or not path.is_file():
+        return None
+    try:
+        from uma.config import load_scenario
+        from uma.metrics.link_bound import frame_delay_bounds_s
+        from uma.sim.packets import HEADER_BYTES
+        from uma.sim.world import scenario_link
+
+        capacity, delay_s_of = scenario_link(load_scenario(path))
+        bound_s = frame_delay_bounds_s(capacity, delay_s_of, capture_s, size_bits=8 * HEADER_BYTES)
+    except (UmaError, OSError, ValueError):
+        return None  # a scenario whose traces moved: the panel shows the delays alone
+    return 1000.0 * bound_s
+
+
+def _delays(ax, t_s: np.ndarray, f: dict, bound_ms: np.ndarray | None) -> None:
+    """Each frame's delay as the metrics count it, beside the least its link allowed."""
+    if "delay_ms" in f and np.isfinite(f["delay_ms"]).any():
+        ax.plot(t_s, np.maximum(f["delay_ms"], 1.0), color="#2c3e50", lw=0.8, label="delay")
+    if bound_ms is not None:
+        ax.plot(
+            t_s, np.maximum(bound_ms, 1.0), color="#27ae60", lw=0.8,
+            label="least the link allowed (40-byte packets)",
+        )  # fmt: skip
+    ax.set_yscale("log")
+    ax.set_ylabel("delay ms")
+    if ax.get_lines():
+        ax.legend(loc="upper left", fontsize=8, ncols=2)
 
 
 def _queues(ax, t_s: np.ndarray, f: dict[str, np.ndarray]) -> None:
