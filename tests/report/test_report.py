@@ -33,7 +33,7 @@ def png_size(path):
 
 def test_run_report_draws_the_timeline(run_dir):
     width, height = png_size(run_dir / "timeline.png")
-    assert (width, height) == (1100, 1050)  # five panels: the delays and the queues beside the rates
+    assert (width, height) == (1100, 1050)  # five panels
 
 
 def test_the_delay_panel_draws_the_links_bound_when_the_scenario_loads(run_dir, tmp_path):
