@@ -154,7 +154,7 @@ def test_timeline_is_the_reports_figure(shared):
 
     run, _, _ = shared
     figure = run.timeline()
-    assert isinstance(figure, Figure) and len(figure.axes) == 4
+    assert isinstance(figure, Figure) and len(figure.axes) == 5
 
 
 def test_read_run_names_what_is_wrong_with_a_folder(shared, tmp_path):
