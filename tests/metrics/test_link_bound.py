@@ -72,3 +72,18 @@ def test_bad_sizes_are_refused():
     link = CapacitySchedule([0.0], [1000.0])
     with pytest.raises(ValueError, match="size_bits"):
         frame_delay_bounds_s(link, lambda t: 0.0, np.array([0.0]), size_bits=0)
+
+
+def test_a_long_run_is_searched_on_a_coarser_grid_and_stays_a_bound():
+    from uma.metrics import link_bound
+
+    link = CapacitySchedule([0.0, 100.0, 101.0], [100_000.0, 0.0, 100_000.0], ["3G"] * 3)
+    capture_s = np.array([50.0, 100.5])
+    fine = bounds(link, {"3G": 0.0}, capture_s, 1000)
+    old = link_bound.MAX_GRID_POINTS
+    try:
+        link_bound.MAX_GRID_POINTS = 1000  # a 1 s horizon of 0.001 s steps would need ~161,000
+        coarse = frame_delay_bounds_s(link, {"3G": 0.0}.__getitem__, capture_s, size_bits=1000)
+    finally:
+        link_bound.MAX_GRID_POINTS = old
+    assert np.all(coarse <= fine + 1e-12) and np.all(coarse >= fine - 2 * 0.161 - 1e-9)

@@ -12,8 +12,8 @@ delayed at least `t_arrive(c) - c`, where `t_arrive(c)` is the earliest arrival 
 capacity, then the technology's one-way delay; a later start can arrive sooner only across a
 handover to a technology of less delay, which the search covers). That holds for every engine,
 rate control and playout: queues, other packets, loss, the uplink, coding and the display's ticks
-only add to it. Times are searched on a grid of `step_s` and the result is lowered by two steps,
-so it stays a bound.
+only add to it. Times are searched on a grid of `step_s` (1 ms, coarser for runs so long that the
+grid would pass `MAX_GRID_POINTS`) and the result is lowered by two steps, so it stays a bound.
 """
 
 from __future__ import annotations
@@ -22,7 +22,10 @@ from collections.abc import Callable
 
 import numpy as np
 
-__all__ = ["frame_delay_bounds_s", "bound_summary"]
+__all__ = ["frame_delay_bounds_s", "bound_summary", "MAX_GRID_POINTS"]
+
+# A 4-hour run searched at 1 ms would hold 14 million points in each of several arrays.
+MAX_GRID_POINTS = 2_000_000
 
 
 def _cum_bits_at(link, times_s: np.ndarray) -> np.ndarray:
@@ -49,10 +52,10 @@ def frame_delay_bounds_s(
     capture_s: np.ndarray,
     *,
     size_bits: float,
-    step_s: float = 0.001,
+    step_s: float | None = None,
 ) -> np.ndarray:
     """Per capture instant, the least delay any sender and playout could give that frame."""
-    if size_bits <= 0 or step_s <= 0:
+    if size_bits <= 0 or (step_s is not None and step_s <= 0):
         raise ValueError(f"size_bits and step_s must be positive, got {size_bits}, {step_s}")
     capture_s = np.asarray(capture_s, dtype=np.float64)
     end_s = float(capture_s.max(initial=0.0))
@@ -61,6 +64,8 @@ def frame_delay_bounds_s(
     # Finish times far enough past the last capture for its packet to cross any stretch that
     # ends within the schedule, then the schedule's last rate holds.
     horizon_s = max(end_s, float(link.starts_s[-1])) + 2.0 * slowest_s + 60.0
+    if step_s is None:
+        step_s = max(0.001, horizon_s / MAX_GRID_POINTS)
     finish_s = np.arange(0.0, horizon_s, step_s)
     latest = _latest_start_s(link, finish_s, size_bits)
     step = np.clip(np.searchsorted(link.starts_s, finish_s, side="right") - 1, 0, None)
