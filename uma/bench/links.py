@@ -9,7 +9,8 @@ the scenario keys it sets (`uma`: the default controller; `gcc`: the GCC baselin
 aiortc's estimator; `oracle`: the oracle policy). Every (trace, engine) pair is one task for the sweep executor (`uma.experiments`), so
 `--workers` and `--scheduler` spread them. `utilisation` is what the engine sent (every codec's
 bits and padding) over what the trace could carry in the same time; `keyframe_bits_share` the
-share of the sent bits that were keyframes.
+share of the sent bits that were keyframes; `bound` the least delay the trace's link allows any
+engine (`uma.bench.bound`, 40-byte packets alone on the link).
 """
 
 from __future__ import annotations
@@ -34,6 +35,7 @@ __all__ = [
     "run_link",
     "run_links",
     "median_row",
+    "link_bound",
 ]
 
 # engine -> the scenario keys it sets (key path, value)
@@ -147,6 +149,16 @@ def run_link(task: dict[str, Any]) -> dict[str, Any]:
     return {"trace": task["trace"], "engine": task["engine"], "row": row}
 
 
+def link_bound(task: dict[str, Any]) -> dict[str, Any]:
+    """The least delay the task's link allows any engine (`uma bench bound`, 40-byte packets)."""
+    from uma.bench.bound import BoundConfig, scenario_bound
+
+    scenario = Scenario.model_validate(task["scenario"])
+    row = scenario_bound(scenario, BoundConfig(scenarios=(scenario,), packet_bytes=(40,)))
+    summary = row["packets"]["40"]
+    return {"delay_p95_ms": summary["delay_p95_ms"], "delay_median_ms": summary["delay_median_ms"]}
+
+
 def median_row(rows: Iterable[dict[str, Any]]) -> dict[str, Any]:
     """Per key, the median over the rows that have a value (None where none has)."""
     rows = list(rows)
@@ -180,6 +192,7 @@ def run_links(
         rows[reply["trace"], reply["engine"]] = reply["row"]
         if progress is not None:
             progress(f"{reply['trace']} {reply['engine']}: {reply['row']['wall_s']} s")
+    task_of = {task["trace"]: task for task in tasks}  # every engine's task has the same link
     traces: dict[str, Any] = {}
     for trace in config.traces:
         label = trace_label(trace)
@@ -189,6 +202,7 @@ def run_links(
             "file": trace,
             "duration_s": min(config.duration_s, trace_durations_s[trace]),
             "capacity_kbps_mean": first["capacity_kbps_mean"],
+            "bound": link_bound(task_of[label]),
             "engines": {
                 engine: {key: row[key] for key in (*ROW_KEYS, "wall_s")}
                 for engine, row in engines.items()

@@ -50,6 +50,12 @@ def format_table(result: dict[str, Any]) -> str:
             head,
         ]
         lines += [_line(engine, row) for engine, row in trace["engines"].items()]
+        bound = trace.get("bound")
+        if bound is not None:
+            lines.append(
+                f"    {'link bound (40 B)':<18}{_fmt(bound['delay_p95_ms'], '9,.0f')}"
+                f"{_fmt(bound['delay_median_ms'], '9,.0f')}"
+            )
         for system, figures in trace["published"].items():
             lines.append(
                 f"    {_NAMES.get(system, system) + ' (publ.)':<18}"
