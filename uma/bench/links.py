@@ -10,7 +10,7 @@ aiortc's estimator; `oracle`: the oracle policy). Every (trace, engine) pair is 
 `--workers` and `--scheduler` spread them. `utilisation` is what the engine sent (every codec's
 bits and padding) over what the trace could carry in the same time; `keyframe_bits_share` the
 share of the sent bits that were keyframes; `bound` the least delay the trace's link allows any
-engine (`uma.bench.bound`, 40-byte packets alone on the link).
+engine (`uma.bench.bound`), for packets of the headers alone and of the scenario's full size.
 """
 
 from __future__ import annotations
@@ -150,13 +150,18 @@ def run_link(task: dict[str, Any]) -> dict[str, Any]:
 
 
 def link_bound(task: dict[str, Any]) -> dict[str, Any]:
-    """The least delay the task's link allows any engine (`uma bench bound`, 40-byte packets)."""
+    """The least delay the task's link allows any engine (`uma bench bound`), keyed by packet
+    size in bytes: the headers alone, and the scenario's full packet (`downlink.packet_bytes`)."""
     from uma.bench.bound import BoundConfig, scenario_bound
+    from uma.sim.packets import HEADER_BYTES
 
     scenario = Scenario.model_validate(task["scenario"])
-    row = scenario_bound(scenario, BoundConfig(scenarios=(scenario,), packet_bytes=(40,)))
-    summary = row["packets"]["40"]
-    return {"delay_p95_ms": summary["delay_p95_ms"], "delay_median_ms": summary["delay_median_ms"]}
+    sizes = (HEADER_BYTES, scenario.downlink.packet_bytes)
+    row = scenario_bound(scenario, BoundConfig(scenarios=(scenario,), packet_bytes=sizes))
+    return {
+        size: {key: summary[key] for key in ("delay_p95_ms", "delay_median_ms")}
+        for size, summary in row["packets"].items()
+    }
 
 
 def median_row(rows: Iterable[dict[str, Any]]) -> dict[str, Any]:

@@ -50,10 +50,9 @@ def format_table(result: dict[str, Any]) -> str:
             head,
         ]
         lines += [_line(engine, row) for engine, row in trace["engines"].items()]
-        bound = trace.get("bound")
-        if bound is not None:
+        for size, bound in trace.get("bound", {}).items():
             lines.append(
-                f"    {'link bound (40 B)':<18}{_fmt(bound['delay_p95_ms'], '9,.0f')}"
+                f"    {f'link bound, {size} B':<18}{_fmt(bound['delay_p95_ms'], '9,.0f')}"
                 f"{_fmt(bound['delay_median_ms'], '9,.0f')}"
             )
         for system, figures in trace["published"].items():
