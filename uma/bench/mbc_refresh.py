@@ -212,6 +212,12 @@ class _Sender:
             self.units, len(clip.frames), clip.fps, rate_kbps, latency_s=self.spec.latency_s
         )
 
+    def units_in(self) -> UnitsIn:
+        """The receiver's refresh stream: every unit sent, decoded by its own decoder once it
+        has arrived."""
+        arrived = self.schedule().serves_from if self.coder is not None else []
+        return UnitsIn(self.coder, self.sent, arrived, self.spec.region == "residual")
+
     def due(self, index: int, decoded) -> list[int]:
         """The units the receiver takes on frame `index`: the newest adopted one that has
         arrived and whose frame's set is decoded (a residual: with every adopted one before)."""
@@ -338,10 +344,8 @@ def refresh_display(
     if coder is not None:
         coder.close()  # one SVT-AV1 encoder open at a time in a process
     receiver = _renderer(clip, results, spec, size, profile)
-    arrived = sender.schedule().serves_from if coder is not None else []
-    units_in = UnitsIn(coder, sender.sent, arrived, spec.region == "residual")
     shown, switch_s, switch_cpu_s = receive(
-        receiver, face_units, frames[0], len(frames), decoded, switches, units_in
+        receiver, face_units, frames[0], len(frames), decoded, switches, sender.units_in()
     )
     seconds = len(frames) / clip.fps
     params_kbps = sum(p.size_bytes for p in packets) * 8 / seconds / 1000.0

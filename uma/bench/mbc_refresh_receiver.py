@@ -8,7 +8,9 @@ from __future__ import annotations
 
 import time
 
-from uma.mbc.refresh_coder import take_refresh
+import numpy as np
+
+from uma.mbc.refresh_coder import RefreshCoder, take_refresh
 
 __all__ = ["UnitsIn", "receive"]
 
@@ -17,7 +19,9 @@ class UnitsIn:
     """The receiver's refresh stream: every unit decoded by its own decoder once it has
     arrived (`arrived[k]`, the first frame unit k serves; -1 never), in sending order."""
 
-    def __init__(self, coder, sent, arrived, residual: bool) -> None:
+    def __init__(
+        self, coder: RefreshCoder | None, sent: list[tuple[bytes, object]], arrived, residual: bool
+    ) -> None:
         self.decoder = coder.receiver() if coder is not None else None
         self.sent, self.arrived, self.residual = sent, arrived, residual
         self.pictures: dict[int, object] = {}
@@ -31,7 +35,15 @@ class UnitsIn:
             k += 1
 
 
-def receive(receiver, face_units, first, count: int, decoded, switches, units_in):
+def receive(
+    receiver,
+    face_units,
+    first: np.ndarray,
+    count: int,
+    decoded: dict,
+    switches: dict,
+    units_in: UnitsIn,
+) -> tuple[list[np.ndarray], float, float]:
     """The receiver's display of every frame (the last picture held where no set was decoded,
     `first` before any) and the seconds (wall, CPU) it spent decoding and taking refreshes."""
     shown, last, switch_s, switch_cpu_s = [], first, 0.0, 0.0

@@ -204,7 +204,8 @@ class RefreshCoder:
             frame = _residual(frame, resize_yuv420(_crop(base, *corner, *self.box), *self.coded))
         unit = self.encoder.encode(frame)
         self.data = unit.data
-        picture = _received(self.decoder.decode(unit.data), self.size, self.box, corner, base)
+        picture = self.decoder.decode(unit.data)
+        picture = _received(picture, self.size, self.box, corner, base is not None)
         return unit.size_bits + extra_bits, bool(unit.is_keyframe), picture
 
     def receiver(self) -> RefreshUnitDecoder:
@@ -227,7 +228,7 @@ class RefreshUnitDecoder:
         return _received(self.decoder.decode(data), self.size, self.box, corner, residual)
 
 
-def _received(picture, size, box, corner, residual):
+def _received(picture, size, box, corner, residual: bool):
     """A decoded unit as the receiver takes it (see `RefreshCoder.code`); None stays None."""
     from uma.video import resize_yuv420
 
@@ -235,7 +236,7 @@ def _received(picture, size, box, corner, residual):
         return None
     if box is None:
         return resize_yuv420(picture, *size)
-    if residual is not None and residual is not False:
+    if residual:
         return ResidualBox(tuple(corner), box, picture)
     return (tuple(corner), resize_yuv420(picture, *box))
 
