@@ -91,7 +91,8 @@ def _own_band_fill(plane: np.ndarray, known: np.ndarray, edge: str) -> np.ndarra
         out = filled.copy()
         out[where] = filled[known][labels[where] - 1]
         return out
-    painted = cv2.inpaint(np.ascontiguousarray(filled), near, 3, cv2.INPAINT_TELEA)
+    radius = 2 if plane.shape[1] >= 352 else 3  # from CIF's width up, a smaller reach
+    painted = cv2.inpaint(np.ascontiguousarray(filled), near, radius, cv2.INPAINT_TELEA)
     return np.where(where, painted, filled)
 
 
@@ -186,3 +187,30 @@ def test_a_plate_learns_and_fills_as_it_did_before() -> None:
         for got, expected in zip((plate.seen, plate.known, plate.picture), want[:3], strict=True):
             assert np.array_equal(got, expected)
     assert reason
+
+
+def test_telea_reads_a_smaller_radius_from_cif_up_and_only_the_band_moves() -> None:
+    """A CIF plate's luma band is Telea's with a 2-px radius, a QCIF one's with 3 as before;
+    outside the band the fill is the same whatever the radius."""
+    import cv2
+
+    rng = np.random.default_rng(11)
+    ys, xs = np.mgrid[0:288, 0:352]
+    plane = (96 + 60 * np.sin(xs / 7.0) + 40 * np.cos(ys / 5.0)).astype(np.uint8)
+    plane += rng.integers(0, 6, plane.shape, dtype=np.uint8)
+    known = ((xs - 176) / 70.0) ** 2 + ((ys - 170) / 110.0) ** 2 > 1.0
+    filled = _push_pull(plane, known)
+    kernel = np.ones((7, 7), np.uint8)
+    near = cv2.dilate(known.view(np.uint8), kernel) & ~known.view(np.uint8) & 1
+    band = near.view(bool)
+    got = layers.fill_unknown(plane, known)
+    two = np.where(band, cv2.inpaint(filled, near, 2, cv2.INPAINT_TELEA), filled)
+    three = np.where(band, cv2.inpaint(filled, near, 3, cv2.INPAINT_TELEA), filled)
+    assert np.array_equal(got, two) and not np.array_equal(got, three)
+    assert np.array_equal(got[~band], three[~band])
+    small, small_known = np.ascontiguousarray(plane[::2, ::2]), known[::2, ::2].copy()
+    small_near = cv2.dilate(small_known.view(np.uint8), kernel) & ~small_known.view(np.uint8) & 1
+    small_filled = _push_pull(small, small_known)
+    small_three = cv2.inpaint(small_filled, small_near, 3, cv2.INPAINT_TELEA)
+    want = np.where(small_near.view(bool), small_three, small_filled)
+    assert np.array_equal(layers.fill_unknown(small, small_known), want)

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from uma.bench.mbc_refresh_receiver import UnitsIn, receive
 from uma.mbc.refresh_coder import (
     REFRESH_CODEC,
     RefreshCoder,
@@ -197,6 +198,7 @@ class _Sender:
         if coder is not None:
             self.at = set(refresh_frames(len(clip.frames), clip.fps, spec.refresh_fps))
         self.units, self.pictures, self.adopted, self.current = [], {}, set(), -1
+        self.sent = []  # per unit: its bytes and its box's corner (None: the whole picture)
         self.seconds = [0.0, 0.0]  # wall, CPU spent coding (and, for a residual, `ahead`)
         self.judge_seconds = [0.0, 0.0]  # wall, CPU spent judging (the mirror's drawing)
         self.mirror_seconds = [0.0, 0.0]  # wall, CPU the mirror spent taking refreshes
@@ -209,6 +211,12 @@ class _Sender:
         return schedule_refresh(
             self.units, len(clip.frames), clip.fps, rate_kbps, latency_s=self.spec.latency_s
         )
+
+    def units_in(self) -> UnitsIn:
+        """The receiver's refresh stream: every unit sent, decoded by its own decoder once it
+        has arrived."""
+        arrived = self.schedule().serves_from if self.coder is not None else []
+        return UnitsIn(self.coder, self.sent, arrived, self.spec.region == "residual")
 
     def due(self, index: int, decoded) -> list[int]:
         """The units the receiver takes on frame `index`: the newest adopted one that has
@@ -242,6 +250,7 @@ class _Sender:
         bits, keyframe, picture = self.coder.code(frame, self.corners.get(index), base=base)
         k = len(self.units)
         self.units.append(RefreshUnit(index, bits, keyframe))
+        self.sent.append((self.coder.data, self.corners.get(index)))  # what the receiver gets
         _add(self.seconds, begin, cpu)
         if picture is None:
             return
@@ -335,8 +344,8 @@ def refresh_display(
     if coder is not None:
         coder.close()  # one SVT-AV1 encoder open at a time in a process
     receiver = _renderer(clip, results, spec, size, profile)
-    shown, switch_s, switch_cpu_s = _receive(
-        receiver, face_units, frames[0], len(frames), decoded, switches, sender.pictures
+    shown, switch_s, switch_cpu_s = receive(
+        receiver, face_units, frames[0], len(frames), decoded, switches, sender.units_in()
     )
     seconds = len(frames) / clip.fps
     params_kbps = sum(p.size_bytes for p in packets) * 8 / seconds / 1000.0
@@ -347,8 +356,8 @@ def refresh_display(
     same = np.array_equal(mirror.reference[: size[1]], receiver.reference[: size[1]])
     info["mirror_is_receiver"] = bool(same)
     # Encoding and decoding the refresh pictures (for a residual, the engine's rendering it is
-    # coded against), and the receiver's taking them (the composition), per frame of the clip:
-    # the model path's refresh share.
+    # coded against), and the receiver's decoding every unit it receives and taking them (the
+    # composition), per frame of the clip: the model path's refresh share.
     # The engine's judging (its mirror's drawing) is counted too, and apart, and so is its
     # mirror taking each refresh the receiver takes.
     spent = (sender.seconds, sender.judge_seconds, sender.mirror_seconds)
@@ -359,24 +368,6 @@ def refresh_display(
     info["mirror_take_ms_per_frame"] = round(sender.mirror_seconds[0] * 1000.0 / len(frames), 3)
     info["receiver_take_ms_per_frame"] = round(switch_s * 1000.0 / len(frames), 3)
     return shown, params_kbps + refresh_kbps, info
-
-
-def _receive(receiver, face_units, first, count: int, decoded, switches, pictures):
-    """The receiver's display of every frame (the last picture held where no set was decoded,
-    `first` before any) and the seconds (wall, CPU) it spent taking refreshes."""
-    shown, last, switch_s, switch_cpu_s = [], first, 0.0, 0.0
-    for index in range(count):
-        if index in switches:
-            begin, cpu = time.perf_counter(), time.process_time()
-            for k, values in switches[index]:
-                take_refresh(receiver, face_units, values, pictures[k])
-            switch_s += time.perf_counter() - begin
-            switch_cpu_s += time.process_time() - cpu
-        if index in decoded:
-            params, light = face_units.split(decoded[index])
-            last, _ = receiver.render(params, light, face_units.body_of(decoded[index]))
-        shown.append(last)
-    return shown, switch_s, switch_cpu_s
 
 
 def _info(spec, budget_kbps, params_kbps, refresh_kbps, units, adopted, switches) -> dict:

@@ -29,6 +29,7 @@ from uma.mbc.layers import N_BODY, N_TORSO
 
 __all__ = [
     "RefreshCoder",
+    "RefreshUnitDecoder",
     "REFRESH_CODEC",
     "refresh_codec_classes",
     "face_box_size",
@@ -204,14 +205,40 @@ class RefreshCoder:
         unit = self.encoder.encode(frame)
         self.data = unit.data
         picture = self.decoder.decode(unit.data)
-        if picture is not None:
-            if self.box is None:
-                picture = resize_yuv420(picture, *self.size)
-            elif base is not None:
-                picture = ResidualBox(tuple(corner), self.box, picture)
-            else:
-                picture = (tuple(corner), resize_yuv420(picture, *self.box))
+        picture = _received(picture, self.size, self.box, corner, base is not None)
         return unit.size_bits + extra_bits, bool(unit.is_keyframe), picture
+
+    def receiver(self) -> RefreshUnitDecoder:
+        """A receiver's own decoder of this coder's units."""
+        return RefreshUnitDecoder(self.size, self.box, self.codec)
+
+
+class RefreshUnitDecoder:
+    """A receiver's decoder of a `RefreshCoder`'s units (its own codec's decoder): a unit's
+    bytes, in sending order, to the picture the coder's `code` gave for it, from the bytes
+    and, for a face box, the corner sent beside them."""
+
+    def __init__(self, size, box=None, codec: str = REFRESH_CODEC) -> None:
+        self.size, self.box = tuple(size), box
+        self.decoder = refresh_codec_classes(codec)[1]()
+
+    def decode(self, data: bytes, corner=None, residual: bool = False):
+        """The unit `data` decoded: the whole picture at the source size, (corner, box
+        picture), a `ResidualBox` when `residual`, or None."""
+        return _received(self.decoder.decode(data), self.size, self.box, corner, residual)
+
+
+def _received(picture, size, box, corner, residual: bool):
+    """A decoded unit as the receiver takes it (see `RefreshCoder.code`); None stays None."""
+    from uma.video import resize_yuv420
+
+    if picture is None:
+        return None
+    if box is None:
+        return resize_yuv420(picture, *size)
+    if residual:
+        return ResidualBox(tuple(corner), box, picture)
+    return (tuple(corner), resize_yuv420(picture, *box))
 
 
 def _box_of(patch) -> tuple[int, int]:
