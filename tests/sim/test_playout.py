@@ -296,3 +296,72 @@ def test_after_handover_ends_its_window():
     )
     plain = drive(AdaptivePlayout(AdaptivePlayoutConfig(), initial_delay_s=0.12), delays)
     assert np.array_equal(late, plain)
+
+
+def flushed_bursts(starts_s, stall_s=1.5, frames=1000):
+    """As `flushed_burst`, a stall of `stall_s` from each of `starts_s`."""
+    capture_s = np.arange(frames) / FPS
+    delays = np.full(frames, 0.1)
+    for start_s in starts_s:
+        stalled = (capture_s >= start_s) & (capture_s < start_s + stall_s)
+        delays[stalled] = start_s + stall_s - capture_s[stalled]
+    return delays
+
+
+def test_stall_memory_off_changes_nothing():
+    delays = flushed_bursts([4.0, 8.0, 12.0])
+    for extra in ({}, {"rise_window_s": 0.5}, {"catch_up_s": 1.0}):
+        base = drive(AdaptivePlayout(AdaptivePlayoutConfig(**extra), initial_delay_s=0.12), delays)
+        off_config = AdaptivePlayoutConfig(stall_memory_s=0.0, **extra)
+        off = drive(AdaptivePlayout(off_config, initial_delay_s=0.12), delays)
+        assert np.array_equal(base, off)
+
+
+def test_after_one_stall_the_memory_leaves_the_bound_alone():
+    # One stall in 40 s: the link stalled once, so the bound acts as without a memory.
+    delays = flushed_bursts([4.0])
+    bounded = AdaptivePlayoutConfig(rise_window_s=0.5)
+    remembering = AdaptivePlayoutConfig(rise_window_s=0.5, stall_memory_s=10.0)
+    once = drive(AdaptivePlayout(remembering, initial_delay_s=0.12), delays)
+    assert np.array_equal(once, drive(AdaptivePlayout(bounded, initial_delay_s=0.12), delays))
+    assert once.max() < 0.5
+
+
+def test_stalls_that_repeat_hold_the_delay_until_they_are_forgotten():
+    # Stalls at 4 s and 8 s (shown at 5.5 s and 9.5 s): from the second the link stalls again
+    # soon, so the bound no longer acts and the delay rises towards the 1.5 s burst (until it
+    # leaves the 2 s window) and holds there (no descent) until the first stall is
+    # `stall_memory_s` old; then it descends.
+    delays = flushed_bursts([4.0, 8.0])
+    config = AdaptivePlayoutConfig(rise_window_s=0.5, stall_memory_s=10.0)
+    held = drive(AdaptivePlayout(config, initial_delay_s=0.12), delays)
+    bounded = drive(
+        AdaptivePlayout(AdaptivePlayoutConfig(rise_window_s=0.5), initial_delay_s=0.12), delays
+    )
+    at = lambda t_s: int(t_s * FPS)  # noqa: E731
+    # Until the second stall is seen, the memory changes nothing.
+    assert np.array_equal(held[: at(9.5)], bounded[: at(9.5)])
+    assert bounded.max() < 0.5
+    assert held[at(12.0)] > 1.0
+    # No descent while both stalls are remembered (the first from 5.5 s until 15.5 s) ...
+    assert np.diff(held[at(9.5) : at(15.4)]).min() >= 0.0
+    # ... then down at the fixed 100 ms/s.
+    assert held[at(17.0)] < held[at(15.5)] - 0.1
+    assert np.diff(held[at(15.6) :]).min() >= -0.1 / FPS - 1e-12
+
+
+def test_a_stall_is_a_frame_later_than_the_delay_in_force():
+    playout = AdaptivePlayout(AdaptivePlayoutConfig(stall_memory_s=5.0), initial_delay_s=0.3)
+    playout.on_decoded(0.0, 0.2)  # in time
+    playout.on_decoded(0.04, 0.5)  # 0.46 s > 0.3 s: a stall starts
+    playout.on_decoded(0.08, 0.6)  # still late: the same stall
+    assert not playout.stalling(0.6)
+    playout.on_decoded(0.12, 0.35)  # in time again
+    playout.on_decoded(0.16, 1.0)  # late again: a second stall within 5 s
+    assert playout.stalling(1.0)
+    assert not playout.stalling(5.6)  # the first is forgotten after 5 s
+
+
+def test_stall_memory_must_not_be_negative():
+    with pytest.raises(ValidationError, match="stall_memory_s"):
+        AdaptivePlayoutConfig(stall_memory_s=-1.0)
