@@ -43,10 +43,7 @@ class AdaptivePlayoutConfig(Section):
     it). `after_handover_s` (0: always): the catch-up and the rise's bound act only within
     that long after a handover, the receiver's technology changing between two named ones
     (a link with no named technologies never has one). All three off: docs/rate-control.md,
-    "Lead, session 20". `stall_memory_s` (0: off): while two stalls or more (a frame decoded
-    later than the delay in force, after one in time) came within the last `stall_memory_s`,
-    the delay does not descend and the catch-up and the rise's bound do not act; off:
-    docs/rate-control.md, "Branch rc19".
+    "Lead, session 20".
     """
 
     window_s: PosNum = 2.0
@@ -63,7 +60,6 @@ class AdaptivePlayoutConfig(Section):
     catch_up_max: Bool = False
     rise_window_s: NonNeg = 0.0
     after_handover_s: NonNeg = 0.0
-    stall_memory_s: NonNeg = 0.0
     # Off: measured on the commute and on measured traces (docs/rate-control.md, `rc8`, `rc7`):
     # the commute's p95 falls below 1,000 ms, held-out traces froze 1-2 display instants more.
     reject_bursts: Bool = False

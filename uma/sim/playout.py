@@ -21,11 +21,6 @@ delay of those decoded in the last `rise_window_s`, plus the margin): frames que
 outage arrive in one burst and are shown at once, late whatever the delay; rising to the window's
 percentile afterwards delays only the frames behind them. With `after_handover_s` both act only
 within that long after a handover (`delay_s`'s `technology` changing between two named ones).
-With `stall_memory_s` the playout remembers its stalls (a frame decoded later than the delay in
-force, after one in time, starts one): while the link stalled twice or more within the last
-`stall_memory_s` it stalls again soon, and the delay does not descend, the catch-up and the rise's
-bound do not act (a descent that waits while stalls keep coming); a link that stalled once
-forgets it after `stall_memory_s`.
 
 With `reject_bursts` (off by default: measured in docs/rate-control.md, sections `rc8` and `rc7`)
 the target, as WebRTC separates a change of the path's delay (its timestamp extrapolator, which
@@ -97,8 +92,6 @@ class AdaptivePlayout:
         self.turbulent = True
         self._last_s: float | None = None
         self._technology = ""  # the receiver's technology at the last display instant
-        self._stalls: deque[float] = deque()  # arrivals of the first late frame of each stall
-        self._late = False  # whether the last frame decoded came after the delay in force
         self._handover_s = -math.inf  # when it last changed between two named technologies
 
     def _expire(self, now_s: float) -> None:
@@ -139,7 +132,6 @@ class AdaptivePlayout:
     def on_decoded(self, capture_s: float, arrival_s: float) -> None:
         delay = arrival_s - capture_s
         self._expire(arrival_s)
-        self._note_stall(delay > self.current_s, arrival_s)
         if not self.config.reject_bursts:  # the percentile alone: no floor to keep
             self._samples.append((arrival_s, delay, 0.0))
             return
@@ -220,8 +212,6 @@ class AdaptivePlayout:
             if not self.turbulent and self.draining(now_s):
                 up_s = 0.0
             down_s = self.config.max_decrease_ms_per_s / 1000.0 * elapsed_s
-            if self.stalling(now_s):
-                down_s = 0.0  # a link that stalls again soon keeps its delay
             if self.config.catch_up_s > 0.0 and self._armed(now_s):
                 excess_s = self.current_s - self._catch_up_floor_s(target)
                 slope = min(excess_s / self.config.catch_up_s, MAX_CATCH_UP)
@@ -242,30 +232,11 @@ class AdaptivePlayout:
         if technology:
             self._technology = technology
 
-    def _note_stall(self, late: bool, arrival_s: float) -> None:
-        """A frame later than the delay in force after one in time starts a stall; stalls older
-        than `stall_memory_s` are forgotten."""
-        if self.config.stall_memory_s == 0.0:
-            return
-        if late and not self._late:
-            self._stalls.append(arrival_s)
-        self._late = late
-        while self._stalls and self._stalls[0] < arrival_s - self.config.stall_memory_s:
-            self._stalls.popleft()
-
-    def stalling(self, now_s: float) -> bool:
-        """Whether the link stalled again soon: two stalls or more within `stall_memory_s`."""
-        if self.config.stall_memory_s == 0.0:
-            return False
-        since_s = now_s - self.config.stall_memory_s
-        return sum(1 for s in self._stalls if s >= since_s) >= 2
-
     def _armed(self, now_s: float) -> bool:
         """Whether the catch-up and the rise's bound act: always, or within `after_handover_s`
-        of a handover; never while the link stalls again soon (`stall_memory_s`)."""
+        of a handover."""
         window_s = self.config.after_handover_s
-        recent = window_s == 0.0 or now_s - self._handover_s <= window_s
-        return recent and not self.stalling(now_s)
+        return window_s == 0.0 or now_s - self._handover_s <= window_s
 
     def _catch_up_floor_s(self, target_s: float) -> float:
         """What the catch-up falls towards: the target, and never below the highest delay of
