@@ -86,6 +86,7 @@ class PlayoutRecording:
 
     fps: float
     frames: int
+    capture_ms: np.ndarray  # per frame: its capture instant
     scheduled: np.ndarray  # per frame: the engine meant it to be seen
     decoded: tuple[DecodedFrame, ...]  # in the order the receiver decoded them
     technology_at: Callable[[float], str]
@@ -106,6 +107,7 @@ def recording_of(result) -> PlayoutRecording:
     return PlayoutRecording(
         fps=result.fps,
         frames=result.log.frames,
+        capture_ms=np.asarray(result.log["capture_ms"]).copy(),
         scheduled=np.asarray(result.log["scheduled"]).astype(bool),
         decoded=tuple(result.decoded),
         technology_at=result.capacity.technology_at,
