@@ -28,6 +28,8 @@ from uma.engine.decisions import (
     WakePacer,
 )
 from uma.sim.packets import EncodedUnit, Packet
+from uma.sim.playout import FixedPlayout
+from uma.sim.playout_replay import DisplayRule
 from uma.sim.state import World
 
 __all__ = [
@@ -220,25 +222,22 @@ def report_process(env: simpy.Environment, world: World):
 
 
 def display_process(env: simpy.Environment, world: World):
-    """At each frame's deadline show the newest decoded frame, and score it against the source."""
-    playout_s = world.scenario.receiver.playout_delay_ms / 1000.0
-    log = world.log
-    last_scheduled = -1
+    """At each frame's deadline show the newest decoded frame, and score it against the source
+    (the rule: `uma.sim.playout_replay.DisplayRule`, which a playout replay runs too)."""
+    playout = world.playout
+    if playout is None:
+        playout = FixedPlayout(world.scenario.receiver.playout_delay_ms / 1000.0)
+    rule = DisplayRule(playout, world.fps)
+    log, receiver = world.log, world.receiver
     for index in range(world.frames):
-        delay_s = (
-            playout_s
-            if world.playout is None
-            else world.playout.delay_s(env.now, world.capacity.technology_at(env.now))
-        )
-        deadline_s = max(env.now, index / world.fps + delay_s)
+        deadline_s = rule.deadline_s(index, env.now, world.capacity.technology_at(env.now))
         if env.now < deadline_s:
             yield env.timeout(deadline_s - env.now)
-        if log["scheduled"][index]:
-            last_scheduled = index
-        shown, picture = world.receiver.shown_at(index)
+        shown, frozen = rule.show(index, receiver.decoded, bool(log["scheduled"][index]))
+        picture = receiver.decoded[shown] if shown >= 0 else None
         log["display_ms"][index] = deadline_s * 1000.0
         log["shown_frame"][index] = shown
-        log["frozen"][index] = int(shown < 0 or shown != last_scheduled)
+        log["frozen"][index] = int(frozen)
         if shown >= 0:
             log["shown_codec"][index] = log["codec"][shown]
         source = world.source_frames.pop(index)

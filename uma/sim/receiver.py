@@ -31,6 +31,7 @@ from uma.control.delivery import DeliveryTracker
 from uma.engine.reports import KeyframeRequest, ReceiverReport
 from uma.metrics.framelog import FrameLog
 from uma.sim.packets import EncodedUnit, Packet
+from uma.sim.playout_replay import newest_decoded
 from uma.sim.stats import RefreshReceived
 
 __all__ = ["ReceiverState", "PATH_SETTLE_S"]
@@ -58,6 +59,9 @@ class ReceiverState:
     codec: str = ""  # the codec of the current reference chain ("": none yet)
     last_request_s: float = float("-inf")
     decoded: dict[int, np.ndarray] = field(default_factory=dict)  # frame -> picture
+    # (frame, decode_s, told the playout) of every picture put in `decoded`, in order: what a
+    # playout replay needs (`uma.sim.playout_replay`).
+    decoded_log: list[tuple[int, float, bool]] = field(default_factory=list)
     # Report counters since the previous report.
     bits: int = 0
     packets: int = 0
@@ -139,6 +143,7 @@ class ReceiverState:
             self.decoded[frame] = picture
             self.log["arrival_ms"][frame] = now_s * 1000.0
             self.log["decoded"][frame] = 1
+            self.decoded_log.append((frame, now_s, True))
             if self.on_decoded is not None:
                 self.on_decoded(frame, now_s)
 
@@ -167,6 +172,7 @@ class ReceiverState:
         if isinstance(picture, np.ndarray):
             # The best picture the receiver has of that instant, if it is still to be shown.
             self.decoded[unit.frame] = picture
+            self.decoded_log.append((unit.frame, self.now(), False))
 
     def _refresh_broken(self, unit: EncodedUnit) -> None:
         """The refresh chain is broken (the last good reference stays): ask for an intra one."""
@@ -245,10 +251,5 @@ class ReceiverState:
 
     def shown_at(self, frame: int) -> tuple[int, np.ndarray | None]:
         """The newest decoded frame not newer than `frame`; older pictures are let go."""
-        candidates = [k for k in self.decoded if k <= frame]
-        if not candidates:
-            return -1, None
-        shown = max(candidates)
-        for k in [k for k in self.decoded if k < shown]:
-            del self.decoded[k]
-        return shown, self.decoded[shown]
+        shown = newest_decoded(self.decoded, frame)
+        return shown, (self.decoded[shown] if shown >= 0 else None)

@@ -12,6 +12,7 @@ from uma.engine.decisions import EngineEvent, EngineOutcome
 from uma.metrics.framelog import FrameLog
 from uma.sim.capacity import CapacitySchedule
 from uma.sim.links import LinkStats
+from uma.sim.playout_replay import DecodedFrame
 from uma.sim.stats import DescriptionStats, ModelStats, RefreshStats, SentBits
 
 __all__ = ["RunResult", "collect_result"]
@@ -42,6 +43,9 @@ class RunResult:
     description: DescriptionStats = field(default_factory=DescriptionStats)
     refresh: RefreshStats = field(default_factory=RefreshStats)
     face_boxes: tuple = ()  # the face box (`uma.face.Box` or None) of each source frame read
+    # Every picture the receiver could show, in decode order: a playout replay's input
+    # (`uma.sim.playout_replay`).
+    decoded: tuple[DecodedFrame, ...] = ()
 
 
 def collect_result(
@@ -98,4 +102,15 @@ def collect_result(
             lost=world.receiver.refresh_received.lost,
         ),
         face_boxes=tuple(world.face_boxes),
+        decoded=_decoded_frames(world),
+    )
+
+
+def _decoded_frames(world) -> tuple[DecodedFrame, ...]:
+    """The receiver's decoded pictures in decode order, with the capture instants the playout
+    was told (`uma.sim.world` tells it the logged capture time)."""
+    capture_ms = world.log["capture_ms"]
+    return tuple(
+        DecodedFrame(frame, float(capture_ms[frame]) / 1000.0, decode_s, told)
+        for frame, decode_s, told in world.receiver.decoded_log
     )
