@@ -60,12 +60,11 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def handle(args: argparse.Namespace) -> int:
-    import sys
     from pathlib import Path
 
     from uma.bench.headline import HeadlineConfig, format_table, run_headline
     from uma.cli.args import one_executor
-    from uma.cli.cmd_bench import emit
+    from uma.cli.cmd_bench import bench_executor, emit, progress_printer
     from uma.config import load_scenario
     from uma.errors import ConfigError
     from uma.experiments.uplink_store import store_settings
@@ -90,24 +89,12 @@ def handle(args: argparse.Namespace) -> int:
         if out_dir.exists() and not out_dir.is_dir():
             raise ConfigError(f"--out: {str(out_dir)!r} is a file, expected a folder")
 
-    def progress(line: str) -> None:
-        if not args.quiet and not args.json:
-            print(line, file=sys.stderr, flush=True)
+    progress = progress_printer(args)
 
     config = HeadlineConfig(
         scenarios=tuple(scenarios), playout=args.playout, out_dir=out_dir, uplink=store_settings()
     )
-    executor = None
-    if args.workers is not None or args.scheduler:
-        from uma.experiments import make_executor
-
-        executor = make_executor(
-            workers=args.workers, scheduler=args.scheduler, timeout_s=args.timeout
-        )
-    try:
+    with bench_executor(args) as executor:
         result = run_headline(config, progress=progress, executor=executor)
-    finally:
-        if executor is not None:
-            executor.close()
     emit(result, format_table(result), as_json=args.json)
     return 0

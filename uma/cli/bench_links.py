@@ -94,12 +94,11 @@ def _traces(args: argparse.Namespace) -> dict[str, float]:
 
 
 def handle(args: argparse.Namespace) -> int:
-    import sys
     from pathlib import Path
 
     from uma.bench.links import LinksConfig, run_links
     from uma.bench.links_table import format_table, save_plot
-    from uma.cli.cmd_bench import emit
+    from uma.cli.cmd_bench import bench_executor, emit, progress_printer
     from uma.config import load_scenario
     from uma.errors import ConfigError
     from uma.paths import scenarios_dir, shared_data_dir
@@ -123,24 +122,12 @@ def handle(args: argparse.Namespace) -> int:
         published_file=str(published) if published.is_file() else None,
     )
 
-    def progress(line: str) -> None:
-        if not args.quiet and not args.json:
-            print(line, file=sys.stderr, flush=True)
+    progress = progress_printer(args)
 
-    executor = None
-    if args.workers is not None or args.scheduler:
-        from uma.experiments import make_executor
-
-        executor = make_executor(
-            workers=args.workers, scheduler=args.scheduler, timeout_s=args.timeout
-        )
-    try:
+    with bench_executor(args) as executor:
         result = run_links(
             config, trace_durations_s=durations, executor=executor, progress=progress
         )
-    finally:
-        if executor is not None:
-            executor.close()
     if args.plot:
         save_plot(result, Path(args.plot))
     emit(result, format_table(result), as_json=args.json)
@@ -149,17 +136,14 @@ def handle(args: argparse.Namespace) -> int:
 
 def _loop(args: argparse.Namespace, given: list[str]) -> int:
     """`--loop`: the controllers in the pure closed loop (uma/bench/links_loop.py)."""
-    import sys
     from pathlib import Path
 
     from uma.bench.links_loop import LoopSettings
     from uma.bench.links_split import HELD_OUT, TUNING, evaluate, format_loop_table
-    from uma.cli.cmd_bench import emit
+    from uma.cli.cmd_bench import emit, progress_printer
     from uma.paths import shared_data_dir
 
-    def progress(line: str) -> None:
-        if not args.quiet and not args.json:
-            print(line, file=sys.stderr, flush=True)
+    progress = progress_printer(args)
 
     settings = LoopSettings(duration_s=args.duration_s)
     if args.trace:

@@ -136,30 +136,17 @@ def _config(args: argparse.Namespace):
 
 
 def handle(args: argparse.Namespace) -> int:
-    import sys
 
     from uma.bench.playout import format_table, run_playout_bench
     from uma.cli.args import one_executor
-    from uma.cli.cmd_bench import emit
+    from uma.cli.cmd_bench import bench_executor, emit, progress_printer
 
     one_executor(args)
     config = _config(args)
 
-    def progress(line: str) -> None:
-        if not args.quiet and not args.json:
-            print(line, file=sys.stderr, flush=True)
+    progress = progress_printer(args)
 
-    executor = None
-    if args.workers is not None or args.scheduler:
-        from uma.experiments import make_executor
-
-        executor = make_executor(
-            workers=args.workers, scheduler=args.scheduler, timeout_s=args.timeout
-        )
-    try:
+    with bench_executor(args) as executor:
         result = run_playout_bench(config, executor=executor, progress=progress)
-    finally:
-        if executor is not None:
-            executor.close()
     emit(result, format_table(result), as_json=args.json)
     return 0

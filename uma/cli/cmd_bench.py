@@ -10,9 +10,11 @@ import argparse
 import importlib
 import json
 import sys
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from typing import Any
 
-__all__ = ["register", "emit", "add_common_arguments"]
+__all__ = ["register", "emit", "add_common_arguments", "bench_executor", "progress_printer"]
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -46,3 +48,31 @@ def emit(result: dict[str, Any], table: str, *, as_json: bool) -> None:
         sys.stdout.write("\n")
     else:
         sys.stdout.write(table.rstrip("\n") + "\n")
+
+
+def progress_printer(args: argparse.Namespace) -> Callable[[str], None]:
+    """Progress lines on stderr, unless `--quiet` or `--json`."""
+
+    def progress(line: str) -> None:
+        if not args.quiet and not args.json:
+            print(line, file=sys.stderr, flush=True)
+
+    return progress
+
+
+@contextmanager
+def bench_executor(args: argparse.Namespace) -> Iterator[Any]:
+    """The sweep executor `--workers` or `--scheduler` ask for (None: run in this process),
+    closed when the bench is done."""
+    executor = None
+    if args.workers is not None or args.scheduler:
+        from uma.experiments import make_executor
+
+        executor = make_executor(
+            workers=args.workers, scheduler=args.scheduler, timeout_s=args.timeout
+        )
+    try:
+        yield executor
+    finally:
+        if executor is not None:
+            executor.close()
