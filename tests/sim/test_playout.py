@@ -268,31 +268,42 @@ def test_the_rise_follows_the_newest_frames_not_a_flushed_burst():
     assert np.array_equal(plain[: int(5.5 * FPS)], bounded[: int(5.5 * FPS)])
 
 
-def test_after_handover_only_acts_after_a_named_handover():
+def test_the_handover_keys_act_only_after_a_named_handover():
     delays = flushed_burst()
-    config = AdaptivePlayoutConfig(rise_window_s=0.5, catch_up_s=1.0, after_handover_s=10.0)
-    plain = drive(AdaptivePlayout(AdaptivePlayoutConfig(), initial_delay_s=0.12), delays)
-    # No named technology (a measured trace): no handover, so exactly the plain playout.
+    own = AdaptivePlayoutConfig(handover={"for_s": 0.0})
+    plain = drive(AdaptivePlayout(own, initial_delay_s=0.12), delays)
+    config = AdaptivePlayoutConfig()  # the handover's keys for 20 s after one, by default
+    # No named technology (a measured trace): no handover, so exactly the playout's own keys.
     unnamed = drive_labelled(AdaptivePlayout(config, initial_delay_s=0.12), delays, lambda t: "")
     assert np.array_equal(unnamed, plain)
     # The same technology throughout: no handover either.
     same = drive_labelled(AdaptivePlayout(config, initial_delay_s=0.12), delays, lambda t: "3G")
     assert np.array_equal(same, plain)
-    # A handover at 4 s (3G to GPRS): the bound acts for 10 s after it.
+    # A handover at 4 s (3G to GPRS), the stall it brings flushed at 5.5 s: the handover's keys
+    # (the rise's bound, the catch-up) keep the delay from climbing after the burst was shown.
     handover = drive_labelled(
         AdaptivePlayout(config, initial_delay_s=0.12), delays, lambda t: "3G" if t < 4.0 else "GPRS"
     )
-    assert handover.max() < 0.5
-    always = AdaptivePlayoutConfig(rise_window_s=0.5, catch_up_s=1.0)
-    assert np.array_equal(handover, drive(AdaptivePlayout(always, initial_delay_s=0.12), delays))
+    assert np.array_equal(handover[: int(4 * FPS)], plain[: int(4 * FPS)])
+    assert plain.max() > 1.0 and handover.max() < 0.6  # the newest frames' delay + 200 ms
+    # ... and their wider margin holds the delay above the plain one's once the path is calm.
+    at_8s = int(8 * FPS)
+    assert handover[at_8s] > 0.1 + 0.15 and plain[at_8s] > handover[at_8s]
 
 
-def test_after_handover_ends_its_window():
-    # A handover at 1 s, the stall at 4 s: with a 2 s window the bound has expired.
+def test_the_handover_keys_end_after_for_s():
+    # A handover at 1 s, the stall at 4 s: with a 2-s window the playout follows its own keys
+    # again by the stall, and climbs after the burst as the plain playout does.
     delays = flushed_burst()
-    config = AdaptivePlayoutConfig(rise_window_s=0.5, after_handover_s=2.0)
+    config = AdaptivePlayoutConfig(handover={"for_s": 2.0})
     late = drive_labelled(
         AdaptivePlayout(config, initial_delay_s=0.12), delays, lambda t: "3G" if t < 1.0 else "GPRS"
     )
-    plain = drive(AdaptivePlayout(AdaptivePlayoutConfig(), initial_delay_s=0.12), delays)
-    assert np.array_equal(late, plain)
+    assert late.max() > 1.0
+
+
+def test_the_handover_keys_are_checked_as_the_playouts_own():
+    with pytest.raises(ValueError, match="handover"):
+        AdaptivePlayoutConfig(handover={"window_s": 0.3})  # the drain window needs 0.5 s
+    during = AdaptivePlayoutConfig().during_handover()
+    assert (during.margin_ms, during.window_s, during.catch_up_s) == (200.0, 1.0, 0.5)

@@ -13,9 +13,32 @@ from uma.config.types import Bool, NonNeg, PosNum, Section
 
 __all__ = [
     "AdaptivePlayoutConfig",
+    "HandoverPlayoutConfig",
     "ReceiverConfig",
     "MetricsConfig",
 ]
+
+
+class HandoverPlayoutConfig(Section):
+    """The adaptive playout's keys within `for_s` of a handover (0: off).
+
+    A handover between two named technologies (a link with none never has one) is a stall of
+    known cause, over once the new link carries the queue: within `for_s` of one the playout
+    follows these keys instead of its own, a shorter window, a faster descent, a catch-up and
+    the rise's bound (it returns from the spike) with a wider margin (the new technology's
+    jitter). Chosen on the default commute and checked on the real commute; links without named
+    technologies run as before (docs/rate-control.md, "Lead, session 21").
+    """
+
+    for_s: NonNeg = 20.0
+    margin_ms: NonNeg = 200.0
+    window_s: PosNum = 1.0
+    floor_window_s: PosNum = 0.5
+    max_decrease_ms_per_s: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, lt=1000)] = (
+        200.0
+    )
+    catch_up_s: NonNeg = 0.5
+    rise_window_s: NonNeg = 0.5
 
 
 class AdaptivePlayoutConfig(Section):
@@ -40,10 +63,9 @@ class AdaptivePlayoutConfig(Section):
     the percentile, must have left the spike). `rise_window_s` (0: off): the delay rises only
     towards the highest delay of the frames decoded in the last `rise_window_s` plus the margin
     (a queue flushed in one burst has been shown by the time the window's percentile asks for
-    it). `after_handover_s` (0: always): the catch-up and the rise's bound act only within
-    that long after a handover, the receiver's technology changing between two named ones
-    (a link with no named technologies never has one). All three off: docs/rate-control.md,
-    "Lead, session 20".
+    it). Both off: docs/rate-control.md, "Lead, session 20". `handover`
+    (`HandoverPlayoutConfig`): other values of these keys within a while of a handover, the
+    receiver's technology changing between two named ones (`during_handover`).
     """
 
     window_s: PosNum = 2.0
@@ -59,7 +81,6 @@ class AdaptivePlayoutConfig(Section):
     catch_up_s: NonNeg = 0.0
     catch_up_max: Bool = False
     rise_window_s: NonNeg = 0.0
-    after_handover_s: NonNeg = 0.0
     # Off: measured on the commute and on measured traces (docs/rate-control.md, `rc8`, `rc7`):
     # the commute's p95 falls below 1,000 ms, held-out traces froze 1-2 display instants more.
     reject_bursts: Bool = False
@@ -71,6 +92,26 @@ class AdaptivePlayoutConfig(Section):
     burst_gap_ms: NonNeg = 500.0
     drain_window_ms: PosNum = 250.0
     drain_drop_ms: NonNeg = 100.0
+    handover: HandoverPlayoutConfig = Field(default_factory=HandoverPlayoutConfig)
+
+    def during_handover(self) -> AdaptivePlayoutConfig:
+        """These keys as the playout follows them within `handover.for_s` of a handover."""
+        keys = self.handover.model_dump(exclude={"for_s"})
+        return self.model_copy(update=keys)
+
+    @model_validator(mode="after")
+    def _handover_within_rules(self) -> AdaptivePlayoutConfig:
+        if self.handover.for_s > 0:
+            merged = self.model_dump()
+            merged.update(self.handover.model_dump(exclude={"for_s"}))
+            merged["handover"] = {"for_s": 0.0}
+            try:
+                type(self).model_validate(merged)
+            except ValueError as err:
+                raise ValueError(
+                    f"handover: with its keys the playout breaks a rule: {err}"
+                ) from None
+        return self
 
     @model_validator(mode="after")
     def _drain_within_window(self) -> AdaptivePlayoutConfig:

@@ -19,8 +19,11 @@ more than `MAX_CATCH_UP` (500 ms a second, so display instants never go back in 
 With `rise_window_s` the delay rises only towards what the newest frames ask for (the highest
 delay of those decoded in the last `rise_window_s`, plus the margin): frames queued through an
 outage arrive in one burst and are shown at once, late whatever the delay; rising to the window's
-percentile afterwards delays only the frames behind them. With `after_handover_s` both act only
-within that long after a handover (`delay_s`'s `technology` changing between two named ones).
+percentile afterwards delays only the frames behind them. Within `handover.for_s` of a handover
+(`delay_s`'s `technology` changing between two named ones) the playout follows the handover's
+keys instead of its own (`AdaptivePlayoutConfig.during_handover`): a stall of known cause, over
+once the new link carries the queue, is left fast, and the new technology's jitter gets a wider
+margin; a link with no named technologies never has one.
 
 With `reject_bursts` (off by default: measured in docs/rate-control.md, sections `rc8` and `rc7`)
 the target, as WebRTC separates a change of the path's delay (its timestamp extrapolator, which
@@ -93,6 +96,9 @@ class AdaptivePlayout:
         self._last_s: float | None = None
         self._technology = ""  # the receiver's technology at the last display instant
         self._handover_s = -math.inf  # when it last changed between two named technologies
+        # The keys it follows away from a handover, and within `handover.for_s` of one.
+        self._own = config
+        self._after_handover = config.during_handover() if config.handover.for_s > 0 else None
 
     def _expire(self, now_s: float) -> None:
         window_start_s = now_s - self.config.window_s
@@ -203,16 +209,17 @@ class AdaptivePlayout:
         elapsed_s = 0.0 if self._last_s is None else max(0.0, now_s - self._last_s)
         self._last_s = now_s
         self._note_technology(now_s, technology)
+        self._follow_handover(now_s)
         target = self.target_s(now_s)
         if target is not None:
             up_s = self.config.max_increase_ms_per_s / 1000.0 * elapsed_s
-            if self.config.rise_window_s > 0.0 and self._armed(now_s):
+            if self.config.rise_window_s > 0.0:
                 recent_s = self._highest_s(now_s - self.config.rise_window_s)
                 up_s = min(up_s, max(0.0, recent_s - self.current_s))
             if not self.turbulent and self.draining(now_s):
                 up_s = 0.0
             down_s = self.config.max_decrease_ms_per_s / 1000.0 * elapsed_s
-            if self.config.catch_up_s > 0.0 and self._armed(now_s):
+            if self.config.catch_up_s > 0.0:
                 excess_s = self.current_s - self._catch_up_floor_s(target)
                 slope = min(excess_s / self.config.catch_up_s, MAX_CATCH_UP)
                 down_s = max(down_s, slope * elapsed_s)
@@ -232,11 +239,11 @@ class AdaptivePlayout:
         if technology:
             self._technology = technology
 
-    def _armed(self, now_s: float) -> bool:
-        """Whether the catch-up and the rise's bound act: always, or within `after_handover_s`
-        of a handover."""
-        window_s = self.config.after_handover_s
-        return window_s == 0.0 or now_s - self._handover_s <= window_s
+    def _follow_handover(self, now_s: float) -> None:
+        """Follow the handover's keys within `handover.for_s` of a handover, else its own."""
+        after = self._after_handover
+        near = after is not None and now_s - self._handover_s <= self._own.handover.for_s
+        self.config = after if near else self._own
 
     def _catch_up_floor_s(self, target_s: float) -> float:
         """What the catch-up falls towards: the target, and never below the highest delay of
