@@ -24,21 +24,20 @@ class HandoverPlayoutConfig(Section):
 
     A handover between two named technologies (a link with none never has one) is a stall of
     known cause, over once the new link carries the queue: within `for_s` of one the playout
-    follows these keys instead of its own, a shorter window, a faster descent, a catch-up and
-    the rise's bound (it returns from the spike) with a wider margin (the new technology's
-    jitter). Chosen on the default commute and checked on the real commute; links without named
+    follows these keys instead of its own, a shorter window, a faster descent and a catch-up
+    (it returns from the spike) with a wider margin (the new technology's jitter). Chosen on the default commute and checked on the real commute; links without named
     technologies run as before (docs/rate-control.md, "Lead, session 21").
     """
 
     for_s: NonNeg = 20.0
-    margin_ms: NonNeg = 200.0
+    margin_ms: NonNeg = 100.0
     window_s: PosNum = 1.0
     floor_window_s: PosNum = 0.5
     max_decrease_ms_per_s: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, lt=1000)] = (
         200.0
     )
     catch_up_s: NonNeg = 0.5
-    rise_window_s: NonNeg = 0.5
+    rise_window_s: NonNeg = 0.0
 
 
 class AdaptivePlayoutConfig(Section):
