@@ -75,3 +75,26 @@ def face_model():
     from uma.face import load_model
 
     return load_model()
+
+
+# A short run with two handovers (WLAN, 3G, GPRS) and an outage of the downlink: its playout
+# rises and falls (the playout replay's tests in tests/sim and tests/bench).
+PLAYOUT_SHORT = """\
+name: playout-short
+seed: 2
+source: {kind: pattern, width: 176, height: 144, fps: 25}
+route:
+  - {technology: WLAN, duration_s: 3}
+  - {technology: 3G, duration_s: 3}
+  - {technology: GPRS, duration_s: 2}
+receiver: {playout: adaptive}
+faults:
+  outages: [{start_s: 4.0, duration_s: 0.8}]
+metrics: {workers: 0}
+"""
+
+
+@pytest.fixture(scope="session")
+def playout_short_yaml() -> str:
+    """`PLAYOUT_SHORT`: a scenario's YAML text."""
+    return PLAYOUT_SHORT

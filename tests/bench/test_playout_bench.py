@@ -15,26 +15,13 @@ from uma.config import load_scenario
 from uma.sim import run_scenario
 from uma.sim.summary import run_metrics
 
-SHORT = """\
-name: playout-bench
-seed: 2
-source: {kind: pattern, width: 176, height: 144, fps: 25}
-route:
-  - {technology: WLAN, duration_s: 3}
-  - {technology: 3G, duration_s: 3}
-  - {technology: GPRS, duration_s: 2}
-receiver: {playout: adaptive}
-faults:
-  outages: [{start_s: 4.0, duration_s: 0.8}]
-metrics: {workers: 0}
-"""
 SETTING = {"rise_window_s": 0.5, "margin_ms": 100}
 
 
 @pytest.fixture(scope="module")
-def scenario_file(tmp_path_factory):
+def scenario_file(tmp_path_factory, playout_short_yaml):
     path = tmp_path_factory.mktemp("bench") / "s.yaml"
-    path.write_text(SHORT)
+    path.write_text(playout_short_yaml)
     return path
 
 

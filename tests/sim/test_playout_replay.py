@@ -17,20 +17,6 @@ from uma.sim.playout_replay import (
     replay,
 )
 
-# A handover every few seconds and an outage of the downlink: the playout rises and falls.
-SHORT = """\
-name: replay-short
-seed: 2
-source: {kind: pattern, width: 176, height: 144, fps: 25}
-route:
-  - {technology: WLAN, duration_s: 3}
-  - {technology: 3G, duration_s: 3}
-  - {technology: GPRS, duration_s: 2}
-receiver: {playout: adaptive}
-faults:
-  outages: [{start_s: 4.0, duration_s: 0.8}]
-metrics: {workers: 0}
-"""
 # The model-aided refresh puts pictures the playout is not told of.
 REFRESH = """\
 name: replay-refresh
@@ -65,8 +51,8 @@ def assert_same_display(out, result):
 
 
 @pytest.fixture(scope="module")
-def short(tmp_path_factory):
-    return run_scenario(scenario(tmp_path_factory.mktemp("short"), SHORT))
+def short(tmp_path_factory, playout_short_yaml):
+    return run_scenario(scenario(tmp_path_factory.mktemp("short"), playout_short_yaml))
 
 
 def test_the_recording_is_the_decoded_frames_in_decode_order(short):
@@ -94,18 +80,20 @@ def test_replay_of_the_runs_own_playout_is_exact(short):
         AdaptivePlayoutConfig(reject_bursts=True, percentile=50.0, margin_ms=0),
     ],
 )
-def test_replay_of_another_setting_equals_its_full_run(tmp_path, short, adaptive):
+def test_replay_of_another_setting_equals_its_full_run(
+    tmp_path, short, adaptive, playout_short_yaml
+):
     receiver = short.scenario.receiver.model_copy(update={"adaptive": adaptive})
-    full = run_scenario(scenario(tmp_path, SHORT, receiver))
+    full = run_scenario(scenario(tmp_path, playout_short_yaml, receiver))
     out = replay(recording_of(short), adaptive)
     assert_same_display(out, full)
     # It is another display than the recorded run's: the check can tell them apart.
     assert not np.array_equal(out.display_ms, short.log["display_ms"])
 
 
-def test_replay_of_a_fixed_playout_equals_its_full_run(tmp_path, short):
+def test_replay_of_a_fixed_playout_equals_its_full_run(tmp_path, short, playout_short_yaml):
     receiver = ReceiverConfig(playout="fixed", playout_delay_ms=300)
-    full = run_scenario(scenario(tmp_path, SHORT, receiver))
+    full = run_scenario(scenario(tmp_path, playout_short_yaml, receiver))
     assert_same_display(replay(recording_of(short), receiver=receiver), full)
     assert_same_display(replay(recording_of(full)), full)
 
