@@ -25,8 +25,9 @@ class HandoverPlayoutConfig(Section):
     A handover between two named technologies (a link with none never has one) is a stall of
     known cause, over once the new link carries the queue: within `for_s` of one the playout
     follows these keys instead of its own, a shorter window, a faster descent and a catch-up
-    (it returns from the spike) with a wider margin (the new technology's jitter). Chosen on the default commute and checked on the real commute; links without named
-    technologies run as before (docs/rate-control.md, "Lead, session 21").
+    (it returns from the spike) with a wider margin (the new technology's jitter). Chosen on
+    the default commute and checked on the real commute; links without named technologies run
+    as before (docs/rate-control.md, "Lead, session 21").
     """
 
     for_s: NonNeg = 20.0
