@@ -67,3 +67,13 @@ def test_min_rate_over_a_window_sees_every_step_it_touches():
     assert schedule.min_rate_kbps(1.5, 2.5) == 40.0
     assert schedule.min_rate_kbps(2.0, 2.9) == 300.0
     assert schedule.min_rate_kbps(2.5, 9.0) == 0.0  # after the last start its rate holds
+
+
+def test_bits_until_many_is_bits_until_at_every_time():
+    import numpy as np
+
+    from uma.sim.capacity import CapacitySchedule
+
+    link = CapacitySchedule([0.0, 1.0, 2.5, 4.0], [8000.0, 0.0, 20000.0, 500.0])
+    times = np.array([0.0, 0.4, 1.0, 1.7, 2.5, 3.9, 4.0, 9.0])
+    assert np.allclose(link.bits_until_many(times), [link.bits_until(t) for t in times])

@@ -19,6 +19,10 @@ __all__ = [
 ]
 
 
+# A descent of the playout delay, ms per s: below 1000, so display instants never go back in time.
+DescentMsPerS = Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, lt=1000)]
+
+
 class HandoverPlayoutConfig(Section):
     """The adaptive playout's keys within `for_s` of a handover (0: off).
 
@@ -34,9 +38,7 @@ class HandoverPlayoutConfig(Section):
     margin_ms: NonNeg = 100.0
     window_s: PosNum = 1.0
     floor_window_s: PosNum = 0.5
-    max_decrease_ms_per_s: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, lt=1000)] = (
-        200.0
-    )
+    max_decrease_ms_per_s: DescentMsPerS = 200.0
     catch_up_s: NonNeg = 0.5
     rise_window_s: NonNeg = 0.0
 
@@ -73,10 +75,7 @@ class AdaptivePlayoutConfig(Section):
     margin_ms: NonNeg = 20.0
     min_delay_ms: NonNeg = 50.0
     max_delay_ms: PosNum = 10000.0
-    # Below 1000 ms/s, so display instants never go back in time.
-    max_decrease_ms_per_s: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, lt=1000)] = (
-        100.0
-    )
+    max_decrease_ms_per_s: DescentMsPerS = 100.0
     max_increase_ms_per_s: PosNum = 500.0
     catch_up_s: NonNeg = 0.0
     catch_up_max: Bool = False
@@ -102,8 +101,7 @@ class AdaptivePlayoutConfig(Section):
     @model_validator(mode="after")
     def _handover_within_rules(self) -> AdaptivePlayoutConfig:
         if self.handover.for_s > 0:
-            merged = self.model_dump()
-            merged.update(self.handover.model_dump(exclude={"for_s"}))
+            merged = self.during_handover().model_dump()
             merged["handover"] = {"for_s": 0.0}
             try:
                 type(self).model_validate(merged)

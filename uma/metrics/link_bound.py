@@ -2,7 +2,7 @@
 
 Units: seconds inside, milliseconds in the summary's names. Pure: the link is a piecewise-constant
 capacity (`uma.sim.capacity.CapacitySchedule` or anything with its `starts_s`, `rates_bps`,
-`cum_bits` and `technologies`) and a one-way delay per technology.
+`cum_bits`, `technologies` and `bits_until_many`) and a one-way delay per technology.
 
 The delay is counted as `uma.metrics.delay` counts it (Salsify's): a frame's delay is the time from
 its capture to the first display of it or a newer frame. No frame captured at or after `c` can be
@@ -28,16 +28,10 @@ __all__ = ["frame_delay_bounds_s", "bound_summary", "MAX_GRID_POINTS"]
 MAX_GRID_POINTS = 2_000_000
 
 
-def _cum_bits_at(link, times_s: np.ndarray) -> np.ndarray:
-    starts, rates, cum = link.starts_s, link.rates_bps, link.cum_bits
-    step = np.clip(np.searchsorted(starts, times_s, side="right") - 1, 0, None)
-    return cum[step] + (times_s - starts[step]) * rates[step]
-
-
 def _latest_start_s(link, finish_s: np.ndarray, size_bits: float) -> np.ndarray:
     """The latest start from which `size_bits` have left by each finish time (-inf: none)."""
     starts, rates, cum = link.starts_s, link.rates_bps, link.cum_bits
-    target = _cum_bits_at(link, finish_s) - size_bits
+    target = link.bits_until_many(finish_s) - size_bits
     step = np.searchsorted(cum, target, side="right") - 1
     safe = np.clip(step, 0, None)
     # cum rises strictly across step `safe` unless it is the last step with zero rate.

@@ -90,6 +90,11 @@ class CapacitySchedule:
         k = self._step(t_s)
         return self._cum[k] + (t_s - self._starts[k]) * self._rates[k]
 
+    def bits_until_many(self, times_s: np.ndarray) -> np.ndarray:
+        """`bits_until` of every time in `times_s` at once (a float array)."""
+        step = np.clip(np.searchsorted(self.starts_s, times_s, side="right") - 1, 0, None)
+        return self.cum_bits[step] + (times_s - self.starts_s[step]) * self.rates_bps[step]
+
     def finish_time_s(self, start_s: float, size_bits: float) -> float:
         """When a packet of `size_bits` whose transmission starts at `start_s` has fully left."""
         if size_bits <= 0:
