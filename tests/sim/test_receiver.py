@@ -89,10 +89,13 @@ def test_shown_frame_is_newest_not_newer_than_display_slot():
     seq = deliver(receiver, clock, unit(0, 0, key=True), 0, 0.0)
     seq = deliver(receiver, clock, unit(1, 3), seq, 0.1)
     seq = deliver(receiver, clock, unit(2, 5), seq, 0.2)
-    assert receiver.shown_at(2)[0] == 0
-    assert receiver.shown_at(4)[0] == 3
-    shown, picture = receiver.shown_at(9)
-    assert shown == 5 and picture[0, 0] == 5
+    from uma.sim.playout_replay import newest_decoded
+
+    assert newest_decoded(receiver.decoded, 2) == 0
+    assert newest_decoded(receiver.decoded, 4) == 3
+    shown = newest_decoded(receiver.decoded, 9)
+    assert shown == 5 and receiver.decoded[shown][0, 0] == 5
+    assert sorted(receiver.decoded) == [5]  # older pictures are let go
 
 
 def test_report_measures_rate_and_queue_delay():

@@ -8,8 +8,8 @@ engine. So the frames a run decoded, in the order the receiver decoded them (`Ru
 with the frames the engine scheduled and the route's technologies, are all a playout setting
 needs: `replay` runs the display rule on them with any receiver playout setting and gives the
 display instants, shown frames and frozen flags the full run with that setting would give.
-`DisplayRule` and `newest_decoded` are the rule itself; `uma.sim.processes.display_process` and
-`ReceiverState.shown_at` use them, so the replay cannot drift from the simulation.
+`DisplayRule` and `newest_decoded` are the rule itself; `uma.sim.processes.display_process` uses
+them on the receiver's decoded pictures, so the replay cannot drift from the simulation.
 """
 
 from __future__ import annotations

@@ -31,7 +31,6 @@ from uma.control.delivery import DeliveryTracker
 from uma.engine.reports import KeyframeRequest, ReceiverReport
 from uma.metrics.framelog import FrameLog
 from uma.sim.packets import EncodedUnit, Packet
-from uma.sim.playout_replay import newest_decoded
 from uma.sim.stats import RefreshReceived
 
 __all__ = ["ReceiverState", "PATH_SETTLE_S"]
@@ -248,8 +247,3 @@ class ReceiverState:
             self.delivery.on_path_change()
             self.settle_at_s = None
         return report
-
-    def shown_at(self, frame: int) -> tuple[int, np.ndarray | None]:
-        """The newest decoded frame not newer than `frame`; older pictures are let go."""
-        shown = newest_decoded(self.decoded, frame)
-        return shown, (self.decoded[shown] if shown >= 0 else None)
