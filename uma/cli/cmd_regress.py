@@ -12,7 +12,11 @@ DIR/<scenario name>/metrics.json is what `uma run --out DIR/<name>` writes) and 
 gated metric with the suite's baseline file under its tolerance and direction. Prints
 scenario, metric, baseline, now, change, tolerance, verdict.
 
---update rewrites the baseline from these results, on purpose, and shows what changed.
+A baseline belongs to a kind of machine as well as to the code: a suite's machine_baselines
+maps a machine class (avx512: the CPU has AVX-512F) to its own file, and baseline serves every
+other machine; the last line names the file and the class.
+
+--update rewrites this machine's baseline from these results, on purpose, and shows what changed.
 Each run's folder under --out is replaced whole. Exit status: 0 every metric within its
 tolerance, 1 a regression (a missing metric, a missing metrics.json or a failed run is one),
 2 bad input (suite, baseline or scenario files, a metrics.json cut short or unparseable)."""
@@ -41,13 +45,14 @@ def _load(args: argparse.Namespace):
     """(the suite, its scenarios, their names, the baseline or None), each checked."""
     from uma.config import load_scenario
     from uma.errors import ConfigError
+    from uma.experiments.machine import machine_class
     from uma.experiments.regress import check_only, load_baseline, load_suite
 
     if args.workers < 1:
         raise ConfigError(f"--workers: expected a positive integer, got {args.workers}")
     if args.results and args.out is not None:
         raise ConfigError("--results and --out: give one (--results reads, --out runs)")
-    suite = load_suite(args.suite)
+    suite = load_suite(args.suite, machine_class())
     scenarios = [load_scenario(path) for path in suite.scenarios]
     names = [s.name for s in scenarios]
     if len(set(names)) != len(names):
@@ -130,7 +135,7 @@ def _update(suite, baseline, now: dict, failures: list[str]) -> int:
             print(f"(previous baseline incomplete: {err})")
     atomic_write_text(suite.baseline_path, baseline_yaml(suite, now))
     print(
-        f"baseline {suite.baseline_path} written ({len(now)} scenarios, "
+        f"baseline {suite.baseline_path} written (machine class: {suite.machine}; {len(now)} scenarios, "
         f"{sum(len(suite.metrics_of(name)) for name in now)} metrics)"
     )
     return 0
@@ -154,7 +159,11 @@ def handle(args: argparse.Namespace) -> int:
     checks = compare(suite, baseline, now)
     print(format_checks(checks))
     bad = sum(check.failed for check in checks)
-    print(f"{len(checks)} checks, {bad} regressed" + (" or missing" if bad else ""))
+    print(
+        f"{len(checks)} checks, {bad} regressed"
+        + (" or missing" if bad else "")
+        + f" (baseline {suite.baseline_path.name}, machine class {suite.machine})"
+    )
     return 1 if bad or failures else 0
 
 

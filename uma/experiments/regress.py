@@ -5,6 +5,7 @@ worse and how far it may move that way:
 
 ```yaml
 baseline: baseline.yaml            # relative to the suite file
+machine_baselines: {avx512: baseline-avx512.yaml}   # optional: a machine class's own baseline
 scenarios: [short-commute.yaml]    # scenario files; results are looked up by scenario name
 metrics:
   kbps_h264:    {worse: up, relative: 0.05}    # bit rate may not rise more than 5 %
@@ -20,6 +21,9 @@ holds scenarios whose metrics differ.
 The baseline is YAML, scenario name -> metric -> value (null where the metric has none), written
 by `uma regress SUITE --update`. A metric the results lack, or null where the baseline has a
 number, is a regression. Units are those of the metric's name.
+
+A baseline belongs to a kind of machine as well as to the code (`uma.experiments.machine`):
+`machine_baselines` maps a machine class to its own file; `baseline` serves every other class.
 """
 
 from __future__ import annotations
@@ -45,7 +49,7 @@ __all__ = [
     "check_metric_paths",
 ]
 
-_SUITE_KEYS = ("baseline", "scenarios", "metrics", "description")
+_SUITE_KEYS = ("baseline", "machine_baselines", "scenarios", "metrics", "description")
 
 
 @dataclass(frozen=True)
@@ -75,11 +79,12 @@ class Tolerance:
 @dataclass(frozen=True)
 class Suite:
     path: Path
-    baseline_path: Path
+    baseline_path: Path  # the machine's own baseline if the suite has one, else `baseline`
     scenarios: tuple[Path, ...]
     metrics: dict[str, Tolerance]
     # metric -> `FILE:LINE (metrics.NAME)`, for the messages of checks made once runs are read
     where: dict[str, str] = field(default_factory=dict)
+    machine: str = "default"  # the machine class the baseline was chosen for
 
     def metrics_of(self, scenario: str) -> dict[str, Tolerance]:
         """The metrics this suite gates for `scenario`."""
@@ -145,9 +150,11 @@ def _tolerance(spec: Any, where: str) -> Tolerance:
     )
 
 
-def load_suite(path: str | Path) -> Suite:
-    """Parse a suite file; errors name its line and key."""
+def load_suite(path: str | Path, machine: str = "default") -> Suite:
+    """Parse a suite file; errors name its line and key. `machine` (a class of
+    `uma.experiments.machine`) picks its own baseline when the suite keeps one."""
     from uma.config.yamlfile import load_yaml
+    from uma.experiments.machine import machine_baselines
 
     path = Path(path)
     data, lines = load_yaml(path)
@@ -164,6 +171,10 @@ def load_suite(path: str | Path) -> Suite:
     baseline = data.get("baseline")
     if not isinstance(baseline, str) or not baseline:
         raise ConfigError(f"{lines.where(('baseline',))}: expected the baseline file's path")
+    by_machine = machine_baselines(
+        data.get("machine_baselines"), lines.where(("machine_baselines",))
+    )
+    baseline = by_machine.get(machine, baseline)
     scenarios = data.get("scenarios")
     if (
         not isinstance(scenarios, list)
@@ -186,6 +197,7 @@ def load_suite(path: str | Path) -> Suite:
         scenarios=tuple((folder / s).resolve() for s in scenarios),
         metrics=tolerances,
         where={str(name): lines.where(("metrics", name)) for name in metrics},
+        machine=machine,
     )
 
 
@@ -358,6 +370,7 @@ def baseline_yaml(suite: Suite, now: dict[str, dict[str, Any]]) -> str:
     lines = [
         f"# Baseline of {suite.path.name}: written by `uma regress {suite.path.name} --update`.",
         "# Regenerate on purpose, and say why in the commit message.",
+        f"# Machine class: {suite.machine} (a baseline belongs to a kind of machine too).",
     ]
     for scenario, metrics in now.items():
         lines.append(f"{scenario}:")

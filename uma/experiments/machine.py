@@ -1,0 +1,101 @@
+"""Which kind of machine a run's figures belong to: the regression gate's baselines, the records.
+
+A seed reproduces a run byte for byte on one machine, but not from one machine to another: the
+same commit gives other figures on a 2-core AMD EPYC with AVX-512 than on one without it
+(`docs/experiments.md`, "A baseline belongs to a machine"). The cause lies below the project
+(NumPy's, OpenCV's, numba's and FFmpeg's own dispatch, each turned down, changed nothing), so
+uma names the machine's class by the CPU feature that told the two apart, and keeps a baseline
+per class. Reads `/proc/cpuinfo` where there is one; elsewhere the class is `default`.
+"""
+
+from __future__ import annotations
+
+import platform
+from importlib import metadata
+from pathlib import Path
+
+from uma.errors import ConfigError
+
+__all__ = [
+    "MACHINE_CLASSES",
+    "cpu_flags",
+    "machine_baselines",
+    "machine_class",
+    "machine_summary",
+]
+
+# The classes a suite may key a baseline by: `avx512` (the CPU has AVX-512F), `default` (any
+# other machine, and machines whose CPU cannot be read).
+MACHINE_CLASSES = ("avx512", "default")
+
+# The libraries whose versions move a run's figures (pixels, bits, floating-point paths).
+_PACKAGES = ("numpy", "scipy", "numba", "opencv-python-headless", "av", "scikit-image")
+
+_CPUINFO = Path("/proc/cpuinfo")
+
+
+def cpu_flags(cpuinfo_text: str) -> frozenset[str]:
+    """The feature flags of the first processor in `/proc/cpuinfo`'s text (empty if none)."""
+    for line in cpuinfo_text.splitlines():
+        key, sep, value = line.partition(":")
+        if sep and key.strip() == "flags":
+            return frozenset(value.split())
+    return frozenset()
+
+
+def _cpuinfo_text(path: Path) -> str:
+    try:
+        with open(path, encoding="utf-8", errors="replace") as stream:
+            return stream.read(1 << 20)
+    except OSError:
+        return ""
+
+
+def machine_class(cpuinfo_path: Path = _CPUINFO) -> str:
+    """`avx512` when the CPU has AVX-512F, else `default` (one of `MACHINE_CLASSES`)."""
+    return "avx512" if "avx512f" in cpu_flags(_cpuinfo_text(cpuinfo_path)) else "default"
+
+
+def _cpu_model(cpuinfo_text: str) -> str:
+    for line in cpuinfo_text.splitlines():
+        key, sep, value = line.partition(":")
+        if sep and key.strip() == "model name":
+            return value.strip()
+    return platform.processor() or platform.machine()
+
+
+def _version(package: str) -> str | None:
+    try:
+        return metadata.version(package)
+    except metadata.PackageNotFoundError:
+        return None
+
+
+def machine_summary(cpuinfo_path: Path = _CPUINFO) -> dict:
+    """What a record says of the machine that made it: class, CPU, Python, library versions."""
+    text = _cpuinfo_text(cpuinfo_path)
+    return {
+        "class": "avx512" if "avx512f" in cpu_flags(text) else "default",
+        "cpu": _cpu_model(text),
+        "arch": platform.machine(),
+        "python": platform.python_version(),
+        "packages": {name: _version(name) for name in _PACKAGES},
+    }
+
+
+def machine_baselines(data: object, where: str) -> dict[str, str]:
+    """The suite's `machine_baselines` (machine class -> baseline file), checked."""
+    if data is None:
+        return {}
+    if not isinstance(data, dict) or not data:
+        raise ConfigError(f"{where}: expected a mapping of machine class -> baseline file")
+    for name, file in data.items():
+        if name not in MACHINE_CLASSES or name == "default":
+            raise ConfigError(
+                f"{where}: unknown machine class {name!r}, expected one of "
+                f"{', '.join(c for c in MACHINE_CLASSES if c != 'default')} "
+                f"(`baseline` serves every other machine)"
+            )
+        if not isinstance(file, str) or not file:
+            raise ConfigError(f"{where} ({name}): expected the baseline file's path, got {file!r}")
+    return {str(name): file for name, file in data.items()}
