@@ -5,7 +5,9 @@
 runs `python -m uma bench NAME --json [bench args...]` from the repository root (the uma package
 of this checkout) and writes `docs/results/NAME.json` (`NAME-V.json` with --variant) holding
 `result` (the bench's JSON object, unchanged) beside `command` (what a user types), `argv`,
-`commit`, `dirty`, `date_utc`, `load_1m` (before and after), `cores` and `duration_s`.
+`commit`, `dirty`, `date_utc`, `load_1m` (before and after), `cores`, `duration_s` and
+`machine` (its class, CPU and library versions: a seed's figures belong to a kind of machine
+too, `uma.experiments.machine`).
 The file is written atomically (temporary file, then rename) and only when the bench exits 0
 and printed one JSON object. A dirty tree (uncommitted changes) is refused unless
 --allow-dirty, which is then recorded. Exit 0 recorded; 1 the bench failed; 2 bad input.
@@ -67,6 +69,16 @@ def _write_atomic(path: Path, text: str) -> None:
         raise
 
 
+def _machine() -> dict:
+    """`uma.experiments.machine.machine_summary()` of this checkout's uma."""
+    sys.path.insert(0, str(ROOT))
+    try:
+        from uma.experiments.machine import machine_summary
+    finally:
+        sys.path.pop(0)
+    return machine_summary()
+
+
 def record(
     name: str, bench_args: list[str], variant: str | None = None, allow_dirty: bool = False
 ) -> Path:
@@ -103,6 +115,7 @@ def record(
         "load_1m": {"before": round(load_before, 2), "after": round(os.getloadavg()[0], 2)},
         "cores": os.cpu_count(),
         "duration_s": round(duration_s, 1),
+        "machine": _machine(),
         "result": result,
     }
     _write_atomic(path, json.dumps(doc, indent=2, sort_keys=False) + "\n")

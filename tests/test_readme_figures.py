@@ -222,3 +222,15 @@ def test_a_records_block_naming_a_record_is_refused(toy):
     document.write_text("<!-- fig records toy.json -->\n<!-- /fig -->\n")
     problem = readme_tables.check(document, toy / "results", strict=False)
     assert "names no record" in problem
+
+
+def test_a_record_says_which_kind_of_machine_made_it(monkeypatch, tmp_path):
+    answers = {"rev-parse": "abc123", "status": ""}
+    monkeypatch.setattr(record_bench, "_git", lambda *args: answers[args[0]])
+    monkeypatch.setattr(record_bench, "result_path", lambda name, variant: tmp_path / "x.json")
+    done = subprocess.CompletedProcess([], 0, stdout=b'{"figure": 1}')
+    monkeypatch.setattr(record_bench.subprocess, "run", lambda *a, **k: done)
+    doc = json.loads(record_bench.record("sim", []).read_text())
+    assert doc["result"] == {"figure": 1}
+    assert doc["machine"]["class"] in ("avx512", "default")
+    assert doc["machine"]["packages"]["numpy"]
