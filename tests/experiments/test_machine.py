@@ -26,6 +26,24 @@ def test_the_class_is_avx512_only_with_avx512f(tmp_path, text, expected):
     assert summary["packages"]["numpy"]  # installed, so it has a version
 
 
+def _core_under(coretype: str) -> str:
+    import os
+    import subprocess
+    import sys
+
+    code = "from uma.experiments.machine import blas_core; print(blas_core())"
+    env = {**os.environ, "OPENBLAS_CORETYPE": coretype}
+    done = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
+    return done.stdout.strip()
+
+
+def test_the_blas_core_follows_what_openblas_was_told_to_run():
+    haswell, old = _core_under("Haswell"), _core_under("Prescott")
+    if "None" in (haswell, old):
+        pytest.skip("this NumPy has no OpenBLAS")
+    assert haswell == "Haswell" and old not in ("", "Haswell")
+
+
 def test_a_machine_that_cannot_be_read_is_default(tmp_path):
     assert machine_class(tmp_path / "absent") == "default"
 

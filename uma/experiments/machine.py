@@ -18,6 +18,7 @@ from uma.errors import ConfigError
 
 __all__ = [
     "MACHINE_CLASSES",
+    "blas_core",
     "cpu_flags",
     "machine_baselines",
     "machine_class",
@@ -71,12 +72,37 @@ def _version(package: str) -> str | None:
         return None
 
 
+def blas_core() -> str | None:
+    """The kernel set NumPy's OpenBLAS runs on this CPU (`Haswell`, `SkylakeX`, ...), or None.
+
+    OpenBLAS picks it at load time from the CPU (`OPENBLAS_CORETYPE` overrides it), and the
+    figures of a run depend on it (docs/experiments.md)."""
+    import ctypes
+
+    import numpy
+
+    folder = Path(numpy.__file__).parent.parent / "numpy.libs"
+    for library in sorted(folder.glob("*openblas*")):
+        try:
+            lib = ctypes.CDLL(str(library))
+        except OSError:
+            continue
+        for name in ("scipy_openblas_get_corename64_", "scipy_openblas_get_corename"):
+            get = getattr(lib, name, None)
+            if get is not None:
+                get.restype = ctypes.c_char_p
+                return get().decode("ascii", "replace")
+    return None
+
+
 def machine_summary(cpuinfo_path: Path = _CPUINFO) -> dict:
-    """What a record says of the machine that made it: class, CPU, Python, library versions."""
+    """What a record says of the machine that made it: class, CPU, BLAS kernels, Python,
+    library versions."""
     text = _cpuinfo_text(cpuinfo_path)
     return {
         "class": "avx512" if "avx512f" in cpu_flags(text) else "default",
         "cpu": _cpu_model(text),
+        "blas_core": blas_core(),
         "arch": platform.machine(),
         "python": platform.python_version(),
         "packages": {name: _version(name) for name in _PACKAGES},
