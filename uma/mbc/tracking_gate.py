@@ -68,6 +68,7 @@ class AppearanceGate:
         key = (id(image), params.tobytes())
         cached, self._cached = self._cached, None
         if reuse and cached is not None and cached[0] == key:
+            self._cached = cached
             return cached[1]
         out = self._sample(image, params)
         self._cached = (key, out)
@@ -113,6 +114,8 @@ class AppearanceGate:
             return 0.0
         samples, visible = self._samples(image, params)
         residual = self._residual(samples, visible & np.isfinite(self.mean))
+        if self._cached is not None:  # `accept` on the same pose needs the same residual
+            self._cached = (self._cached[0], self._cached[1], residual)
         if residual is None:
             return 1.0
         return float(np.mean(np.abs(residual) > self.outlier_k * max(self.scale, MIN_SCALE)))
@@ -120,7 +123,10 @@ class AppearanceGate:
     def accept(self, image: np.ndarray, params: np.ndarray) -> None:
         """Learn an accepted frame: departing pixels at a tenth of the rate."""
         samples, visible = self._samples(image, params, reuse=True)
-        self._cached = None
+        # `outlier_share`'s residual on this pose, when it computed one: the mean is unchanged
+        # since, and `known` below is the mask it used.
+        cached, self._cached = self._cached, None
+        reused = cached[2] if cached is not None and len(cached) == 3 else False
         self.frames += 1
         if self.mean is None:
             self.mean = np.where(visible, samples, np.nan)
@@ -129,7 +135,9 @@ class AppearanceGate:
         known = visible & np.isfinite(self.mean)
         fresh = visible & ~known
         self.mean[fresh] = samples[fresh]
-        residual = self._residual(samples, known) if known.sum() >= 16 else None
+        if known.sum() < 16:
+            return
+        residual = self._residual(samples, known) if reused is False else reused
         if residual is None:
             return
         size = 1.4826 * float(np.median(np.abs(residual)))
