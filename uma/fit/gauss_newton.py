@@ -161,9 +161,11 @@ class _Problem:
         shifted = np.repeat(p[None], n_params, axis=0)
         shifted[np.arange(n_params), np.arange(n_params)] += h
         d_points = (self.project(shifted).astype(np.float64) - state.points) / h[:, None, None]
+        rows = np.flatnonzero(state.visible)
         jac = warp_jacobian(
-            self.grad_x, self.grad_y, self.corners, self.bary, state.points, d_points, state.gain
-        )[state.visible]
+            self.grad_x, self.grad_y, self.corners, self.bary, state.points, d_points, state.gain,
+            rows,
+        )  # fmt: skip
         count = jac.shape[0]
         hessian = jac.T @ jac / count
         gradient = jac.T @ state.residual[state.visible] / count
@@ -214,9 +216,12 @@ def gauss_newton(
     *,
     config: GaussNewtonConfig = GaussNewtonConfig(),
     history: bool = False,
+    scored: bool = True,
 ) -> FitResult:
     """Fit by damped Gauss-Newton from `start`, staying inside `box`. A start where nothing
-    can be compared (flat image, face off the picture) returns the start with infinite cost."""
+    can be compared (flat image, face off the picture) returns the start with infinite cost.
+    `scored=False` leaves the final cost out (NaN; the fit is the same): for a caller that
+    scores the parameters its own way."""
     problem = _Problem(template, image, config)
     params = box.clip(np.asarray(start, dtype=np.float64))
     n_params = params.size if config.fit_actions else N_POSE
@@ -233,12 +238,15 @@ def gauss_newton(
         state = problem.with_prior(state)
     state, more = _iterate(problem, state, box, n_params, max(config.iterations - used, 1), trace)
     iteration = used + more
-    v = state.visible
-    fitted = state.residual[v] + problem.values[v]
-    score = float(np.corrcoef(fitted, problem.values[v])[0, 1])
+    cost = float("nan")
+    if scored:
+        v = state.visible
+        fitted = state.residual[v] + problem.values[v]
+        score = float(np.corrcoef(fitted, problem.values[v])[0, 1])
+        cost = 1.0 - score if np.isfinite(score) else float("inf")
     return FitResult(
         params=state.params,
-        cost=1.0 - score if np.isfinite(score) else float("inf"),
+        cost=cost,
         evaluations=problem.evaluations,
         iterations=iteration,
         history=tuple(trace) if history else (),

@@ -243,18 +243,20 @@ def scores(image, pixels, inverse, runs, template, points, triangles, patch_weig
 
 
 @njit(cache=True, fastmath=True)
-def warp_jacobian(grad_x, grad_y, corners, bary, points, d_points, gain):
-    """The Jacobian (K, P) of the gain-scaled warped image with respect to the parameters.
+def warp_jacobian(grad_x, grad_y, corners, bary, points, d_points, gain, rows):
+    """The Jacobian (R, P) of the gain-scaled warped image with respect to the parameters, at
+    the template pixels `rows` (R,) only (the fit's visible ones: the others' rows would be
+    computed and dropped).
 
-    J[k, p] = gain[k] * (grad_x(W_k) * dW_k/dp_x + grad_y(W_k) * dW_k/dp_y), with W_k the warped
-    position of template pixel k (barycentric in `points` (1, N, 2)) and dW_k/dp barycentric in
-    the vertex derivatives `d_points` (P, N, 2); the gradient images are sampled bilinearly at
-    W_k. J^T J and J^T r then go through BLAS.
+    J[r, p] = gain[k] * (grad_x(W_k) * dW_k/dp_x + grad_y(W_k) * dW_k/dp_y), with k = rows[r],
+    W_k the warped position of template pixel k (barycentric in `points` (1, N, 2)) and dW_k/dp
+    barycentric in the vertex derivatives `d_points` (P, N, 2); the gradient images are sampled
+    bilinearly at W_k. J^T J and J^T r then go through BLAS.
     """
     n_params = d_points.shape[0]
-    count = corners.shape[0]
-    out = np.empty((count, n_params), dtype=np.float64)
-    for k in range(count):
+    out = np.empty((rows.shape[0], n_params), dtype=np.float64)
+    for r in range(rows.shape[0]):
+        k = rows[r]
         gx = _warped_sample(grad_x, corners, bary, points, 0, k) * gain[k]
         gy = _warped_sample(grad_y, corners, bary, points, 0, k) * gain[k]
         i, j, m = corners[k, 0], corners[k, 1], corners[k, 2]
@@ -262,7 +264,7 @@ def warp_jacobian(grad_x, grad_y, corners, bary, points, d_points, gain):
         for p in range(n_params):
             dx = wi * d_points[p, i, 0] + wj * d_points[p, j, 0] + wm * d_points[p, m, 0]
             dy = wi * d_points[p, i, 1] + wj * d_points[p, j, 1] + wm * d_points[p, m, 1]
-            out[k, p] = gx * dx + gy * dy
+            out[r, p] = gx * dx + gy * dy
     return out
 
 

@@ -164,7 +164,7 @@ class FaceTracker:
         def run(start: np.ndarray, gn: GaussNewtonConfig):
             local = start - offset
             box = tracking_box(local, width, config.rotation_limits_rad)
-            fit = gauss_newton(self.template, crop, local, box, config=gn)
+            fit = gauss_newton(self.template, crop, local, box, config=gn, scored=False)
             params = fit.params + offset
             ok = bool(np.all(np.isfinite(params)))
             return params, (float(scorer.scores(params)) if ok else -1.0), fit.evaluations, ok

@@ -62,12 +62,14 @@ class AppearanceGate:
         self.scale = 0.0
         self.frames = 0  # accepted frames since the reset
         self._cached = None
+        self._last_residual = None  # (sampling key, residual) of the last `outlier_share`
 
     def _samples(self, image: np.ndarray, params: np.ndarray, *, reuse: bool = False):
         # `accept` usually follows `outlier_share` on the same picture and pose: sample once.
         key = (id(image), params.tobytes())
         cached, self._cached = self._cached, None
         if reuse and cached is not None and cached[0] == key:
+            self._cached = cached
             return cached[1]
         out = self._sample(image, params)
         self._cached = (key, out)
@@ -113,6 +115,8 @@ class AppearanceGate:
             return 0.0
         samples, visible = self._samples(image, params)
         residual = self._residual(samples, visible & np.isfinite(self.mean))
+        # `accept` on the same picture and pose uses the same mask and mean: keep the residual.
+        self._last_residual = (self._cached[0], residual)
         if residual is None:
             return 1.0
         return float(np.mean(np.abs(residual) > self.outlier_k * max(self.scale, MIN_SCALE)))
@@ -120,7 +124,10 @@ class AppearanceGate:
     def accept(self, image: np.ndarray, params: np.ndarray) -> None:
         """Learn an accepted frame: departing pixels at a tenth of the rate."""
         samples, visible = self._samples(image, params, reuse=True)
-        self._cached = None
+        key, self._cached = self._cached[0], None
+        # `outlier_share`'s residual on this picture and pose, when it computed one: only
+        # `accept` changes the mean, and `known` below is the mask it used.
+        last, self._last_residual = self._last_residual, None
         self.frames += 1
         if self.mean is None:
             self.mean = np.where(visible, samples, np.nan)
@@ -129,7 +136,12 @@ class AppearanceGate:
         known = visible & np.isfinite(self.mean)
         fresh = visible & ~known
         self.mean[fresh] = samples[fresh]
-        residual = self._residual(samples, known) if known.sum() >= 16 else None
+        if known.sum() < 16:
+            return
+        if last is not None and last[0] == key:
+            residual = last[1]
+        else:
+            residual = self._residual(samples, known)
         if residual is None:
             return
         size = 1.4826 * float(np.median(np.abs(residual)))
