@@ -47,7 +47,9 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
   less (an application-limited stream sends no more than that), once per `silence_ms`; when
   the first report with packets after it shows they met no queue and none was lost, the
   silence was a lost report and the cut is undone (never after a handover: a new path's first
-  packets define its base delay, so meet none);
+  packets define its base delay, so meet none); with `judge_silence` (off by default) also
+  when, on the same path and soon after, the packets held up by it came out as a train at the
+  estimate before the cut or faster (an on/off link's off-period: `uma.control.silence`);
 - **recovery** (`recover_after_silence`, off by default): a cut of an application-limited
   stream (received below `alr_fraction` of the capacity) is followed, at the first report
   within `recover_window_ms` whose packets met less than `queue_target_ms` of queue and no
@@ -70,6 +72,7 @@ from uma.control.delivery import DeliveryReport
 from uma.control.gcc_delay import InterArrival, OveruseDetector, Trendline, Usage
 from uma.control.gcc_rate import GccRateSettings, LossController
 from uma.control.settings import DEFAULT_PRIORS_KBPS, UmaSettings
+from uma.control.silence import SilenceJudge
 
 __all__ = ["UmaSettings", "UmaController", "DEFAULT_PRIORS_KBPS"]
 
@@ -92,7 +95,7 @@ class UmaController:
         self._silences = 0  # the cuts since it (`on_silence`)
         self._probe_pending = False
         self.received_kbps: float | None = None  # what arrived, smoothed over `received_tau_ms`
-        self._before_silence: float | None = None  # the capacity the silence cut from
+        self.judge = SilenceJudge()  # the capacity a silence cut from, until judged
         self._base_ms: float | None = None  # the path's one-way delay with no queue
         self._last_arrival_ms = float("-inf")
         self._overdue = False  # the last report was empty with a packet overdue
@@ -125,7 +128,9 @@ class UmaController:
         now_ms = report.end_ms
         self._quiet_from(report, due)
         self._received(report)
-        self._undo_spurious_silence(report)
+        restored_kbps = self.judge.verdict(report, s, handover=bool(technology))
+        if restored_kbps is not None:
+            self.capacity_kbps = max(self.capacity_kbps, restored_kbps)
         if report.capacity_kbps is not None:
             weight = 1.0 - math.exp(-report.train_ms / s.capacity_tau_ms)
             if self._probe_pending:
@@ -261,17 +266,6 @@ class UmaController:
         (the engine follows it as it is)."""
         return min(max(target_kbps, self.settings.min_kbps), self.settings.max_kbps)
 
-    def _undo_spurious_silence(self, report: DeliveryReport) -> None:
-        """The first report after a silence: if its packets met no queue and none was lost,
-        the silence was a lost or late report, not an outage, and the cut is undone (as TCP's
-        Eifel response undoes a spurious timeout, RFC 4015)."""
-        before = self._before_silence
-        if before is None or not report.queue_delay_ms:
-            return  # a report with no packet says nothing either way: wait for one that does
-        self._before_silence = None
-        if not report.lost and min(report.queue_delay_ms) < self.settings.queue_low_ms:
-            self.capacity_kbps = max(self.capacity_kbps, before)
-
     def paused(self, now_ms: float) -> bool:
         """No report for `pause_ms`: the sender sends nothing new until one comes (a lost
         report costs a frame or two; a handover's gap or an outage gets none of the stream)."""
@@ -297,8 +291,7 @@ class UmaController:
         s = self.settings
         quiet_ms = self.quiet_ms(now_ms)
         if quiet_ms is not None and quiet_ms >= (self._silences + 1) * s.silence_ms:
-            if self._before_silence is None:
-                self._before_silence = self.capacity_kbps
+            self.judge.on_cut(self.capacity_kbps, self._quiet_since_ms)
             limited = self.received_kbps is not None and (
                 self.received_kbps < s.alr_fraction * self.capacity_kbps
             )
@@ -321,7 +314,7 @@ class UmaController:
         s = self.settings
         prior = s.priors_kbps.get(technology)
         self._reset_trend()
-        self._before_silence = None  # the silence was the handover's gap: no undoing it
+        self.judge.forget()  # the silence was the handover's gap: no undoing it
         self._base_ms = None  # the new path's delay is not known yet
         reason = "handover"
         if prior is not None and self._recovering_kbps is not None:

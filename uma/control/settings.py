@@ -57,6 +57,9 @@ class UmaSettings:
     bounded_queued_drop: bool = False
     queued_drop_floor: float = 0.5
     skip_limit_by_received: bool = True
+    judge_silence: bool = False
+    judge_window_ms: float = 1500.0
+    judge_fraction: float = 1.0
     priors_kbps: Mapping[str, float] = field(default_factory=lambda: DEFAULT_PRIORS_KBPS)
 
     def __post_init__(self) -> None:
@@ -73,6 +76,7 @@ class UmaSettings:
             "probe_weight",
             "recover_fraction",
             "queued_drop_floor",
+            "judge_fraction",
         ):
             if not 0 < getattr(self, name) <= 1:
                 raise ValueError(
@@ -84,6 +88,7 @@ class UmaSettings:
             "probe_interval_ms",
             "silence_ms",
             "received_tau_ms",
+            "judge_window_ms",
         ):
             if not getattr(self, name) > 0:
                 raise ValueError(f"UmaSettings.{name}: expected > 0, got {getattr(self, name)}")

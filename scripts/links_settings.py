@@ -1,0 +1,77 @@
+"""`uma bench links`'s scenario on chosen minutes of traces, with uma's controller settings changed.
+
+`python scripts/links_settings.py --case TRACE:OFFSET_S:DURATION_S [--case ...] [--engines
+uma,gcc] [--set judge_silence=true ...] [--workers 2] [--json OUT]` runs, per case and engine,
+the Salsify scenario exactly as `uma bench links` builds it (`uma.bench.links.link_task`, seed 0)
+on the trace from OFFSET_S for DURATION_S (`route[0].offset_s`), and prints its row (delay p95
+and median in ms, unfrozen SSIM in dB, frozen share, utilisation, video kbit/s). `--set` changes
+a field of `uma.control.UmaSettings` for the `uma` engine (values are JSON): the controller's
+settings that have no scenario key are reached by building the engine's `UmaSettings` with
+them (the `uma` rows of a run with no `--set` are the bench's to the digit). Run from the
+repository root with the checkout on `PYTHONPATH` (docs/rate-control.md, branch rc22).
+"""
+
+from __future__ import annotations
+
+import argparse
+import functools
+import json
+import sys
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+
+def _case_row(job: tuple) -> tuple:
+    trace, offset_s, duration_s, engine, overrides = job
+    import uma.engine.rate as rate
+    from uma.bench.links import LinksConfig, link_task, run_link
+    from uma.config import load_scenario
+    from uma.control.settings import UmaSettings
+
+    if overrides:
+        rate.UmaSettings = functools.partial(UmaSettings, **overrides)
+    scenario = load_scenario(Path("scenarios/salsify-tmobile-umts.yaml")).with_seed(0)
+    config = LinksConfig(scenario=scenario, traces=(trace,), duration_s=duration_s)
+    task = link_task(config, trace, engine, duration_s)
+    task["scenario"]["route"][0]["offset_s"] = offset_s
+    return trace, offset_s, duration_s, engine, run_link(task)["row"]
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--case", action="append", required=True, help="TRACE:OFFSET_S:DURATION_S")
+    parser.add_argument("--engines", default="uma,gcc")
+    parser.add_argument("--set", action="append", default=[], help="UmaSettings FIELD=JSON")
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--json", default=None)
+    args = parser.parse_args(argv)
+    overrides = {}
+    for item in args.set:
+        key, _, value = item.partition("=")
+        overrides[key] = json.loads(value)
+    jobs = []
+    for case in args.case:
+        trace, offset_s, duration_s = case.rsplit(":", 2)
+        for engine in args.engines.split(","):
+            extra = overrides if engine == "uma" else {}
+            jobs.append((trace, float(offset_s), float(duration_s), engine, extra))
+    rows = []
+    with ProcessPoolExecutor(args.workers) as pool:
+        for trace, offset_s, duration_s, engine, row in pool.map(_case_row, jobs):
+            name = Path(trace).stem
+            rows.append(dict(trace=name, offset_s=offset_s, duration_s=duration_s, engine=engine))
+            rows[-1].update(row)
+            print(
+                f"{name[:22]:22s} {offset_s:5.0f}+{duration_s:3.0f} {engine:6s} "
+                f"p95 {row['delay_p95_ms']:8.0f} median {row['delay_median_ms']:6.0f} "
+                f"SSIM unfrozen {row['ssim_db_unfrozen']:6.2f} frozen {row['freeze_ratio']:.4f} "
+                f"utilisation {row['utilisation']:.3f} video {row['kbps_video']:.1f} kbit/s",
+                flush=True,
+            )
+    if args.json:
+        Path(args.json).write_text(json.dumps({"overrides": overrides, "rows": rows}, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
