@@ -20,7 +20,10 @@ from uma.engine.policy import PolicyView
 from uma.engine.records import EngineEvent, Tally
 from uma.engine.switching import Switcher
 
-__all__ = ["Position"]
+__all__ = ["Position", "CLIMB"]
+
+# How the rate policy climbs after its hold (`PolicyView.climb`, one of `policy.CLIMBS`).
+CLIMB = "step"
 
 
 class Position:
@@ -48,6 +51,7 @@ class Position:
             estimate_kbps=estimate_kbps, safety=config.safety,
             up_hold_s=config.up_hold_ms / 1000.0, capacity_kbps=capacity_kbps,
             fixed_rung=config.fixed_rung, ladder=self.ladder.allowed(now_s),
+            climb=CLIMB,
         )  # fmt: skip
         if config.switching.policy == "none":
             return self.policy(view), None, []
