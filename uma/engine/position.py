@@ -22,8 +22,9 @@ from uma.engine.switching import Switcher
 
 __all__ = ["Position", "CLIMB"]
 
-# How the rate policy climbs after its hold (`PolicyView.climb`, one of `policy.CLIMBS`).
-CLIMB = "step"
+# How the rate policy climbs after its hold (`PolicyView.climb`, one of `policy.CLIMBS`):
+# within one stream to the budget's highest rung at once, a new size one rung with the margin.
+CLIMB = "stream"
 
 
 class Position:
