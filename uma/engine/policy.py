@@ -28,6 +28,7 @@ __all__ = [
     "oracle_policy",
     "fixed_policy",
     "highest_fitting",
+    "CLIMBS",
     "SwitchView",
     "SwitchSettings",
     "switch_settings",
@@ -47,7 +48,8 @@ class PolicyView:
     `capacity_kbps` is the true current downlink capacity, known only to the oracle (None for
     real policies); `points` is the engine's ladder, `current` the index of the point in use;
     `fixed_rung` counts rate-ladder points only; `ladder`, when given, is the rate ladder the
-    engine allows now (the face-region rungs left out while no face is found).
+    engine allows now (the face-region rungs left out while no face is found); `climb` how
+    `throughput_policy` goes up after `up_hold_s` (one of `CLIMBS`).
     """
 
     now_s: float
@@ -60,6 +62,11 @@ class PolicyView:
     capacity_kbps: float | None = None
     fixed_rung: int | None = None
     ladder: tuple[int, ...] | None = None
+    climb: str = "step"
+
+    def __post_init__(self) -> None:
+        if self.climb not in CLIMBS:
+            raise ValueError(f"PolicyView.climb: expected one of {CLIMBS}, got {self.climb!r}")
 
     @property
     def rate_ladder(self) -> tuple[int, ...]:
@@ -80,6 +87,9 @@ def highest_fitting(rates_kbps: tuple[float, ...], budget_kbps: float) -> int:
     return best
 
 
+# How the throughput policy climbs after its hold (`PolicyView.climb`).
+CLIMBS = ("step", "stream", "fit")
+
 # Up to a rung of another size (a keyframe) only when the budget is this multiple of its rate.
 UPSIZE_MARGIN = 1.25
 
@@ -87,7 +97,10 @@ UPSIZE_MARGIN = 1.25
 def throughput_policy(view: PolicyView) -> int:
     """Down at once to what the estimate carries; up one rung at a time after `up_hold_s`, to a
     rung of another size only with `UPSIZE_MARGIN` to spare (a new size costs a keyframe; a
-    rung of the same size only retargets the encoder).
+    rung of the same size only retargets the encoder). `view.climb` "stream": a climb within
+    one stream goes at once to its highest rung the budget carries, a new size is still one
+    step with the margin; "fit": at once to the highest rung the budget carries, of another size
+    only with the margin (one keyframe for the whole climb).
 
     From a point off the rate ladder (the model codec's), straight to the highest rung that fits.
     """
@@ -99,12 +112,38 @@ def throughput_policy(view: PolicyView) -> int:
     if target < current:
         return rungs[target]
     if target > current and view.now_s - view.last_switch_s >= view.up_hold_s:
+        if view.climb == "fit":
+            return _fitting_top(view, rungs, current, target)
         up = rungs[current + 1]
         if same_stream(view.points[up], view.points[view.current]):
-            return up
+            return _same_stream_top(view, rungs, current, target) if view.climb == "stream" else up
         # a new size costs a keyframe: only with room to spare (hysteresis)
         if view.safety * view.estimate_kbps >= UPSIZE_MARGIN * view.points[up].rate_kbps:
             return up
+    return view.current
+
+
+def _same_stream_top(view: PolicyView, rungs: tuple[int, ...], current: int, target: int) -> int:
+    """The highest point of `rungs[current + 1 : target + 1]` reached from `rungs[current]`
+    through points of the same stream only (a new size stops the climb)."""
+    top = rungs[current]
+    for index in rungs[current + 1 : target + 1]:
+        if not same_stream(view.points[index], view.points[view.current]):
+            break
+        top = index
+    return top
+
+
+def _fitting_top(view: PolicyView, rungs: tuple[int, ...], current: int, target: int) -> int:
+    """The highest point of `rungs[current + 1 : target + 1]` of the current stream, or of
+    another size with `UPSIZE_MARGIN` to spare; `rungs[current]` when none is."""
+    budget_kbps = view.safety * view.estimate_kbps
+    for index in reversed(rungs[current + 1 : target + 1]):
+        point = view.points[index]
+        if same_stream(point, view.points[view.current]):
+            return index
+        if budget_kbps >= UPSIZE_MARGIN * point.rate_kbps:
+            return index
     return view.current
 
 
