@@ -1,13 +1,16 @@
 """`uma bench links`'s scenario on chosen minutes of traces, with uma's controller settings changed.
 
 `python scripts/links_settings.py --case TRACE:OFFSET_S:DURATION_S [--case ...] [--engines
-uma,gcc] [--set judge_silence=true ...] [--workers 2] [--json OUT]` runs, per case and engine,
+uma,gcc] [--set judge_silence=true ...] [--engine climb=stream ...] [--workers 2] [--json OUT]`
+runs, per case and engine,
 the Salsify scenario exactly as `uma bench links` builds it (`uma.bench.links.link_task`, seed 0)
 on the trace from OFFSET_S for DURATION_S (`route[0].offset_s`), and prints its row (delay p95
 and median in ms, unfrozen SSIM in dB, frozen share, utilisation, video kbit/s). `--set` changes
 a field of `uma.control.UmaSettings` for the `uma` engine (values are JSON): the controller's
 settings that have no scenario key are reached by building the engine's `UmaSettings` with
-them (the `uma` rows of a run with no `--set` are the bench's to the digit). Run from the
+them (the `uma` rows of a run with no `--set` are the bench's to the digit). `--engine` sets a
+key of the scenario's `engine` section for every engine (values are JSON; `climb` is the rate
+policy's, which every engine follows: docs/rate-control.md, branch rc23). Run from the
 repository root with the checkout on `PYTHONPATH` (docs/rate-control.md, branch rc22).
 """
 
@@ -22,7 +25,7 @@ from pathlib import Path
 
 
 def _case_row(job: tuple) -> tuple:
-    trace, offset_s, duration_s, engine, overrides = job
+    trace, offset_s, duration_s, engine, overrides, engine_keys = job
     import uma.engine.rate as rate
     from uma.bench.links import LinksConfig, link_task, run_link
     from uma.config import load_scenario
@@ -34,6 +37,7 @@ def _case_row(job: tuple) -> tuple:
     config = LinksConfig(scenario=scenario, traces=(trace,), duration_s=duration_s)
     task = link_task(config, trace, engine, duration_s)
     task["scenario"]["route"][0]["offset_s"] = offset_s
+    task["scenario"].setdefault("engine", {}).update(engine_keys)
     return trace, offset_s, duration_s, engine, run_link(task)["row"]
 
 
@@ -42,6 +46,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--case", action="append", required=True, help="TRACE:OFFSET_S:DURATION_S")
     parser.add_argument("--engines", default="uma,gcc")
     parser.add_argument("--set", action="append", default=[], help="UmaSettings FIELD=JSON")
+    parser.add_argument("--engine", action="append", default=[], help="engine KEY=JSON")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--json", default=None)
     args = parser.parse_args(argv)
@@ -49,12 +54,16 @@ def main(argv: list[str] | None = None) -> int:
     for item in args.set:
         key, _, value = item.partition("=")
         overrides[key] = json.loads(value)
+    engine_keys = {}
+    for item in args.engine:
+        key, _, value = item.partition("=")
+        engine_keys[key] = json.loads(value)
     jobs = []
     for case in args.case:
         trace, offset_s, duration_s = case.rsplit(":", 2)
         for engine in args.engines.split(","):
             extra = overrides if engine == "uma" else {}
-            jobs.append((trace, float(offset_s), float(duration_s), engine, extra))
+            jobs.append((trace, float(offset_s), float(duration_s), engine, extra, engine_keys))
     rows = []
     with ProcessPoolExecutor(args.workers) as pool:
         for trace, offset_s, duration_s, engine, row in pool.map(_case_row, jobs):
@@ -69,7 +78,7 @@ def main(argv: list[str] | None = None) -> int:
                 flush=True,
             )
     if args.json:
-        Path(args.json).write_text(json.dumps({"overrides": overrides, "rows": rows}, indent=1))
+        Path(args.json).write_text(json.dumps({"overrides": overrides, "engine": engine_keys, "rows": rows}, indent=1))
     return 0
 
 

@@ -180,6 +180,18 @@ def test_policy_names_are_the_engines_policies():
     assert set(POLICY_NAMES) == set(POLICIES)
 
 
+def test_climb_names_are_the_policys_climbs_and_a_bad_one_is_named(tmp_path):
+    from uma.config.engine import CLIMB_NAMES
+    from uma.engine.policy import CLIMBS
+
+    assert CLIMB_NAMES == CLIMBS
+    assert load_scenario(write(tmp_path, MINIMAL)).engine.climb == "step"
+    stream = load_scenario(write(tmp_path, MINIMAL + "engine: {climb: stream}\n"))
+    assert stream.engine.climb == "stream"
+    with pytest.raises(ConfigError, match=r"engine\.climb.*expected one of step, stream, fit"):
+        load_scenario(write(tmp_path, MINIMAL + "engine: {climb: leap}\n"))
+
+
 def test_engine_and_receiver_tuning_is_configurable(tmp_path):
     text = MINIMAL + (
         "engine: {stale_reports: 5, max_backlog_ms: 500, presume_lost_ms: 1000,"

@@ -24,6 +24,7 @@ __all__ = [
     "POLICY_NAMES",
     "ESTIMATOR_KINDS",
     "SWITCHING_NAMES",
+    "CLIMB_NAMES",
     "PolicyName",
     "EstimatorKind",
     "SwitchingName",
@@ -40,6 +41,11 @@ ESTIMATOR_KINDS: tuple[str, ...] = get_args(EstimatorKind)
 # Switching policies `engine.switching.policy` may name (`uma.engine.policy.SWITCHING`).
 SwitchingName = Literal["none", "threshold", "predictive", "oracle"]
 SWITCHING_NAMES: tuple[str, ...] = get_args(SwitchingName)
+# How the throughput policy climbs after `up_hold_ms` (`uma.engine.policy.CLIMBS`): one rung
+# (`step`), a stream's highest fitting rung at once (`stream`), the highest fitting rung, of a
+# new size only with the margin (`fit`); docs/rate-control.md, branch rc23.
+ClimbName = Literal["step", "stream", "fit"]
+CLIMB_NAMES: tuple[str, ...] = get_args(ClimbName)
 
 
 class EstimatorConfig(Section):
@@ -173,7 +179,8 @@ class EngineConfig(Section):
     compute cost.
 
     `codec`: the full-frame codec of the rate ladder (a full-frame name of `uma.codecs`);
-    `ladder`: its ladder file (None: the codec's own under `codecs/`).
+    `ladder`: its ladder file (None: the codec's own under `codecs/`); `climb`: how the
+    throughput policy goes up after `up_hold_ms` (one of `CLIMB_NAMES`).
     """
 
     policy: Str = "throughput"
@@ -181,6 +188,7 @@ class EngineConfig(Section):
     ladder: Str | None = None
     safety: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, le=1)] = 0.85
     up_hold_ms: NonNeg = 1000.0
+    climb: Str = "step"
     fixed_rung: NonNegInt | None = None
     transcode_ms: NonNeg = 4.0
     estimator: EstimatorConfig = Field(default_factory=EstimatorConfig)
@@ -203,6 +211,13 @@ class EngineConfig(Section):
         # A plain string checked here (not the Literal) so the message lists the choices.
         if value not in POLICY_NAMES:
             raise ValueError(f"expected one of {', '.join(sorted(POLICY_NAMES))}")
+        return value
+
+    @field_validator("climb")
+    @classmethod
+    def _climb_name(cls, value: str) -> str:
+        if value not in CLIMB_NAMES:
+            raise ValueError(f"expected one of {', '.join(CLIMB_NAMES)}")
         return value
 
     @model_validator(mode="after")

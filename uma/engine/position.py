@@ -20,11 +20,7 @@ from uma.engine.policy import PolicyView
 from uma.engine.records import EngineEvent, Tally
 from uma.engine.switching import Switcher
 
-__all__ = ["Position", "CLIMB"]
-
-# How the rate policy climbs after its hold (`PolicyView.climb`, one of `policy.CLIMBS`):
-# within one stream to the budget's highest rung at once, a new size one rung with the margin.
-CLIMB = "stream"
+__all__ = ["Position"]
 
 
 class Position:
@@ -52,7 +48,7 @@ class Position:
             estimate_kbps=estimate_kbps, safety=config.safety,
             up_hold_s=config.up_hold_ms / 1000.0, capacity_kbps=capacity_kbps,
             fixed_rung=config.fixed_rung, ladder=self.ladder.allowed(now_s),
-            climb=CLIMB,
+            climb=config.climb,
         )  # fmt: skip
         if config.switching.policy == "none":
             return self.policy(view), None, []
