@@ -190,8 +190,8 @@ def test_a_plate_learns_and_fills_as_it_did_before() -> None:
 
 
 def test_telea_reads_a_smaller_radius_from_cif_up_and_only_the_band_moves() -> None:
-    """A CIF plate's luma band is Telea's with a 2-px radius, a QCIF one's with 3 as before;
-    outside the band the fill is the same whatever the radius."""
+    """A CIF plate's luma band is Telea's with a 1-px radius (neither 2 nor 3), a QCIF one's
+    with 3 as before; outside the band the fill is the same whatever the radius."""
     import cv2
 
     rng = np.random.default_rng(11)
@@ -204,9 +204,11 @@ def test_telea_reads_a_smaller_radius_from_cif_up_and_only_the_band_moves() -> N
     near = cv2.dilate(known.view(np.uint8), kernel) & ~known.view(np.uint8) & 1
     band = near.view(bool)
     got = layers.fill_unknown(plane, known)
+    one = np.where(band, cv2.inpaint(filled, near, 1, cv2.INPAINT_TELEA), filled)
     two = np.where(band, cv2.inpaint(filled, near, 2, cv2.INPAINT_TELEA), filled)
     three = np.where(band, cv2.inpaint(filled, near, 3, cv2.INPAINT_TELEA), filled)
-    assert np.array_equal(got, two) and not np.array_equal(got, three)
+    assert np.array_equal(got, one)
+    assert not np.array_equal(got, two) and not np.array_equal(got, three)
     assert np.array_equal(got[~band], three[~band])
     small, small_known = np.ascontiguousarray(plane[::2, ::2]), known[::2, ::2].copy()
     small_near = cv2.dilate(small_known.view(np.uint8), kernel) & ~small_known.view(np.uint8) & 1

@@ -69,11 +69,11 @@ EDGE_BAND_PX = 3  # the unknown band along the known background that is inpainte
 EDGE_FILL = "telea"
 EDGE_FILL_CHROMA = "nearest"
 # Telea's radius over that band: what a band pixel reads of its neighbours (its cost per band
-# pixel grows with its square); 2 px on pictures CIF wide or wider: a CIF luma fill 0.45 ms
-# less, every CIF clip within 0.01 dB tuned and held out; QCIF keeps 3 (foreman lost 0.03 dB
-# at 2; docs/mbc.md, session mbc20).
+# pixel grows with its square); 1 px on pictures CIF wide or wider (2 saved a CIF luma fill
+# 0.45 ms against 3, session mbc20; 1 a further share, every clip's face within 0.01 dB,
+# branch mbc23); QCIF keeps 3 (foreman lost 0.03 dB at 2; docs/mbc.md).
 EDGE_RADIUS_PX = 3
-EDGE_RADIUS_CIF_PX = 2
+EDGE_RADIUS_CIF_PX = 1
 CIF_WIDTH_PX = 352
 HAIR_OF_HEAD = 0.2  # how far above the head ring the halo reaches, in head-ring heights
 _PLATE_MIN_OVERLAP = 0.05  # of the picture, to judge a mismatch at all
