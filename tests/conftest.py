@@ -15,10 +15,12 @@ from hypothesis import settings
 
 from uma.paths import shared_data_dir
 
-settings.register_profile("ci", derandomize=True, database=None, print_blob=True)
+# No deadline: a test is never timed (speed is `uma bench`'s), and Hypothesis's 200 ms per
+# example failed parsers' tests on a first call at load 6-12.
+settings.register_profile("ci", derandomize=True, database=None, print_blob=True, deadline=None)
 # Explicit: with `CI` set, Hypothesis loads its own derandomised `ci` profile at import, and a
 # profile registered without values would inherit it.
-settings.register_profile("dev", derandomize=False)
+settings.register_profile("dev", derandomize=False, deadline=None)
 settings.load_profile(
     os.environ.get("HYPOTHESIS_PROFILE") or ("ci" if os.environ.get("CI") else "dev")
 )
