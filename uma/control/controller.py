@@ -95,7 +95,7 @@ class UmaController:
         self._silences = 0  # the cuts since it (`on_silence`)
         self._probe_pending = False
         self.received_kbps: float | None = None  # what arrived, smoothed over `received_tau_ms`
-        self.judge = SilenceJudge()  # the capacity a silence cut from, until judged
+        self._judge = SilenceJudge()  # the capacity a silence cut from, until judged
         self._base_ms: float | None = None  # the path's one-way delay with no queue
         self._last_arrival_ms = float("-inf")
         self._overdue = False  # the last report was empty with a packet overdue
@@ -128,7 +128,7 @@ class UmaController:
         now_ms = report.end_ms
         self._quiet_from(report, due)
         self._received(report)
-        restored_kbps = self.judge.verdict(report, s, handover=bool(technology))
+        restored_kbps = self._judge.verdict(report, s, handover=bool(technology))
         if restored_kbps is not None:
             self.capacity_kbps = max(self.capacity_kbps, restored_kbps)
         if report.capacity_kbps is not None:
@@ -291,7 +291,7 @@ class UmaController:
         s = self.settings
         quiet_ms = self.quiet_ms(now_ms)
         if quiet_ms is not None and quiet_ms >= (self._silences + 1) * s.silence_ms:
-            self.judge.on_cut(self.capacity_kbps, self._quiet_since_ms)
+            self._judge.on_cut(self.capacity_kbps, self._quiet_since_ms)
             limited = self.received_kbps is not None and (
                 self.received_kbps < s.alr_fraction * self.capacity_kbps
             )
@@ -314,7 +314,7 @@ class UmaController:
         s = self.settings
         prior = s.priors_kbps.get(technology)
         self._reset_trend()
-        self.judge.forget()  # the silence was the handover's gap: no undoing it
+        self._judge.forget()  # the silence was the handover's gap: no undoing it
         self._base_ms = None  # the new path's delay is not known yet
         reason = "handover"
         if prior is not None and self._recovering_kbps is not None:
