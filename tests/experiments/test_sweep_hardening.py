@@ -151,10 +151,8 @@ def test_a_grid_over_the_limit_is_refused_before_it_is_expanded(folder, monkeypa
         f"name: g\nbase: base.yaml\nrepeat: 3\ngrid:\n  receiver.playout_delay_ms: [{values}]\n"
         f"  seed: [{', '.join(str(i * 10) for i in range(20))}]\n"
     )
-    start = time.perf_counter()
-    with pytest.raises(ConfigError) as err:
+    with pytest.raises(ConfigError) as err:  # before any point is built (`never`), not timed
         load_experiment(folder / "exp.yaml")
-    assert time.perf_counter() - start < 1.0
     assert str(err.value).endswith(
         "exp.yaml:4 (grid): expected at most 10000 runs, got 12000 (200 x 20 values x repeat 3); "
         "split the experiment"
