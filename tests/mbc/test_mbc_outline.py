@@ -70,17 +70,21 @@ def test_half_resolution_band_weights_follow_the_full_ones():
 
 
 def test_the_softening_reads_the_half_resolution_weights(monkeypatch):
-    """With `OUTLINE_HALF_RES` the drawn picture is not the full-size weights' (and the face's
-    own pixels are kept either way)."""
+    """The drawn picture is the half-resolution weights', not the full-size ones' (and the
+    face's own pixels are kept either way)."""
     from uma.mbc import outline
 
     drawn, person = _scene(32)
     face = np.zeros_like(person)
     face[20:28, 28:36] = True
-    assert outline.OUTLINE_HALF_RES  # the default
+
+    def full_size(box, band_px):
+        weight = outline._weight(box, band_px)
+        return weight, weight[0::2, 0::2].copy()
+
     pictures = []
-    for flag in (True, False):
-        monkeypatch.setattr(outline, "OUTLINE_HALF_RES", flag)
+    for weights in (outline._half_res_weight, full_size):
+        monkeypatch.setattr(outline, "_half_res_weight", weights)
         out = drawn.copy()
         soften_outline(out, person, face, 10.0)
         assert np.array_equal(out[:48][face], drawn[:48][face])

@@ -21,7 +21,6 @@ __all__ = [
     "OUTLINE_OF_MOVE",
     "OUTLINE_MAX_PX",
     "OUTLINE_MAX_OF_WIDTH",
-    "OUTLINE_HALF_RES",
 ]
 
 OUTLINE_OF_MOVE = 0.45  # the band's half-width, as a share of the head's move (px per px)
@@ -31,9 +30,6 @@ OUTLINE_MAX_OF_WIDTH = 0.06  # and at most this share of the drawn head's (and h
 OUTLINE_INNER_OF_BAND = 2.0
 OUTLINE_SIGMA_OF_BAND = 0.5  # the blur's sigma, as a share of the band's half-width
 _EDGE_SIGMA_PX = 1.0  # the band's own edge fades over this
-# The band's weights (its distances and fade) found at half resolution and enlarged: a
-# quarter of the pixels; the pictures move by hundredths of a dB (docs/mbc.md, branch mbc23).
-OUTLINE_HALF_RES = True
 
 
 def outline_band_px(moved_px: float, width_px: float = np.inf) -> int:
@@ -75,28 +71,24 @@ def soften_outline(
         return
     sigma = max(OUTLINE_SIGMA_OF_BAND * band_px, 0.8)
     x0, y0, x1, y1 = _box(rect, person.shape, band_px + int(np.ceil(3 * sigma)) + 4)
-    if OUTLINE_HALF_RES:
-        weight, half = _half_res_weight(person[y0:y1, x0:x1], band_px)
-    else:
-        weight = _weight(person[y0:y1, x0:x1], band_px)
-        half = None
+    weight, half = _half_res_weight(person[y0:y1, x0:x1], band_px)
     weight[face[y0:y1, x0:x1]] = 0.0
     luma = out[y0:y1, x0:x1]
     _toward(luma, cv2.GaussianBlur(luma, (0, 0), sigma), weight)
     if not chroma:
         return
     planes = out[height:].reshape(2, height // 2, -1)[:, y0 // 2 : y1 // 2, x0 // 2 : x1 // 2]
-    if half is None:
-        half = weight[0::2, 0::2]
-    else:
-        half[face[y0:y1:2, x0:x1:2]] = 0.0
+    half[face[y0:y1:2, x0:x1:2]] = 0.0
     for plane in planes:
         _toward(plane, cv2.GaussianBlur(plane, (0, 0), max(sigma / 2, 0.5)), half)
 
 
-def _weight(person: np.ndarray, band_px: int) -> np.ndarray:
+def _weight(
+    person: np.ndarray, band_px: float, edge_sigma_px: float = _EDGE_SIGMA_PX
+) -> np.ndarray:
     """The band's weights (float32, the box's shape) about the edge of `person` (a box of the
-    mask): within `band_px` outside, `OUTLINE_INNER_OF_BAND` times it inside, its edge faded."""
+    mask): within `band_px` outside, `OUTLINE_INNER_OF_BAND` times it inside, its edge faded
+    over `edge_sigma_px`."""
     import cv2
 
     inside = person.astype(np.uint8)
@@ -104,20 +96,17 @@ def _weight(person: np.ndarray, band_px: int) -> np.ndarray:
     outside_px = cv2.distanceTransform(1 - inside, cv2.DIST_L2, 3)
     inside_px = cv2.distanceTransform(inside, cv2.DIST_L2, 3)
     band = (outside_px <= band_px) & (inside_px <= OUTLINE_INNER_OF_BAND * band_px)
-    return cv2.GaussianBlur(band.astype(np.float32), (0, 0), _EDGE_SIGMA_PX)
+    return cv2.GaussianBlur(band.astype(np.float32), (0, 0), edge_sigma_px)
 
 
 def _half_res_weight(person: np.ndarray, band_px: int) -> tuple[np.ndarray, np.ndarray]:
-    """`_weight` found on every other pixel (distances and fade at half resolution, in half
-    pixels), then enlarged (bilinear) to the box: (the box's weights, the half-size ones,
-    for chroma)."""
+    """`_weight` found on every other pixel (a quarter of the pixels; distances and fade in
+    half pixels), then enlarged (bilinear) to the box: (the box's weights, the half-size ones,
+    for chroma). The pictures move by hundredths of a dB against the full-size weights
+    (docs/mbc.md, branch mbc23)."""
     import cv2
 
-    inside = np.ascontiguousarray(person[0::2, 0::2]).astype(np.uint8)
-    outside_px = cv2.distanceTransform(1 - inside, cv2.DIST_L2, 3)
-    inside_px = cv2.distanceTransform(inside, cv2.DIST_L2, 3)
-    band = (outside_px <= band_px / 2) & (inside_px <= OUTLINE_INNER_OF_BAND * band_px / 2)
-    half = cv2.GaussianBlur(band.astype(np.float32), (0, 0), _EDGE_SIGMA_PX / 2)
+    half = _weight(person[0::2, 0::2], band_px / 2, _EDGE_SIGMA_PX / 2)
     size = (person.shape[1], person.shape[0])
     return cv2.resize(half, size, interpolation=cv2.INTER_LINEAR), half
 
