@@ -16,6 +16,7 @@ KEYS = (
     "no_probe_into_silence",
     "take_queued_drop",
     "bounded_queued_drop",
+    "judge_silence",
 )
 ON_KEYS = (  # adopted (docs/rate-control.md, rc14, rc15)
     "fixed_due_time",

@@ -75,6 +75,9 @@ class EstimatorConfig(Section):
     `skip_limit_by_received` (`uma` only; on): past the skip rule's 1-s limit a frame is
     still skipped while the sender is paused and the frame would not drain within that limit
     at what arrived over the last second (a silent link, not a trickle).
+    `judge_silence` (`uma` only; off): a silence's cut is also undone when, on the same path
+    and soon after, the packets it held up drain as a train at the estimate before the cut
+    (`uma.control.silence`; docs/rate-control.md, `rc22`).
     """
 
     initial_kbps: PosNum = 300.0
@@ -91,6 +94,7 @@ class EstimatorConfig(Section):
     take_queued_drop: Bool = False
     bounded_queued_drop: Bool = False
     skip_limit_by_received: Bool = True
+    judge_silence: Bool = False
 
     @model_validator(mode="after")
     def _consistent(self) -> EstimatorConfig:

@@ -187,6 +187,7 @@ class UmaRate(RateControl):
                 take_queued_drop=cfg.take_queued_drop,
                 bounded_queued_drop=cfg.bounded_queued_drop,
                 skip_limit_by_received=cfg.skip_limit_by_received,
+                judge_silence=cfg.judge_silence,
             )
         )
         self._report_ms: float | None = None  # the last report's end, on the receiver's clock
