@@ -17,7 +17,7 @@ ROOT = Path(uma.__file__).parent
 
 # Lowest first. `uma/__init__.py` and the single-module rooms form the floor.
 LEVELS: list[set[str]] = [
-    {"errors", "failure", "interrupt", "paths"},
+    {"blas", "errors", "failure", "interrupt", "paths"},
     {"atomic", "codecs"},  # `codecs`: the codec registry, pure data
     {"__init__"},
     {"config"},

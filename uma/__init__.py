@@ -7,9 +7,16 @@ returns a `uma.Run` (`.metrics`, `.frames`, `.events`, `.scenario`, `.timeline()
 
 Sub-packages hold one job each (docs/architecture.md): `traces`, `video`, `face`, `fit`,
 `engine`, `sim`, `metrics`, `experiments`, `report`, `bench`, `cli`.
+
+Importing uma pins OpenBLAS's kernel set before NumPy loads (`uma.blas`), so a seed gives the
+same figures on any x86-64 machine with AVX2.
 """
 
-from uma.errors import (
+from uma.blas import pin_kernels
+
+pin_kernels()
+
+from uma.errors import (  # noqa: E402
     ConfigError,
     FaceError,
     OutputError,

@@ -15,6 +15,7 @@ import platform
 from importlib import metadata
 from pathlib import Path
 
+from uma.blas import cpu_flags, cpuinfo_text
 from uma.errors import ConfigError
 
 __all__ = [
@@ -36,26 +37,9 @@ _PACKAGES = ("numpy", "scipy", "numba", "opencv-python-headless", "av", "scikit-
 _CPUINFO = Path("/proc/cpuinfo")
 
 
-def cpu_flags(cpuinfo_text: str) -> frozenset[str]:
-    """The feature flags of the first processor in `/proc/cpuinfo`'s text (empty if none)."""
-    for line in cpuinfo_text.splitlines():
-        key, sep, value = line.partition(":")
-        if sep and key.strip() == "flags":
-            return frozenset(value.split())
-    return frozenset()
-
-
-def _cpuinfo_text(path: Path) -> str:
-    try:
-        with open(path, encoding="utf-8", errors="replace") as stream:
-            return stream.read(1 << 20)
-    except OSError:
-        return ""
-
-
 def machine_class(cpuinfo_path: Path = _CPUINFO) -> str:
     """`avx512` when the CPU has AVX-512F, else `default` (one of `MACHINE_CLASSES`)."""
-    return "avx512" if "avx512f" in cpu_flags(_cpuinfo_text(cpuinfo_path)) else "default"
+    return "avx512" if "avx512f" in cpu_flags(cpuinfo_text(cpuinfo_path)) else "default"
 
 
 def _cpu_model(cpuinfo_text: str) -> str:
@@ -99,7 +83,7 @@ def blas_core() -> str | None:
 def machine_summary(cpuinfo_path: Path = _CPUINFO) -> dict:
     """What a record says of the machine that made it: class, CPU, BLAS kernels, Python,
     library versions."""
-    text = _cpuinfo_text(cpuinfo_path)
+    text = cpuinfo_text(cpuinfo_path)
     return {
         "class": "avx512" if "avx512f" in cpu_flags(text) else "default",
         "cpu": _cpu_model(text),

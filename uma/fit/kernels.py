@@ -7,6 +7,10 @@ interpolation), the input image is sampled there bilinearly and the samples are 
 the template values, in one pass without temporaries. Outside the image the border pixel repeats
 (as cv2.BORDER_REPLICATE). Doing the projection here too removes the ~100 us of numpy overhead
 a batch that `project` + culling cost, more than scoring 2,000 pixels.
+
+No `fastmath`: it lets LLVM reorder the sums to fill the CPU's vector width, so the same seed
+gave other figures on a machine with other vector units (`docs/experiments.md`). In strict
+order every sum is the same on any x86-64 machine.
 """
 
 from __future__ import annotations
@@ -27,7 +31,7 @@ MIN_PIXELS = 16  # a candidate seeing fewer template pixels scores -1
 MIN_PATCH_PIXELS = 4  # smaller patches are left out of the illumination-compensated score
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True)
 def project_batch(vertices, units, params):
     """Projected vertices (B, N, 2) float32 of parameter sets (B, 6 + A)."""
     batch = params.shape[0]
@@ -58,7 +62,7 @@ def project_batch(vertices, units, params):
     return out
 
 
-@njit(cache=True, fastmath=True, inline="always")
+@njit(cache=True, inline="always")
 def _bilinear(image, x, y):
     height, width = image.shape
     if x < 0.0:
@@ -80,7 +84,7 @@ def _bilinear(image, x, y):
     return top * (1.0 - fy) + bottom * fy
 
 
-@njit(cache=True, fastmath=True, inline="always")
+@njit(cache=True, inline="always")
 def _bilinear_flat(flat, width, x, y):
     """`_bilinear` where x in [0, width - 1) and y in [0, height - 1), on the image's row-major
     pixels: no clamping, and one unsigned index spares the four 2-D index computations and
@@ -95,7 +99,7 @@ def _bilinear_flat(flat, width, x, y):
     return top * (1.0 - fy) + bottom * fy
 
 
-@njit(cache=True, fastmath=True, inline="always")
+@njit(cache=True, inline="always")
 def _inside(points, triangles, b, t, width, height):
     """Whether candidate b's triangle t lies where bilinear sampling needs no clamping."""
     for c in range(3):
@@ -106,7 +110,7 @@ def _inside(points, triangles, b, t, width, height):
     return True
 
 
-@njit(cache=True, fastmath=True, inline="always")
+@njit(cache=True, inline="always")
 def _warped_sample(image, corners, bary, points, b, k):
     """The image at template pixel k moved by candidate b's vertices."""
     i, j, m = corners[k, 0], corners[k, 1], corners[k, 2]
@@ -115,7 +119,7 @@ def _warped_sample(image, corners, bary, points, b, k):
     return _bilinear(image, x, y)
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True)
 def _front_facing(points, triangles, b, out):
     """Triangles of candidate b that face the camera (clockwise in image coordinates)."""
     for t in range(triangles.shape[0]):
@@ -127,7 +131,7 @@ def _front_facing(points, triangles, b, out):
         out[t] = cross < 0.0
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True)
 def sample_at(image, corners, bary, points):
     """Samples of `image` at the template pixels moved to `points` (B, N, 2) -> (B, K)."""
     batch = points.shape[0]
@@ -139,7 +143,7 @@ def sample_at(image, corners, bary, points):
     return out
 
 
-@njit(cache=True, fastmath=True, inline="always")
+@njit(cache=True, inline="always")
 def _affine(points, triangles, inverse, b, t, out):
     """The affine map (2, 3) taking template pixel (x, y, 1) of triangle t to candidate b."""
     i, j, m = triangles[t, 0], triangles[t, 1], triangles[t, 2]
@@ -153,7 +157,7 @@ def _affine(points, triangles, inverse, b, t, out):
 
 # Long on purpose (86 lines): one pass per candidate over every template pixel with running
 # sums in registers; split into helpers, numba would keep the sums in arrays between calls.
-@njit(cache=True, fastmath=True)
+@njit(cache=True)
 def scores(image, pixels, inverse, runs, template, points, triangles, patch_weight):
     """Correlation of the template with the image warped by each candidate (B,) in [-1, 1].
 
@@ -242,7 +246,7 @@ def scores(image, pixels, inverse, runs, template, points, triangles, patch_weig
     return out
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True)
 def warp_jacobian(grad_x, grad_y, corners, bary, points, d_points, gain, rows):
     """The Jacobian (R, P) of the gain-scaled warped image with respect to the parameters, at
     the template pixels `rows` (R,) only (the fit's visible ones: the others' rows would be

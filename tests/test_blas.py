@@ -1,0 +1,62 @@
+"""`import uma` pins OpenBLAS's kernel set where the CPU can run it, and only there."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+
+import pytest
+
+from uma.blas import PINNED_CORE, cpu_flags, pinned_core
+
+_AVX2 = frozenset({"sse2", "avx", "avx2", "fma"})
+
+
+def test_an_avx2_cpu_is_pinned_to_the_haswell_kernels():
+    assert pinned_core({}, _AVX2, numpy_loaded=False) == PINNED_CORE == "Haswell"
+    assert pinned_core({}, _AVX2 | {"avx512f"}, numpy_loaded=False) == "Haswell"
+
+
+@pytest.mark.parametrize(
+    ("environ", "flags", "numpy_loaded"),
+    [
+        ({"OPENBLAS_CORETYPE": "Prescott"}, _AVX2, False),  # the user's (or a check's) choice
+        ({}, _AVX2, True),  # NumPy loaded first: OpenBLAS has chosen already
+        ({}, frozenset({"sse2", "avx"}), False),  # no AVX2: those kernels would not run
+        ({}, frozenset({"avx2"}), False),  # no FMA
+        ({}, frozenset(), False),  # no /proc/cpuinfo (another OS)
+    ],
+    ids=["user-set", "numpy-first", "no-avx2", "no-fma", "unknown-cpu"],
+)
+def test_otherwise_openblas_keeps_its_own_choice(environ, flags, numpy_loaded):
+    assert pinned_core(environ, flags, numpy_loaded) is None
+
+
+def _in_a_process(code: str, **env: str) -> str:
+    clean = {k: v for k, v in os.environ.items() if k != "OPENBLAS_CORETYPE"}
+    done = subprocess.run(
+        [sys.executable, "-c", code], env={**clean, **env}, capture_output=True, text=True
+    )
+    assert done.returncode == 0, done.stderr
+    return done.stdout.strip()
+
+
+_REPORT = (
+    "import os\nfrom uma.experiments.machine import blas_core\n"
+    "print(os.environ.get('OPENBLAS_CORETYPE'), blas_core())"
+)
+
+
+def test_importing_uma_first_runs_numpy_on_the_pinned_kernels():
+    with open("/proc/cpuinfo", encoding="utf-8", errors="replace") as stream:
+        if not cpu_flags(stream.read()) >= {"avx2", "fma"}:
+            pytest.skip("this CPU cannot run the Haswell kernels")
+    told, ran = _in_a_process("import uma\n" + _REPORT).split()
+    if ran == "None":
+        pytest.skip("this NumPy has no OpenBLAS")
+    assert told == ran == "Haswell"
+    assert _in_a_process("import uma\n" + _REPORT, OPENBLAS_CORETYPE="Prescott").split()[1] not in (
+        "Haswell",
+        "None",
+    )

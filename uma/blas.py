@@ -1,0 +1,60 @@
+"""One OpenBLAS kernel set on every machine that can run it, so a seed gives the same bits.
+
+NumPy's and SciPy's wheels carry OpenBLAS, which picks its kernels from the CPU when it loads
+(`Haswell` on an AVX2 CPU, `SkylakeX` on one with AVX-512, ...). Kernels sum a product in
+different orders, so the same seed gave other figures on another machine: a rendered face moved
+by a last bit, and the runs drifted apart from there (docs/experiments.md). `pin_kernels`, which
+`import uma` calls first, sets `OPENBLAS_CORETYPE` to `Haswell` (AVX2 and FMA) before NumPy
+loads, on every CPU that can run those kernels. It leaves OpenBLAS's own choice when the
+variable is already set (a user's or a check's choice), when NumPy was imported before uma
+(too late: `uma.experiments.machine.blas_core` records what ran), and on a CPU without AVX2
+and FMA (the kernels would not run there). Child processes inherit the variable.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from collections.abc import Mapping
+from pathlib import Path
+
+__all__ = ["PINNED_CORE", "cpu_flags", "pinned_core", "pin_kernels"]
+
+PINNED_CORE = "Haswell"
+_NEEDS = frozenset({"avx2", "fma"})  # what the Haswell kernels execute
+_CPUINFO = Path("/proc/cpuinfo")
+
+
+def cpu_flags(cpuinfo_text: str) -> frozenset[str]:
+    """The feature flags of the first processor in `/proc/cpuinfo`'s text (empty if none)."""
+    for line in cpuinfo_text.splitlines():
+        key, sep, value = line.partition(":")
+        if sep and key.strip() == "flags":
+            return frozenset(value.split())
+    return frozenset()
+
+
+def cpuinfo_text(path: Path = _CPUINFO) -> str:
+    """`/proc/cpuinfo`'s text, or "" where it cannot be read (another OS)."""
+    try:
+        with open(path, encoding="utf-8", errors="replace") as stream:
+            return stream.read(1 << 20)
+    except OSError:
+        return ""
+
+
+def pinned_core(
+    environ: Mapping[str, str], flags: frozenset[str], numpy_loaded: bool
+) -> str | None:
+    """The kernel set to pin, or None to leave OpenBLAS's own choice."""
+    if "OPENBLAS_CORETYPE" in environ or numpy_loaded or not flags >= _NEEDS:
+        return None
+    return PINNED_CORE
+
+
+def pin_kernels(cpuinfo_path: Path = _CPUINFO) -> str | None:
+    """Set `OPENBLAS_CORETYPE` for this process and its children; the set pinned, or None."""
+    core = pinned_core(os.environ, cpu_flags(cpuinfo_text(cpuinfo_path)), "numpy" in sys.modules)
+    if core is not None:
+        os.environ["OPENBLAS_CORETYPE"] = core
+    return core
