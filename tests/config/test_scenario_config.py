@@ -185,9 +185,9 @@ def test_climb_names_are_the_policys_climbs_and_a_bad_one_is_named(tmp_path):
     from uma.engine.policy import CLIMBS
 
     assert CLIMB_NAMES == CLIMBS
-    assert load_scenario(write(tmp_path, MINIMAL)).engine.climb == "step"
-    stream = load_scenario(write(tmp_path, MINIMAL + "engine: {climb: stream}\n"))
-    assert stream.engine.climb == "stream"
+    assert load_scenario(write(tmp_path, MINIMAL)).engine.climb == "stream"
+    step = load_scenario(write(tmp_path, MINIMAL + "engine: {climb: step}\n"))
+    assert step.engine.climb == "step"
     with pytest.raises(ConfigError, match=r"engine\.climb.*expected one of step, stream, fit"):
         load_scenario(write(tmp_path, MINIMAL + "engine: {climb: leap}\n"))
 

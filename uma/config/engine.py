@@ -42,8 +42,9 @@ ESTIMATOR_KINDS: tuple[str, ...] = get_args(EstimatorKind)
 SwitchingName = Literal["none", "threshold", "predictive", "oracle"]
 SWITCHING_NAMES: tuple[str, ...] = get_args(SwitchingName)
 # How the throughput policy climbs after `up_hold_ms` (`uma.engine.policy.CLIMBS`): one rung
-# (`step`), a stream's highest fitting rung at once (`stream`), the highest fitting rung, of a
-# new size only with the margin (`fit`); docs/rate-control.md, branch rc23.
+# (`step`), a stream's highest fitting rung at once (`stream`, the default since session 24),
+# the highest fitting rung, of a new size only with the margin (`fit`); docs/rate-control.md,
+# branch rc23.
 ClimbName = Literal["step", "stream", "fit"]
 CLIMB_NAMES: tuple[str, ...] = get_args(ClimbName)
 
@@ -192,7 +193,7 @@ class EngineConfig(Section):
     ladder: Str | None = None
     safety: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, le=1)] = 0.85
     up_hold_ms: NonNeg = 1000.0
-    climb: Str = "step"
+    climb: Str = "stream"
     fixed_rung: NonNegInt | None = None
     transcode_ms: NonNeg = 4.0
     estimator: EstimatorConfig = Field(default_factory=EstimatorConfig)
