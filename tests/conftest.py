@@ -13,6 +13,7 @@ from pathlib import Path
 import pytest
 from hypothesis import settings
 
+import uma  # noqa: F401  pins OpenBLAS's kernels (uma.blas) before a test's import loads NumPy
 from uma.paths import shared_data_dir
 
 # No deadline: a test is never timed (speed is `uma bench`'s), and Hypothesis's 200 ms per
