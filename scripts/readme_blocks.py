@@ -232,6 +232,48 @@ def mbc_verdicts(results: Results, args: Args) -> str:
     )
 
 
+def _links_rules(trace: dict[str, Any]) -> tuple[bool, bool, bool]:
+    """Issue 26's three rules on one trace: p95 <= GCC's, <= max(1,000, 1.5 x the oracle's),
+    unfrozen SSIM at most 0.5 dB below GCC's."""
+    uma, gcc, oracle = (trace["engines"][name] for name in ("uma", "gcc", "oracle"))
+    return (
+        uma["delay_p95_ms"] <= gcc["delay_p95_ms"],
+        uma["delay_p95_ms"] <= max(1000.0, 1.5 * oracle["delay_p95_ms"]),
+        uma["ssim_db_unfrozen"] >= gcc["ssim_db_unfrozen"] - 0.5,
+    )
+
+
+def links_table(results: Results, args: Args) -> str:
+    """`uma bench links`: uma against GCC and the oracle on each trace, and the three rules."""
+    lines = [
+        "| trace | uma p95 ms / unfrozen SSIM dB / frozen | gcc | oracle p95 ms "
+        "| <= gcc | <= max(1,000, 1.5 x oracle) | SSIM >= gcc - 0.5 |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for name, trace in results[0]["traces"].items():
+        cells = [
+            f"{_num(e['delay_p95_ms'], ',.0f')} / {e['ssim_db_unfrozen']:.2f} / "
+            f"{e['freeze_ratio']:.3f}"
+            for e in (trace["engines"]["uma"], trace["engines"]["gcc"])
+        ]
+        oracle = _num(trace["engines"]["oracle"]["delay_p95_ms"], ",.0f")
+        rules = " | ".join("yes" if ok else "**no**" for ok in _links_rules(trace))
+        lines.append(f"| {name} | {cells[0]} | {cells[1]} | {oracle} | {rules} |")
+    return "\n".join(lines)
+
+
+def links_verdicts(results: Results, args: Args) -> str:
+    """How many traces meet each of issue 26's rules for `uma bench links`, and which miss."""
+    traces = results[0]["traces"]
+    names = ("p95 at most GCC's", "p95 within max(1,000 ms, 1.5 x the oracle's)",
+             "unfrozen SSIM at most 0.5 dB below GCC's")  # fmt: skip
+    parts = []
+    for index, rule in enumerate(names):
+        missed = [name for name, trace in traces.items() if not _links_rules(trace)[index]]
+        parts.append(f"{rule} on {len(traces) - len(missed)} of {len(traces)}")
+    return f"uma's {'; '.join(parts)}"
+
+
 def sim_table(results: Results, args: Args) -> str:
     """`uma bench sim` runs, a row each: speed against real time and against the floor."""
     lines = [
@@ -255,4 +297,6 @@ RENDERERS: dict[str, Callable[[Results, Args], str]] = {
     "salsify-table": salsify_table,
     "mbc-table": mbc_table,
     "mbc-verdicts": mbc_verdicts,
+    "links-table": links_table,
+    "links-verdicts": links_verdicts,
 }

@@ -234,3 +234,39 @@ def test_a_record_says_which_kind_of_machine_made_it(monkeypatch, tmp_path):
     assert doc["result"] == {"figure": 1}
     assert doc["machine"]["class"] in ("avx512", "default")
     assert doc["machine"]["packages"]["numpy"]
+
+
+def _links_trace(uma_p95: float, gcc_p95: float, oracle_p95: float, uma_ssim: float) -> dict:
+    def engine(p95: float, ssim: float) -> dict:
+        return {"delay_p95_ms": p95, "ssim_db_unfrozen": ssim, "freeze_ratio": 0.1}
+
+    return {
+        "engines": {
+            "uma": engine(uma_p95, uma_ssim),
+            "gcc": engine(gcc_p95, 12.0),
+            "oracle": engine(oracle_p95, 13.0),
+        }
+    }
+
+
+def test_the_links_rules_are_issue_26s_three_per_trace():
+    import readme_blocks
+
+    result = {
+        "traces": {
+            "calm": _links_trace(400, 500, 300, 11.6),  # all three met (1,000 ms floor)
+            "slow": _links_trace(1_600, 1_500, 1_100, 11.4),  # above gcc, within 1.5 x oracle
+            "harsh": _links_trace(2_000, 3_000, 1_200, 12.5),  # above 1.5 x oracle (1,800)
+        }
+    }
+    rows = readme_blocks.links_table([result], {}).splitlines()[2:]
+    assert [row.split(" | ")[-3:] for row in rows] == [
+        ["yes", "yes", "yes |"],
+        ["**no**", "yes", "**no** |"],
+        ["yes", "**no**", "yes |"],
+    ]
+    said = readme_blocks.links_verdicts([result], {})
+    assert said == (
+        "uma's p95 at most GCC's on 2 of 3; p95 within max(1,000 ms, 1.5 x the oracle's) on 2 "
+        "of 3; unfrozen SSIM at most 0.5 dB below GCC's on 2 of 3"
+    )
