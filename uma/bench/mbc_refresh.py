@@ -16,7 +16,9 @@ decoded; until the first one the receiver renders from what it held before (the 
 encoder adopted (`RefreshSpec.choose`) at the decoded pose, relit by light measured against
 that same reference: the encoder mirrors the
 receiver (it knows what it sent and when it arrives) and the receiver replays the same switches.
-A refresh frame the tracker found no face on is not coded.
+A refresh frame the tracker found no face on is not coded. The parameter stream carries the
+block map's changes, chosen on that same mirror and taken by the receiver, as the simulation's
+(`uma.bench.mbc_refresh_engine`): the map's drawing of a judged frame is the judge's too.
 """
 
 from __future__ import annotations
