@@ -54,9 +54,9 @@ def _run(clip_results, monkeypatch, *, shared: bool, body: bool):
 @pytest.mark.parametrize("which", ["qcif", "cif_body"])
 def test_the_shared_drawing_changes_no_pixel_and_no_decision(
     which,
-    head_clip,
+    head_clip,  # noqa: F811
     cif_clip,
-    monkeypatch,  # noqa: F811
+    monkeypatch,
 ) -> None:
     clip = head_clip if which == "qcif" else cif_clip
     body = which == "cif_body"

@@ -284,8 +284,8 @@ def refresh_display(
 ) -> tuple[list[np.ndarray], float, dict]:
     """Every frame's display (YUV 4:2:0), the total rate (kbit/s) and what the refresh did;
     `results` the tracker's per frame, `model_kbps` the plain stream's payload at the clip's
-    rate, `profile` the `engine.mbc` section the receiver renders as (None: its defaults). With nothing left of the rung's rate
-    it is the plain MBC (no refresh unit)."""
+    rate, `profile` the `engine.mbc` section the receiver renders as (None: its defaults).
+    With nothing left of the rung's rate it is the plain MBC (no refresh unit)."""
     from uma.config.codecs import MbcConfig
     from uma.errors import ConfigError
     from uma.video import load_ladder
@@ -305,26 +305,22 @@ def refresh_display(
     sender = _Sender(clip, face_units, spec, coder, corners, budget_kbps, ahead)
     mirror = _renderer(clip, results, spec, size, profile, luma_only=True)
     engine = run_engine(clip, results, face_units, stream_config, sender, mirror)
-    packets, switches = engine.packets, engine.switches
     if coder is not None:
         coder.close()  # one SVT-AV1 encoder open at a time in a process
     receiver = _renderer(clip, results, spec, size, profile)
-    shown, switch_s, switch_cpu_s = receive(
-        receiver, face_units, frames[0], len(frames), engine, sender.units_in()
-    )
+    shown, switch_s, switch_cpu_s = receive(receiver, face_units, frames[0], len(frames), engine,
+                                            sender.units_in())  # fmt: skip
     seconds = len(frames) / clip.fps
-    params_kbps = sum(p.size_bytes for p in packets) * 8 / seconds / 1000.0
+    params_kbps = sum(p.size_bytes for p in engine.packets) * 8 / seconds / 1000.0
     units, flag_bits = sender.units, len(sender.units) if spec.choose else 0
     refresh_kbps = (sum(u.size_bits for u in units) + flag_bits) / seconds / 1000.0
-    info = _info(spec, budget_kbps, params_kbps, refresh_kbps, units, sender.adopted, switches)
+    info = _info(spec, budget_kbps, params_kbps, refresh_kbps, units, sender.adopted, engine)
     # The engine's mirror (luma only) and the receiver took the same refreshes: the same luma.
-    same = np.array_equal(mirror.reference[: size[1]], receiver.reference[: size[1]])
-    info["mirror_is_receiver"] = bool(same)
+    info["mirror_is_receiver"] = np.array_equal(mirror.reference[: size[1]],
+                                                receiver.reference[: size[1]])  # fmt: skip
     # Encoding and decoding the refresh pictures (for a residual, the engine's rendering it is
-    # coded against), and the receiver's decoding every unit it receives and taking them (the
-    # composition), per frame of the clip: the model path's refresh share.
-    # The engine's judging (its mirror's drawing) is counted too, and apart, and so is its
-    # mirror taking each refresh the receiver takes.
+    # coded against), the receiver's decoding and taking the units, per frame of the clip: the
+    # model path's refresh share; the engine's judging and its mirror's takes too, and apart.
     spent = (sender.seconds, sender.judge_seconds, sender.mirror_seconds)
     wall, cpu = (sum(s[k] for s in spent) for k in (0, 1))
     info["ms_per_frame"] = round((wall + switch_s) * 1000.0 / len(frames), 3)
@@ -333,13 +329,14 @@ def refresh_display(
     info["mirror_take_ms_per_frame"] = round(sender.mirror_seconds[0] * 1000.0 / len(frames), 3)
     info["receiver_take_ms_per_frame"] = round(switch_s * 1000.0 / len(frames), 3)
     # The engine's map on this mirror (its drawing whole on a judged frame: the judge's too).
-    info["map_engine_ms_median"] = median([ms[0] for ms in engine.map_ms])
-    info["map_engine_cpu_ms_median"] = median([ms[1] for ms in engine.map_ms])
+    for key, k in (("map_engine_ms_median", 0), ("map_engine_cpu_ms_median", 1)):
+        info[key] = median([ms[k] for ms in engine.map_ms])
     return shown, params_kbps + refresh_kbps, info
 
 
-def _info(spec, budget_kbps, params_kbps, refresh_kbps, units, adopted, switches) -> dict:
+def _info(spec, budget_kbps, params_kbps, refresh_kbps, units, adopted, engine) -> dict:
     """What the refresh did, for the bench's JSON."""
+    switches = engine.switches
     delays = [i - units[k].frame for i, taken in switches.items() for k, _ in taken]
     return {
         "refresh_fps": spec.refresh_fps,

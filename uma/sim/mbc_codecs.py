@@ -209,26 +209,14 @@ class MbcPointEncoder:
         return np.concatenate([params, body, light])
 
     def _map(self, picture: np.ndarray, decoded: np.ndarray) -> np.ndarray | None:
-        """The frame's block map changes (`uma.mbc.map_sender`) against `picture`; the mirror's
-        drawing whole when the refresh's judge may read it (`_judged`)."""
+        """The frame's block map changes (`uma.mbc.map_sender`) against `picture`: the mirror
+        drawn whole (the refresh's judge reads it then) once a refresh is taken with refreshes
+        on (before that the judge draws the receiver's view; the engine's order follows)."""
         if self.mirror is None:
             self.set_reference(picture, self.units.split(decoded)[0])
-        return self.map.changes(
-            self.mirror, self.units, decoded, _luma(picture), whole=self._judged()
-        )
-
-    def _judged(self) -> bool:
-        """Whether a refresh coded on this frame would be judged against the mirror
-        (`uma.sim.refresh.RefreshChain.gain_db`): refreshes on, one taken (before that the
-        judge draws what the receiver shows instead) and a threshold to meet. The engine's
-        order comes after the frame is coded, so every such frame's drawing is whole."""
-        from uma.mbc import needs_judging
-
-        refresh = None if self.mbc is None else self.mbc.refresh
-        if refresh is None or not refresh.enabled or self.refresh_frame < 0:
-            return False
-        return needs_judging(refresh.min_gain_db, first_always=refresh.first_always,
-                             refresh_taken=True)  # fmt: skip
+        refresh = getattr(self.mbc, "refresh", None)
+        whole = refresh is not None and refresh.enabled and self.refresh_frame >= 0
+        return self.map.changes(self.mirror, self.units, decoded, _luma(picture), whole=whole)
 
     def flush(self) -> Coded:
         """The open packet, short (the engine leaves MBC)."""
