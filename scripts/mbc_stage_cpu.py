@@ -1,12 +1,15 @@
 """CPU milliseconds per frame of each model-path stage, with only `uma.mbc`'s public objects.
 
-    PYTHONPATH=CHECKOUT python scripts/mbc_stage_cpu.py [--frames N]
+    PYTHONPATH=CHECKOUT python scripts/mbc_stage_cpu.py [--frames N] [--bench]
 
 runs on any checkout that has them (so two trees compare side by side in one run: call it
 alternately with each on `PYTHONPATH`) and prints one JSON object: per CIF clip (the talking
 head, akiyo) the median CPU ms (`time.process_time`) of tracking, light against the mirror,
 body motion, and decoding plus the receiver's rendering, and their sum (the refresh not
-included). Frame 0 (the initialisation) is not counted.
+included). Frame 0 (the initialisation) is not counted. With `--bench`, per clip also
+`uma bench mbc`'s own figures for it (`uma.bench.mbc.run_clip`, the lowest rung's refresh
+only): every stage's CPU median, the model path's CPU sum, and the refresh's judge, the
+mirror's takes and the engine's map there.
 """
 
 from __future__ import annotations
@@ -73,14 +76,38 @@ def stages(clip) -> dict[str, float]:
     return out
 
 
+def bench(clip) -> dict:
+    """`uma bench mbc`'s model path figures for `clip` (CPU ms; the refresh's parts wall ms a
+    frame of the clip, as the bench reports them)."""
+    from uma.bench.mbc import run_clip
+    from uma.bench.mbc_refresh import DEFAULT_REFRESH
+
+    name = "mbc_refresh_lowest"
+    out = run_clip(clip, refresh={name: DEFAULT_REFRESH[name]})
+    refresh = out["refresh"][name]
+    parts = ("judge_ms_per_frame", "mirror_take_ms_per_frame", "receiver_take_ms_per_frame",
+             "map_engine_cpu_ms_median", "adopted", "served")  # fmt: skip
+    return {
+        "stages_cpu_ms": out["stages_cpu_ms"],
+        "model_path_cpu_ms": out["model_path_cpu_ms"],
+        "plain_map_engine_cpu_ms": out["block_map"]["engine_cpu_ms_median"],
+        **{key: refresh.get(key) for key in parts},
+    }
+
+
 def main() -> None:
     from uma.bench.mbc_clips import default_clips
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--frames", type=int, default=100, help="frames a clip (default 100)")
+    parser.add_argument("--bench", action="store_true", help="also `uma bench mbc`'s figures")
     args = parser.parse_args()
     clips = [c for c in default_clips(args.frames) if c.name in ("talking-head", "akiyo")]
-    print(json.dumps({clip.name: stages(clip) for clip in clips}))
+    out = {clip.name: stages(clip) for clip in clips}
+    if args.bench:
+        for clip in clips:
+            out[clip.name]["bench"] = bench(clip)
+    print(json.dumps(out))
 
 
 if __name__ == "__main__":

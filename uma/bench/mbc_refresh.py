@@ -16,7 +16,9 @@ decoded; until the first one the receiver renders from what it held before (the 
 encoder adopted (`RefreshSpec.choose`) at the decoded pose, relit by light measured against
 that same reference: the encoder mirrors the
 receiver (it knows what it sent and when it arrives) and the receiver replays the same switches.
-A refresh frame the tracker found no face on is not coded.
+A refresh frame the tracker found no face on is not coded. The parameter stream carries the
+block map's changes, chosen on that same mirror and taken by the receiver, as the simulation's
+(`uma.bench.mbc_refresh_engine`): the map's drawing of a judged frame is the judge's too.
 """
 
 from __future__ import annotations
@@ -26,7 +28,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from uma.bench.mbc_refresh_engine import run_engine
 from uma.bench.mbc_refresh_receiver import UnitsIn, receive
+from uma.bench.mbc_stages import median
 from uma.mbc.refresh_coder import (
     REFRESH_CODEC,
     RefreshCoder,
@@ -168,20 +172,6 @@ def _nearer(mirror, face_units, spec, frame, values, picture, base=None) -> bool
     return float(np.mean((candidate - truth) ** 2)) < float(np.mean((rendering - truth) ** 2))
 
 
-def _values(mirror, face_units, body_tracker, frame: np.ndarray, params: np.ndarray):
-    """The set the encoder codes for `frame`: geometry, body motion and light against the
-    mirror."""
-    from uma.mbc.light import measure_light
-
-    height = mirror.size[1]
-    light = measure_light(mirror, frame[:height], params)
-    body = []
-    if face_units.body:
-        body_tracker.measure(mirror, frame[:height])
-        body = body_tracker.last
-    return np.concatenate([params, body, light])
-
-
 class _Sender:
     """The encoder's side of the refresh: it codes a refresh unit on each refresh frame inside
     the render loop, adopts it or not (`RefreshSpec.choose`), and says which adopted units
@@ -217,6 +207,15 @@ class _Sender:
         has arrived."""
         arrived = self.schedule().serves_from if self.coder is not None else []
         return UnitsIn(self.coder, self.sent, arrived, self.spec.region == "residual")
+
+    def judges(self, index: int) -> bool:
+        """Whether a unit coded on frame `index` is judged against the mirror at its decoded
+        set (`code`): the engine's map then draws the mirror's whole picture for it."""
+        return index in self.at and self.spec.choose and self.spec.region != "residual"
+
+    def add_mirror_time(self, begin: float, cpu: float) -> None:
+        """The mirror's taking refreshes since (`begin`, `cpu`) counted."""
+        _add(self.mirror_seconds, begin, cpu)
 
     def due(self, index: int, decoded) -> list[int]:
         """The units the receiver takes on frame `index`: the newest adopted one that has
@@ -273,41 +272,6 @@ def _add(seconds: list[float], begin: float, cpu: float) -> None:
     seconds[1] += time.process_time() - cpu
 
 
-def _engine(clip, results, face_units, stream_config, sender, mirror):
-    """The encoder's side: every frame's set coded against its mirror, which takes refreshes
-    as the receiver does; the sender codes each refresh unit on its frame. (packets, decoded
-    sets by frame, switches: frame -> [(unit, its decoded set), ...])."""
-    from uma.mbc.body import BodyTracker
-    from uma.mbc.decoder import ParameterDecoder
-    from uma.mbc.stream import ParameterEncoder
-
-    switches, packets = {}, []
-    body_tracker = BodyTracker(camera=face_units.camera)
-    encoder = ParameterEncoder(face_units, stream_config)
-    decoder = ParameterDecoder(face_units, stream_config)
-    decoded: dict[int, np.ndarray] = {}
-    for index, result in enumerate(results):
-        taken = sender.due(index, decoded)
-        if taken:
-            switches[index] = [(k, decoded[sender.units[k].frame]) for k in taken]
-            begin, cpu = time.perf_counter(), time.process_time()
-            for k, values in switches[index]:
-                take_refresh(mirror, face_units, values, sender.pictures[k])
-            _add(sender.mirror_seconds, begin, cpu)
-        values = None
-        if result:
-            frame = clip.frames[index]
-            values = _values(mirror, face_units, body_tracker, frame, result.params)
-        out = encoder.push(index, values)
-        out += encoder.flush() if index == len(results) - 1 else []
-        for packet in out:
-            decoded.update(decoder.decode(packet.to_bytes()).frames)
-        packets += out
-        if values is not None:  # decided on the unit's own frame, before it can arrive
-            sender.code(index, mirror, encoder.decoded)
-    return packets, decoded, switches
-
-
 def refresh_display(
     clip,
     results,
@@ -320,8 +284,8 @@ def refresh_display(
 ) -> tuple[list[np.ndarray], float, dict]:
     """Every frame's display (YUV 4:2:0), the total rate (kbit/s) and what the refresh did;
     `results` the tracker's per frame, `model_kbps` the plain stream's payload at the clip's
-    rate, `profile` the `engine.mbc` section the receiver renders as (None: its defaults). With nothing left of the rung's rate
-    it is the plain MBC (no refresh unit)."""
+    rate, `profile` the `engine.mbc` section the receiver renders as (None: its defaults).
+    With nothing left of the rung's rate it is the plain MBC (no refresh unit)."""
     from uma.config.codecs import MbcConfig
     from uma.errors import ConfigError
     from uma.video import load_ladder
@@ -340,26 +304,23 @@ def refresh_display(
     ahead = _renderer(clip, results, spec, size, profile) if spec.region == "residual" else None
     sender = _Sender(clip, face_units, spec, coder, corners, budget_kbps, ahead)
     mirror = _renderer(clip, results, spec, size, profile, luma_only=True)
-    packets, decoded, switches = _engine(clip, results, face_units, stream_config, sender, mirror)
+    engine = run_engine(clip, results, face_units, stream_config, sender, mirror)
     if coder is not None:
         coder.close()  # one SVT-AV1 encoder open at a time in a process
     receiver = _renderer(clip, results, spec, size, profile)
-    shown, switch_s, switch_cpu_s = receive(
-        receiver, face_units, frames[0], len(frames), decoded, switches, sender.units_in()
-    )
+    shown, switch_s, switch_cpu_s = receive(receiver, face_units, frames[0], len(frames), engine,
+                                            sender.units_in())  # fmt: skip
     seconds = len(frames) / clip.fps
-    params_kbps = sum(p.size_bytes for p in packets) * 8 / seconds / 1000.0
+    params_kbps = sum(p.size_bytes for p in engine.packets) * 8 / seconds / 1000.0
     units, flag_bits = sender.units, len(sender.units) if spec.choose else 0
     refresh_kbps = (sum(u.size_bits for u in units) + flag_bits) / seconds / 1000.0
-    info = _info(spec, budget_kbps, params_kbps, refresh_kbps, units, sender.adopted, switches)
+    info = _info(spec, budget_kbps, params_kbps, refresh_kbps, units, sender.adopted, engine)
     # The engine's mirror (luma only) and the receiver took the same refreshes: the same luma.
-    same = np.array_equal(mirror.reference[: size[1]], receiver.reference[: size[1]])
-    info["mirror_is_receiver"] = bool(same)
+    info["mirror_is_receiver"] = np.array_equal(mirror.reference[: size[1]],
+                                                receiver.reference[: size[1]])  # fmt: skip
     # Encoding and decoding the refresh pictures (for a residual, the engine's rendering it is
-    # coded against), and the receiver's decoding every unit it receives and taking them (the
-    # composition), per frame of the clip: the model path's refresh share.
-    # The engine's judging (its mirror's drawing) is counted too, and apart, and so is its
-    # mirror taking each refresh the receiver takes.
+    # coded against), the receiver's decoding and taking the units, per frame of the clip: the
+    # model path's refresh share; the engine's judging and its mirror's takes too, and apart.
     spent = (sender.seconds, sender.judge_seconds, sender.mirror_seconds)
     wall, cpu = (sum(s[k] for s in spent) for k in (0, 1))
     info["ms_per_frame"] = round((wall + switch_s) * 1000.0 / len(frames), 3)
@@ -367,11 +328,15 @@ def refresh_display(
     info["judge_ms_per_frame"] = round(sender.judge_seconds[0] * 1000.0 / len(frames), 3)
     info["mirror_take_ms_per_frame"] = round(sender.mirror_seconds[0] * 1000.0 / len(frames), 3)
     info["receiver_take_ms_per_frame"] = round(switch_s * 1000.0 / len(frames), 3)
+    # The engine's map on this mirror (its drawing whole on a judged frame: the judge's too).
+    for key, k in (("map_engine_ms_median", 0), ("map_engine_cpu_ms_median", 1)):
+        info[key] = median([ms[k] for ms in engine.map_ms])
     return shown, params_kbps + refresh_kbps, info
 
 
-def _info(spec, budget_kbps, params_kbps, refresh_kbps, units, adopted, switches) -> dict:
+def _info(spec, budget_kbps, params_kbps, refresh_kbps, units, adopted, engine) -> dict:
     """What the refresh did, for the bench's JSON."""
+    switches = engine.switches
     delays = [i - units[k].frame for i, taken in switches.items() for k, _ in taken]
     return {
         "refresh_fps": spec.refresh_fps,

@@ -1,5 +1,6 @@
 """`uma bench mbc`'s refresh receiver: it decodes the refresh units it receives with its own
-decoder, takes the ones the engine's schedule says, and draws every decoded set.
+decoder, takes the ones the engine's schedule says, and draws every decoded set with the
+stream's block map changes.
 
 Units: frames (indices into the clip), seconds.
 """
@@ -36,26 +37,28 @@ class UnitsIn:
 
 
 def receive(
-    receiver,
-    face_units,
-    first: np.ndarray,
-    count: int,
-    decoded: dict,
-    switches: dict,
-    units_in: UnitsIn,
+    receiver, face_units, first: np.ndarray, count: int, engine, units_in: UnitsIn
 ) -> tuple[list[np.ndarray], float, float]:
     """The receiver's display of every frame (the last picture held where no set was decoded,
-    `first` before any) and the seconds (wall, CPU) it spent decoding and taking refreshes."""
+    `first` before any): each decoded set of `engine` (`uma.bench.mbc_refresh_engine.Engine`)
+    drawn and its block map changes taken (as the simulation's `MbcUnitDecoder`); and the
+    seconds (wall, CPU) it spent decoding and taking refreshes."""
+    from uma.bench.mbc_stages import SCALED_FPS
+    from uma.mbc.block_map import BlockMap
+
+    block_map = BlockMap(receiver.size, SCALED_FPS)  # the engine's map's rates: 25 frames/s
     shown, last, switch_s, switch_cpu_s = [], first, 0.0, 0.0
     for index in range(count):
         begin, cpu = time.perf_counter(), time.process_time()
         units_in.decode(index)
-        for k, values in switches.get(index, ()):
+        for k, values in engine.switches.get(index, ()):
             take_refresh(receiver, face_units, values, units_in.pictures[k])
         switch_s += time.perf_counter() - begin
         switch_cpu_s += time.process_time() - cpu
-        if index in decoded:
-            params, light = face_units.split(decoded[index])
-            last, _ = receiver.render(params, light, face_units.body_of(decoded[index]))
+        if index in engine.decoded:
+            values = engine.decoded[index]
+            params, light = face_units.split(values)
+            drawn, face = receiver.render(params, light, face_units.body_of(values))
+            last = block_map.step_with(receiver, drawn, face, changes=engine.changes.get(index))
         shown.append(last)
     return shown, switch_s, switch_cpu_s

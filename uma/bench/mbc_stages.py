@@ -199,13 +199,18 @@ def stages(clock: Clock, refreshed) -> dict:
     at the lowest rung): the engine's tracking, light (its measure against the mirror), body
     motion and block map (the mirror's drawing of the decoded set and the choice), the
     receiver's decoding and rendering and its block map, the refresh's coding and
-    composition; wall clock and this process's CPU time."""
+    composition; wall clock and this process's CPU time. The engine's map is the lowest
+    rung's refresh engine's when it ran one (its drawing whole on the frames its judge reads:
+    the judge's drawing too), else the plain stream's."""
     names = ("track", "light", "body", "map_engine", "decode_render", "block_map")
     refresh = refreshed.get("mbc_refresh_lowest")
-    refresh_ms = refresh[2]["ms_per_frame"] if refresh else None
-    refresh_cpu = refresh[2].get("cpu_ms_per_frame") if refresh else None
-    wall = {name: clock.median(name) for name in names} | {"refresh": refresh_ms}
-    cpu = {name: clock.median(name, cpu=True) for name in names} | {"refresh": refresh_cpu}
+    info = refresh[2] if refresh else {}
+    wall = {name: clock.median(name) for name in names} | {"refresh": info.get("ms_per_frame")}
+    cpu = {name: clock.median(name, cpu=True) for name in names}
+    cpu["refresh"] = info.get("cpu_ms_per_frame")
+    if info.get("map_engine_ms_median") is not None:
+        wall["map_engine"] = info["map_engine_ms_median"]
+        cpu["map_engine"] = info["map_engine_cpu_ms_median"]
     return {
         "stages_ms": wall,
         "model_path_ms": round(sum(v for v in wall.values() if v is not None), 3),

@@ -209,10 +209,14 @@ class MbcPointEncoder:
         return np.concatenate([params, body, light])
 
     def _map(self, picture: np.ndarray, decoded: np.ndarray) -> np.ndarray | None:
-        """The frame's block map changes (`uma.mbc.map_sender`) against `picture`."""
+        """The frame's block map changes (`uma.mbc.map_sender`) against `picture`: the mirror
+        drawn whole (the refresh's judge reads it then) once a refresh is taken with refreshes
+        on (before that the judge draws the receiver's view; the engine's order follows)."""
         if self.mirror is None:
             self.set_reference(picture, self.units.split(decoded)[0])
-        return self.map.changes(self.mirror, self.units, decoded, _luma(picture))
+        refresh = getattr(self.mbc, "refresh", None)
+        whole = refresh is not None and refresh.enabled and self.refresh_frame >= 0
+        return self.map.changes(self.mirror, self.units, decoded, _luma(picture), whole=whole)
 
     def flush(self) -> Coded:
         """The open packet, short (the engine leaves MBC)."""
