@@ -78,7 +78,9 @@ def main(argv: list[str] | None = None) -> int:
                 flush=True,
             )
     if args.json:
-        Path(args.json).write_text(json.dumps({"overrides": overrides, "engine": engine_keys, "rows": rows}, indent=1))
+        Path(args.json).write_text(
+            json.dumps({"overrides": overrides, "engine": engine_keys, "rows": rows}, indent=1)
+        )
     return 0
 
 
