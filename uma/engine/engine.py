@@ -224,10 +224,8 @@ class UmaEngine:
         )
         if held and not switched and not probe_due:
             return replace(decision, reason="backlog")
-        skipped = not self.oracle and self.rate.skips_frame(
-            point, self.queued_bits, now_s, outstanding_bits=self.outstanding_bits
-        )
-        if skipped:
+        out_bits = self.outstanding_bits
+        if not self.oracle and self.rate.skips_frame(point, self.queued_bits, now_s, out_bits):
             return replace(decision, reason="skip", actions=(Tally("skipped_frames", 1),))
         self.position.switched_between, self.last_sent_s = False, now_s
         self.ordered, actions = None, []

@@ -120,7 +120,7 @@ class RateControl:
         return changed
 
     def skips_frame(
-        self, point: OperatingPoint, queued_bits: int, now_s: float, *, outstanding_bits: int = -1
+        self, point: OperatingPoint, queued_bits: int, now_s: float, outstanding_bits: int = -1
     ) -> bool:
         """Whether a frame at `point` is not coded (`skip` on its share of the point's rate;
         never a codec that may not be skipped for backlog). `outstanding_bits`: in flight
