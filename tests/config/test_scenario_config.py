@@ -192,6 +192,14 @@ def test_climb_names_are_the_policys_climbs_and_a_bad_one_is_named(tmp_path):
         load_scenario(write(tmp_path, MINIMAL + "engine: {climb: leap}\n"))
 
 
+def test_drained_queue_is_off_by_default_and_a_switch(tmp_path):
+    assert load_scenario(write(tmp_path, MINIMAL)).engine.drained_queue is False
+    on = load_scenario(write(tmp_path, MINIMAL + "engine: {drained_queue: true}\n"))
+    assert on.engine.drained_queue is True
+    with pytest.raises(ConfigError, match=r"engine\.drained_queue"):
+        load_scenario(write(tmp_path, MINIMAL + "engine: {drained_queue: maybe}\n"))
+
+
 def test_engine_and_receiver_tuning_is_configurable(tmp_path):
     text = MINIMAL + (
         "engine: {stale_reports: 5, max_backlog_ms: 500, presume_lost_ms: 1000,"

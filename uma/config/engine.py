@@ -185,7 +185,10 @@ class EngineConfig(Section):
 
     `codec`: the full-frame codec of the rate ladder (a full-frame name of `uma.codecs`);
     `ladder`: its ladder file (None: the codec's own under `codecs/`); `climb`: how the
-    throughput policy goes up after `up_hold_ms` (one of `CLIMB_NAMES`).
+    throughput policy goes up after `up_hold_ms` (one of `CLIMB_NAMES`); `drained_queue`
+    (off, today's behaviour): once every packet sent has been reported, the queueing delay
+    the last report measured is taken as drained (0) by the pacer's deadline and uma's skip
+    rule, not carried until the next packet measures it (docs/rate-control.md, `rc24`).
     """
 
     policy: Str = "throughput"
@@ -194,6 +197,7 @@ class EngineConfig(Section):
     safety: Annotated[float, Strict(), AllowInfNan(False), Field(gt=0, le=1)] = 0.85
     up_hold_ms: NonNeg = 1000.0
     climb: Str = "stream"
+    drained_queue: Bool = False
     fixed_rung: NonNegInt | None = None
     transcode_ms: NonNeg = 4.0
     estimator: EstimatorConfig = Field(default_factory=EstimatorConfig)

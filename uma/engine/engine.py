@@ -135,7 +135,7 @@ class UmaEngine:
         oracle = self.oracle and capacity_kbps is not None
         decision, actions, needs_keyframe = self.sender.pace(
             now_s, seen_kbps=capacity_kbps if oracle else self.estimate_kbps, rung=self.rung,
-            estimator=self.estimator,
+            queue_delay_ms=self.rate.queue_ahead_ms(self.outstanding_bits),
         )  # fmt: skip
         self.keyframes.pending |= needs_keyframe
         self._keep(actions)
@@ -224,7 +224,8 @@ class UmaEngine:
         )
         if held and not switched and not probe_due:
             return replace(decision, reason="backlog")
-        if not self.oracle and self.rate.skips_frame(point, self.queued_bits, now_s):
+        out_bits = self.outstanding_bits
+        if not self.oracle and self.rate.skips_frame(point, self.queued_bits, now_s, out_bits):
             return replace(decision, reason="skip", actions=(Tally("skipped_frames", 1),))
         self.position.switched_between, self.last_sent_s = False, now_s
         self.ordered, actions = None, []

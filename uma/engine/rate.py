@@ -73,6 +73,7 @@ class RateControl:
         self.estimator = config.estimator
         self.oracle = config.policy == "oracle"  # it reads the capacity: never paused
         self.state = EstimatorState(estimate_kbps=config.estimator.initial_kbps)
+        self.drained_queue = config.drained_queue  # nothing in flight: no queue ahead
         self.technology = ""  # the last the reports named
         self.handover = False  # the last report named a new technology (never the oracle)
 
@@ -86,8 +87,18 @@ class RateControl:
     def on_silence(self, now_s: float) -> list:
         return []
 
-    def skip(self, frame_bits: float, queued_bits: float, now_s: float) -> bool:
+    def skip(
+        self, frame_bits: float, queued_bits: float, now_s: float, *, outstanding_bits: int = -1
+    ) -> bool:
         return False
+
+    def queue_ahead_ms(self, outstanding_bits: int) -> float:
+        """The queueing delay a packet sent now is taken to meet (the pacer's deadline):
+        the last report's; with `engine.drained_queue`, none once every packet sent has
+        been reported (`outstanding_bits` 0: the packets that met that queue are out of it)."""
+        if self.drained_queue and outstanding_bits == 0:
+            return 0.0
+        return self.state.queue_delay_ms
 
     def paused(self, now_s: float) -> bool:
         """Whether the sender should send nothing new it may hold back (the feedback has
@@ -108,12 +119,16 @@ class RateControl:
         self.handover = changed and not self.oracle
         return changed
 
-    def skips_frame(self, point: OperatingPoint, queued_bits: int, now_s: float) -> bool:
+    def skips_frame(
+        self, point: OperatingPoint, queued_bits: int, now_s: float, outstanding_bits: int = -1
+    ) -> bool:
         """Whether a frame at `point` is not coded (`skip` on its share of the point's rate;
-        never a codec that may not be skipped for backlog)."""
+        never a codec that may not be skipped for backlog). `outstanding_bits`: in flight
+        after the last reported packet (-1: not known)."""
         if not spec(point.codec).skip_for_backlog:
             return False
-        return self.skip(point.rate_kbps * 1000.0 / point.fps, queued_bits, now_s)
+        frame_bits = point.rate_kbps * 1000.0 / point.fps
+        return self.skip(frame_bits, queued_bits, now_s, outstanding_bits=outstanding_bits)
 
     def _follow(self, report: ReceiverReport, estimate_kbps: float, queue_ms: float | None):
         """`state` after `report` with `estimate_kbps` (the kind's own, already within
@@ -247,12 +262,16 @@ class UmaRate(RateControl):
             return False
         return self.paused(now_s) or self.spacing.late(now_s)
 
-    def skip(self, frame_bits: float, queued_bits: float, now_s: float) -> bool:
+    def skip(
+        self, frame_bits: float, queued_bits: float, now_s: float, *, outstanding_bits: int = -1
+    ) -> bool:
         """Salsify's rule on the controller's capacity and the queue it last saw (the pacer's
-        bits plus the bottleneck's), or no report for the controller's `pause_ms`; never for
-        more than `max_skip_ms` in a row."""
+        bits plus the bottleneck's; with `engine.drained_queue` none at the bottleneck once
+        `outstanding_bits` is 0), or no report for the controller's `pause_ms`; never for more
+        than `max_skip_ms` in a row."""
         c, s = self.controller, self.controller.settings
-        ahead_bits = queued_bits + c.queue_ms * c.capacity_kbps
+        queue_ms = 0.0 if self.drained_queue and outstanding_bits == 0 else c.queue_ms
+        ahead_bits = queued_bits + queue_ms * c.capacity_kbps
         skip = should_skip(frame_bits, ahead_bits, c.capacity_kbps, s.skip_budget_ms)
         skip = skip or self.paused(now_s)
         if skip:

@@ -64,17 +64,18 @@ class SendSide:
         return self.outbox.number([packet for packet, _ in out], now_s) if out else []
 
     def pace(
-        self, now_s: float, *, seen_kbps: float, rung: int, estimator
+        self, now_s: float, *, seen_kbps: float, rung: int, queue_delay_ms: float
     ) -> tuple[PaceDecision, list, bool]:
         """What the pacer lets out at `now_s` at `seen_kbps` x `rate_factor`, the actions of
-        what it dropped, and whether a keyframe must follow."""
+        what it dropped (late, given `queue_delay_ms` at the bottleneck), and whether a
+        keyframe must follow."""
         if not self.outbox.paced:
             return PaceDecision((), float("inf")), [], False
         pacer = self.config.pacer
         # Never slower than the point in use sends (else nothing would be measured).
         rate_kbps = max(seen_kbps * pacer.rate_factor, self.points[rung].rate_kbps)
         sent, release = self.outbox.release(
-            now_s, rate_kbps, network_delay_s=estimator.queue_delay_ms / 1000.0, hold=False
+            now_s, rate_kbps, network_delay_s=queue_delay_ms / 1000.0, hold=False
         )
         actions = dropped_actions(release.dropped_frames, now_s, "too late to be shown")
         return PaceDecision(tuple(sent), release.next_s), actions, release.needs_keyframe
