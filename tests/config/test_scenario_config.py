@@ -200,6 +200,14 @@ def test_drained_queue_is_off_by_default_and_a_switch(tmp_path):
         load_scenario(write(tmp_path, MINIMAL + "engine: {drained_queue: maybe}\n"))
 
 
+def test_switching_calm_is_off_by_default_and_not_negative(tmp_path):
+    assert load_scenario(write(tmp_path, MINIMAL)).engine.switching.calm_ms == 0.0
+    on = load_scenario(write(tmp_path, MINIMAL + "engine: {switching: {calm_ms: 2000}}\n"))
+    assert on.engine.switching.calm_ms == 2000.0
+    with pytest.raises(ConfigError, match=r"engine\.switching\.calm_ms"):
+        load_scenario(write(tmp_path, MINIMAL + "engine: {switching: {calm_ms: -1}}\n"))
+
+
 def test_engine_and_receiver_tuning_is_configurable(tmp_path):
     text = MINIMAL + (
         "engine: {stale_reports: 5, max_backlog_ms: 500, presume_lost_ms: 1000,"

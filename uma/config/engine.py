@@ -152,6 +152,9 @@ class SwitchingConfig(Section):
     back once all of that window is above `to_h264_above_kbps`; it scales the capacity by
     `safety`. Its window need only cover an initialisation (about 0.1 s modelled, `engine.mbc`)
     and the first parameter packet (4 frames, 0.16 s): 1 s by default.
+    `calm_ms` (`threshold` and `predictive`; 0, off, today's behaviour): no switch from MBC
+    back to H.264 until `calm_ms` have passed since the estimate was last cut for a silence
+    (an on/off link's off-periods; docs/rate-control.md, branch rc25).
     """
 
     policy: SwitchingName = "none"
@@ -161,6 +164,7 @@ class SwitchingConfig(Section):
     retry_ms: PosNum = 5000.0
     lookahead_ms: NonNeg = 3000.0
     oracle_lookahead_ms: NonNeg = 1000.0
+    calm_ms: NonNeg = 0.0
     low_technologies: tuple[Str, ...] = ("GPRS", "GSM")
 
     @field_validator("low_technologies")

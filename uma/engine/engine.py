@@ -182,7 +182,7 @@ class UmaEngine:
         position = self.position
         wanted, initialise, chosen = position.choose(
             now_s, estimate_kbps=self.estimate_kbps, capacity_kbps=capacity_kbps,
-            budget_kbps=budget_kbps, lowest_kbps=lowest_kbps,
+            budget_kbps=budget_kbps, lowest_kbps=lowest_kbps, cut=bool(silence),
         )  # fmt: skip
         actions = silence + chosen
         switched = wanted != position.rung or position.switched_between

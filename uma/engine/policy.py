@@ -180,12 +180,14 @@ class SwitchSettings:
     The families are named: `ladder` (the rate ladder, by its full-frame codec) and `model`
     (the model codec). Go to `model` when the budget falls below `to_model_below_kbps`; back to
     `ladder` when it rises above `to_ladder_above_kbps` (higher: the gap is the hysteresis);
-    never leave a family less than `min_dwell_s` after arriving on it.
+    never leave a family less than `min_dwell_s` after arriving on it; with `calm_s` > 0, not
+    back to `ladder` until `calm_s` after the last silence cut (`SwitchView.cut_s`).
     """
 
     to_model_below_kbps: float = 30.0
     to_ladder_above_kbps: float = 60.0
     min_dwell_s: float = 3.0
+    calm_s: float = 0.0
     # Predictive only: switch this long before a technology in `low_technologies` begins.
     lookahead_s: float = 3.0
     low_technologies: tuple[str, ...] = ("GPRS", "GSM")
@@ -208,6 +210,7 @@ def switch_settings(config, *, ladder: str, model: str) -> SwitchSettings:
         to_model_below_kbps=switching.to_mbc_below_kbps,
         to_ladder_above_kbps=switching.to_h264_above_kbps,
         min_dwell_s=switching.min_dwell_ms / 1000.0,
+        calm_s=switching.calm_ms / 1000.0,
         lookahead_s=switching.lookahead_ms / 1000.0,
         low_technologies=tuple(switching.low_technologies),
         ladder=ladder,
@@ -227,6 +230,8 @@ class SwitchView:
     coverage: tuple[tuple[float, str], ...] = ()
     # Oracle only: the lowest true capacity from now to `lookahead_s` ahead (x safety).
     budget_ahead_kbps: float | None = None
+    # When the estimate was last cut for a silence (an off-period or a gap; -inf: never).
+    cut_s: float = float("-inf")
 
 
 def threshold_switch(view: SwitchView, settings: SwitchSettings) -> str:
@@ -236,7 +241,8 @@ def threshold_switch(view: SwitchView, settings: SwitchSettings) -> str:
     if view.codec == settings.ladder and view.budget_kbps < settings.to_model_below_kbps:
         return settings.model
     if view.codec == settings.model and view.budget_kbps > settings.to_ladder_above_kbps:
-        return settings.ladder
+        calm = settings.calm_s <= 0 or view.now_s - view.cut_s >= settings.calm_s
+        return settings.ladder if calm else view.codec
     return view.codec
 
 

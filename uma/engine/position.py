@@ -32,6 +32,7 @@ class Position:
         self.rung = rung
         self.switched_between = False  # the next frame sent starts a new stream
         self.codec_since_s = self.last_switch_s = 0.0
+        self.cut_s = float("-inf")  # the last silence cut of the estimate
         switching = config.switching
         oracle_ahead = switching.policy == "oracle"
         self.lookahead_s = switching.oracle_lookahead_ms / 1000.0 if oracle_ahead else None
@@ -39,10 +40,13 @@ class Position:
     def choose(
         self, now_s: float, *, estimate_kbps: float, capacity_kbps: float | None,
         budget_kbps: float, lowest_kbps: Callable[[float, float], float] | None,
+        cut: bool = False,
     ) -> tuple[int, int | None, list]:  # fmt: skip
         """The point to be on, the model point to start initialising now (or None), and the
-        actions the choice caused; `lowest_kbps(start_s, end_s)` the oracle's look ahead."""
+        actions the choice caused; `lowest_kbps(start_s, end_s)` the oracle's look ahead;
+        `cut`: the estimate was cut for a silence just now."""
         config = self.config
+        self.cut_s = now_s if cut else self.cut_s
         view = PolicyView(
             now_s=now_s, points=self.points, current=self.rung, last_switch_s=self.last_switch_s,
             estimate_kbps=estimate_kbps, safety=config.safety,
@@ -57,7 +61,7 @@ class Position:
             ahead = config.safety * lowest_kbps(now_s, now_s + self.lookahead_s)
         return self.switcher.choose(
             view, self.policy, since_s=self.codec_since_s, budget_kbps=budget_kbps,
-            budget_ahead_kbps=ahead,
+            budget_ahead_kbps=ahead, cut_s=self.cut_s,
         )  # fmt: skip
 
     def switch_to(self, wanted: int, now_s: float, kind: str, estimate_kbps: float) -> list:

@@ -51,9 +51,10 @@ class Switcher:
         since_s: float,
         budget_kbps: float,
         budget_ahead_kbps: float | None,
+        cut_s: float = float("-inf"),
     ) -> tuple[int, int | None, list]:
         """The point to be on, the model point to start initialising now (or None), and the
-        actions the choice caused."""
+        actions the choice caused; `cut_s`: when the estimate was last cut for a silence."""
         now_s = view.now_s
         family = self.policy(
             SwitchView(
@@ -63,6 +64,7 @@ class Switcher:
                 budget_kbps,
                 coverage=self.coverage,
                 budget_ahead_kbps=budget_ahead_kbps,
+                cut_s=cut_s,
             ),
             self.settings,
         )
