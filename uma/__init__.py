@@ -9,7 +9,7 @@ Sub-packages hold one job each (docs/architecture.md): `traces`, `video`, `face`
 `engine`, `sim`, `metrics`, `experiments`, `report`, `bench`, `cli`.
 
 Importing uma pins OpenBLAS's kernel set before NumPy loads (`uma.blas`), so a seed gives the
-same figures on any x86-64 machine with AVX2.
+same figures on other machines with AVX2 (docs/experiments.md says how far that is shown).
 """
 
 from uma.blas import pin_kernels

@@ -18,7 +18,7 @@ import sys
 from collections.abc import Mapping
 from pathlib import Path
 
-__all__ = ["PINNED_CORE", "cpu_flags", "pinned_core", "pin_kernels"]
+__all__ = ["PINNED_CORE", "cpu_flags", "cpuinfo_text", "pinned_core", "pin_kernels"]
 
 PINNED_CORE = "Haswell"
 _NEEDS = frozenset({"avx2", "fma"})  # what the Haswell kernels execute

@@ -1,12 +1,12 @@
 """Which kind of machine a run's figures belong to: the regression gate's baselines, the records.
 
-A seed reproduces a run byte for byte on one machine, but not from one machine to another: the
-same commit gives other figures on a 2-core AMD EPYC with AVX-512 than on one without it
-(`docs/experiments.md`, "A baseline belongs to a machine"). The cause lies below the project
-(NumPy's, OpenCV's, numba's and FFmpeg's own dispatch, each turned down, changed nothing;
-OpenBLAS's kernel set, which `blas_core` names, moves a run as far: the lead, not yet proven),
-so uma names the machine's class by the CPU feature that told the two apart, and keeps a
-baseline per class. Reads `/proc/cpuinfo` where there is one; elsewhere the class is `default`.
+A seed reproduces a run byte for byte on one machine. From one machine to another, the same
+commit gave other figures on a 2-core AMD EPYC with AVX-512 than on one without it
+(`docs/experiments.md`): OpenBLAS's kernel set (`blas_core` names it; `import uma` now pins
+it, `uma.blas`) and the fitting kernels' `fastmath` (now off) each moved a run as far. The
+gate keeps one baseline; a suite may still name a baseline per class (`machine_baselines`) if
+a kind of machine is ever shown to differ. The class is named by the CPU feature that told the
+two apart. Reads `/proc/cpuinfo` where there is one; elsewhere the class is `default`.
 """
 
 from __future__ import annotations
