@@ -71,6 +71,7 @@ def save_plot(result: dict[str, Any], path: Path) -> None:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import FuncFormatter, MaxNLocator, NullLocator
 
     traces = list(result["traces"].items())
     columns = min(4, max(1, len(traces)))
@@ -88,6 +89,11 @@ def save_plot(result: dict[str, Any], path: Path) -> None:
         for system, figures in trace["published"].items():
             axis.plot(figures["delay_p95_ms"], figures["ssim_db"], "x", label=_NAMES.get(system))
         axis.set_xscale("log")
+        # Three round values in plain ms: a narrow range's log ticks are labelled on top of
+        # each other.
+        axis.xaxis.set_major_locator(MaxNLocator(nbins=3))
+        axis.xaxis.set_major_formatter(FuncFormatter(lambda value, _: f"{value:,.0f}"))
+        axis.xaxis.set_minor_locator(NullLocator())
         axis.invert_xaxis()
         axis.set_title(name[:32], fontsize=8)
         axis.set_xlabel("video delay p95 (ms)", fontsize=7)
