@@ -43,16 +43,6 @@ class _Server:
             conn.close()
 
 
-@pytest.mark.parametrize(
-    "greeting, said",
-    [
-        (b"HTTP/1.0 400 Bad Request\r\n\r\n", "does not speak Dask's protocol"),
-        (struct.pack("Q", 3 * 2**60), "does not speak Dask's protocol"),  # "3 EiB follow"
-        (struct.pack("Q", 40) + os.urandom(40), "does not speak Dask's protocol"),
-        (b"", "no Dask scheduler answered at 'tcp://127.0.0.1:PORT' within 0.5 s"),
-    ],
-    ids=["http", "huge-length", "random", "silent"],
-)
 def _bounded_waits(monkeypatch) -> dict[str, list]:
     """Record every wait the scheduler check asks of a socket: the connection's timeout and
     each `settimeout`, so a test proves every blocking call bounded without a wall clock."""

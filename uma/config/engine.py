@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal, get_args
 
-from pydantic import AllowInfNan, Field, Strict, field_validator, model_validator
+from pydantic import AllowInfNan, Field, Strict, ValidationInfo, field_validator, model_validator
 
 from uma.codecs import full_frame_names
 from uma.config.codecs import FaceRegionConfig, MbcConfig
@@ -218,19 +218,13 @@ class EngineConfig(Section):
     presume_lost_ms: PosNum = 2000.0
     probe_interval_ms: PosNum = 1000.0
 
-    @field_validator("policy")
+    @field_validator("policy", "climb")
     @classmethod
-    def _policy_name(cls, value: str) -> str:
-        # A plain string checked here (not the Literal) so the message lists the choices.
-        if value not in POLICY_NAMES:
-            raise ValueError(f"expected one of {', '.join(sorted(POLICY_NAMES))}")
-        return value
-
-    @field_validator("climb")
-    @classmethod
-    def _climb_name(cls, value: str) -> str:
-        if value not in CLIMB_NAMES:
-            raise ValueError(f"expected one of {', '.join(CLIMB_NAMES)}")
+    def _named(cls, value: str, info: ValidationInfo) -> str:
+        # Plain strings checked here (not Literals) so the message lists the choices.
+        names = sorted(POLICY_NAMES) if info.field_name == "policy" else CLIMB_NAMES
+        if value not in names:
+            raise ValueError(f"expected one of {', '.join(names)}")
         return value
 
     @model_validator(mode="after")
