@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 import uma.experiments.machine
-from uma.blas import PINNED_CORE, cpu_flags, pinned_core
+from uma.blas import PINNED_CORE, PINNED_THREADS, cpu_flags, pinned_core, pinned_threads
 
 _AVX2 = frozenset({"sse2", "avx", "avx2", "fma"})
 
@@ -35,8 +35,23 @@ def test_otherwise_openblas_keeps_its_own_choice(environ, flags, numpy_loaded):
     assert pinned_core(environ, flags, numpy_loaded) is None
 
 
+def test_one_blas_thread_unless_the_user_chose_a_count():
+    assert pinned_threads({}, numpy_loaded=False) == PINNED_THREADS == "1"
+    for name in ("OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS"):
+        assert pinned_threads({name: "4"}, numpy_loaded=False) is None
+    assert pinned_threads({}, numpy_loaded=True) is None  # OpenBLAS has started its threads
+
+
+_PINNED_BY_UMA = (
+    "OPENBLAS_CORETYPE",
+    "OPENBLAS_NUM_THREADS",
+    "GOTO_NUM_THREADS",
+    "OMP_NUM_THREADS",
+)
+
+
 def _in_a_process(code: str, **env: str) -> str:
-    clean = {k: v for k, v in os.environ.items() if k != "OPENBLAS_CORETYPE"}
+    clean = {k: v for k, v in os.environ.items() if k not in _PINNED_BY_UMA}
     done = subprocess.run(
         [sys.executable, "-c", code], env={**clean, **env}, capture_output=True, text=True
     )
@@ -66,3 +81,17 @@ def test_importing_uma_first_runs_numpy_on_the_pinned_kernels():
         "Haswell",
         "None",
     )
+
+
+_THREADS = _REPORT.replace("'OPENBLAS_CORETYPE'", "'OPENBLAS_NUM_THREADS'").replace(
+    "m.blas_core()", "m.blas_threads()"
+)
+
+
+def test_importing_uma_first_runs_numpy_on_one_blas_thread():
+    told, ran = _in_a_process("import uma\n" + _THREADS).split()
+    if ran == "None":
+        pytest.skip("this NumPy has no OpenBLAS")
+    assert told == ran == "1"
+    assert _in_a_process("import uma\n" + _THREADS, OPENBLAS_NUM_THREADS="2").split() == ["2", "2"]
+    assert _in_a_process("import uma\n" + _THREADS, OMP_NUM_THREADS="2").split()[1] == "2"

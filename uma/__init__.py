@@ -8,13 +8,15 @@ returns a `uma.Run` (`.metrics`, `.frames`, `.events`, `.scenario`, `.timeline()
 Sub-packages hold one job each (docs/architecture.md): `traces`, `video`, `face`, `fit`,
 `engine`, `sim`, `metrics`, `experiments`, `report`, `bench`, `cli`.
 
-Importing uma pins OpenBLAS's kernel set before NumPy loads (`uma.blas`), so a seed gives the
-same figures on other machines with AVX2 (docs/experiments.md says how far that is shown).
+Importing uma pins OpenBLAS's kernel set and its thread count (one) before NumPy loads
+(`uma.blas`), so a seed gives the same figures on other machines with AVX2, whatever their
+number of cores (docs/experiments.md says how far that is shown).
 """
 
-from uma.blas import pin_kernels
+from uma.blas import pin_kernels, pin_threads
 
 pin_kernels()
+pin_threads()
 
 from uma.errors import (  # noqa: E402
     ConfigError,

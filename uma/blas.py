@@ -1,4 +1,4 @@
-"""One OpenBLAS kernel set on every machine that can run it, so a seed gives the same bits.
+"""One OpenBLAS kernel set and one thread on every machine, so a seed gives the same bits.
 
 NumPy's and SciPy's wheels carry OpenBLAS, which picks its kernels from the CPU when it loads
 (`Haswell` on an AVX2 CPU, `SkylakeX` on one with AVX-512, ...). Kernels sum a product in
@@ -9,6 +9,14 @@ loads, on every CPU that can run those kernels. It leaves OpenBLAS's own choice 
 variable is already set (a user's or a check's choice), when NumPy was imported before uma
 (too late: `uma.experiments.machine.blas_core` records what ran), and on a CPU without AVX2
 and FMA (the kernels would not run there). Child processes inherit the variable.
+
+`pin_threads`, called beside it, sets `OPENBLAS_NUM_THREADS` to 1 under the same rules (not
+when the user chose a thread count through it, `GOTO_NUM_THREADS` or `OMP_NUM_THREADS`, not
+after NumPy). OpenBLAS splits a factorisation by its thread count, and one thread sums in
+another order than several: the talking head's description (SciPy's `least_squares`) came out
+other in its last bits on a 1-core machine than on one with 2 to 8. uma's processes are
+single-threaded and a sweep runs one process a core (`--workers`), so BLAS threads only fought
+over the cores: under load a description took 13 s with two threads, 0.8 s with one.
 """
 
 from __future__ import annotations
@@ -18,11 +26,23 @@ import sys
 from collections.abc import Mapping
 from pathlib import Path
 
-__all__ = ["PINNED_CORE", "cpu_flags", "cpuinfo_text", "pinned_core", "pin_kernels"]
+__all__ = [
+    "PINNED_CORE",
+    "PINNED_THREADS",
+    "cpu_flags",
+    "cpuinfo_text",
+    "pinned_core",
+    "pinned_threads",
+    "pin_kernels",
+    "pin_threads",
+]
 
 PINNED_CORE = "Haswell"
 _NEEDS = frozenset({"avx2", "fma"})  # what the Haswell kernels execute
 _CPUINFO = Path("/proc/cpuinfo")
+PINNED_THREADS = "1"
+# OpenBLAS reads its thread count from the first of these that is set.
+_THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS")
 
 
 def cpu_flags(cpuinfo_text: str) -> frozenset[str]:
@@ -58,3 +78,18 @@ def pin_kernels(cpuinfo_path: Path = _CPUINFO) -> str | None:
     if core is not None:
         os.environ["OPENBLAS_CORETYPE"] = core
     return core
+
+
+def pinned_threads(environ: Mapping[str, str], numpy_loaded: bool) -> str | None:
+    """The BLAS thread count to pin, or None to leave the user's (or OpenBLAS's) choice."""
+    if numpy_loaded or any(name in environ for name in _THREAD_VARIABLES):
+        return None
+    return PINNED_THREADS
+
+
+def pin_threads() -> str | None:
+    """Set `OPENBLAS_NUM_THREADS` for this process and its children; the count, or None."""
+    threads = pinned_threads(os.environ, "numpy" in sys.modules)
+    if threads is not None:
+        os.environ["OPENBLAS_NUM_THREADS"] = threads
+    return threads

@@ -21,6 +21,7 @@ from uma.errors import ConfigError
 __all__ = [
     "MACHINE_CLASSES",
     "blas_core",
+    "blas_threads",
     "cpu_flags",
     "machine_baselines",
     "machine_class",
@@ -57,11 +58,8 @@ def _version(package: str) -> str | None:
         return None
 
 
-def blas_core() -> str | None:
-    """The kernel set NumPy's OpenBLAS runs on this CPU (`Haswell`, `SkylakeX`, ...), or None.
-
-    OpenBLAS picks it at load time from the CPU (`OPENBLAS_CORETYPE` overrides it), and the
-    figures of a run depend on it (docs/experiments.md)."""
+def _openblas_call(names: tuple[str, ...], restype: type) -> object | None:
+    """Call the first of `names` that NumPy's OpenBLAS exports (no arguments), or None."""
     import ctypes
 
     import numpy
@@ -72,22 +70,45 @@ def blas_core() -> str | None:
             lib = ctypes.CDLL(str(library))
         except OSError:
             continue
-        for name in ("scipy_openblas_get_corename64_", "scipy_openblas_get_corename"):
-            get = getattr(lib, name, None)
-            if get is not None:
-                get.restype = ctypes.c_char_p
-                return get().decode("ascii", "replace")
+        for name in names:
+            call = getattr(lib, name, None)
+            if call is not None:
+                call.restype = restype
+                return call()
     return None
 
 
+def blas_core() -> str | None:
+    """The kernel set NumPy's OpenBLAS runs on this CPU (`Haswell`, `SkylakeX`, ...), or None.
+
+    OpenBLAS picks it at load time from the CPU (`OPENBLAS_CORETYPE` overrides it), and the
+    figures of a run depend on it (docs/experiments.md)."""
+    import ctypes
+
+    names = ("scipy_openblas_get_corename64_", "scipy_openblas_get_corename")
+    core = _openblas_call(names, ctypes.c_char_p)
+    return None if core is None else core.decode("ascii", "replace")
+
+
+def blas_threads() -> int | None:
+    """The thread count NumPy's OpenBLAS runs with (`import uma` pins 1), or None.
+
+    A factorisation's last bits depend on it (one thread against several, docs/experiments.md)."""
+    import ctypes
+
+    names = ("scipy_openblas_get_num_threads64_", "scipy_openblas_get_num_threads")
+    return _openblas_call(names, ctypes.c_int)
+
+
 def machine_summary(cpuinfo_path: Path = _CPUINFO) -> dict:
-    """What a record says of the machine that made it: class, CPU, BLAS kernels, Python,
-    library versions."""
+    """What a record says of the machine that made it: class, CPU, BLAS kernels and threads,
+    Python, library versions."""
     text = cpuinfo_text(cpuinfo_path)
     return {
         "class": "avx512" if "avx512f" in cpu_flags(text) else "default",
         "cpu": _cpu_model(text),
         "blas_core": blas_core(),
+        "blas_threads": blas_threads(),
         "arch": platform.machine(),
         "python": platform.python_version(),
         "packages": {name: _version(name) for name in _PACKAGES},
