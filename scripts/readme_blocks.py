@@ -289,6 +289,64 @@ def sim_table(results: Results, args: Args) -> str:
     return "\n".join(lines)
 
 
+def _seed_rows(results: Results, args: Args) -> list[tuple[str, dict[str, Any], dict[str, Any]]]:
+    """(seed label, engine row, base row) per record; `seeds=` labels the records in order."""
+    seeds = args["seeds"].split(",")
+    if len(seeds) != len(results):
+        raise ValueError(f"seeds={args['seeds']}: {len(results)} records, {len(seeds)} labels")
+    engine, base = args.get("engine", "uma"), args.get("base", "h264")
+    return [
+        (seed, _scenario(result, args)[engine], _scenario(result, args)[base])
+        for seed, result in zip(seeds, results, strict=True)
+    ]
+
+
+def _median(values: list[float]) -> float:
+    ordered = sorted(values)
+    middle = len(ordered) // 2
+    return ordered[middle] if len(ordered) % 2 else (ordered[middle - 1] + ordered[middle]) / 2
+
+
+def headline_seeds(results: Results, args: Args) -> str:
+    """One scenario of `uma bench headline` at several seeds: p95 and frozen, engine and base."""
+    rows = _seed_rows(results, args)
+    engine, base = args.get("engine", "uma"), args.get("base", "h264")
+    lines = [
+        f"| seed | {engine} p95 ms | {base} p95 ms | {engine} frozen | {base} frozen |",
+        "|---|---|---|---|---|",
+    ]
+    for seed, mine, theirs in rows:
+        lines.append(
+            f"| {seed} | {mine['delay_p95_ms']:,.0f} | {theirs['delay_p95_ms']:,.0f} "
+            f"| {mine['freeze_ratio']:.3f} | {theirs['freeze_ratio']:.3f} |"
+        )
+    medians = [
+        _median([row[i][key] for row in rows])
+        for key in ("delay_p95_ms", "freeze_ratio")
+        for i in (1, 2)
+    ]
+    lines.append(
+        f"| median | {medians[0]:,.0f} | {medians[1]:,.0f} | {medians[2]:.3f} | {medians[3]:.3f} |"
+    )
+    return "\n".join(lines)
+
+
+def headline_seeds_verdict(results: Results, args: Args) -> str:
+    """How many seeds meet the real commute's rules: p95 below the base's, frozen <= `frozen=`."""
+    rows = _seed_rows(results, args)
+    limit = float(args.get("frozen", "0.15"))
+    below = sum(mine["delay_p95_ms"] < theirs["delay_p95_ms"] for _, mine, theirs in rows)
+    calm = sum(mine["freeze_ratio"] <= limit for _, mine, _ in rows)
+    p95 = _median([mine["delay_p95_ms"] for _, mine, _ in rows])
+    base_p95 = _median([theirs["delay_p95_ms"] for _, _, theirs in rows])
+    frozen = _median([mine["freeze_ratio"] for _, mine, _ in rows])
+    return (
+        f"over seeds {args['seeds']}, uma's p95 is below H.264 only's on {below} of {len(rows)} "
+        f"(medians {p95:,.0f} against {base_p95:,.0f} ms) and its frozen share at most "
+        f"{limit:g} on {calm} of {len(rows)} (median {frozen:.3f})"
+    )
+
+
 RENDERERS: dict[str, Callable[[Results, Args], str]] = {
     "sim-table": sim_table,
     "headline-table": headline_table,
@@ -299,4 +357,6 @@ RENDERERS: dict[str, Callable[[Results, Args], str]] = {
     "mbc-verdicts": mbc_verdicts,
     "links-table": links_table,
     "links-verdicts": links_verdicts,
+    "headline-seeds": headline_seeds,
+    "headline-seeds-verdict": headline_seeds_verdict,
 }

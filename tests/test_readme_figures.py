@@ -270,3 +270,29 @@ def test_the_links_rules_are_issue_26s_three_per_trace():
         "uma's p95 at most GCC's on 2 of 3; p95 within max(1,000 ms, 1.5 x the oracle's) on 2 "
         "of 3; unfrozen SSIM at most 0.5 dB below GCC's on 2 of 3"
     )
+
+
+def _seed_record(uma_p95: float, uma_frozen: float, h264_p95: float) -> dict:
+    row = {"delay_p95_ms": uma_p95, "freeze_ratio": uma_frozen}
+    base = {"delay_p95_ms": h264_p95, "freeze_ratio": 0.5}
+    return {"scenarios": {"real": {"uma": row, "h264": base}}}
+
+
+def test_the_seeds_table_and_verdict_count_each_seed_and_take_medians():
+    import readme_blocks
+
+    results = [
+        _seed_record(5_000, 0.20, 6_000),  # below H.264's p95
+        _seed_record(5_500, 0.14, 5_200),  # above it; frozen within 0.15
+        _seed_record(4_000, 0.30, 4_500),
+    ]
+    args = {"seeds": "1,2,3"}
+    table = readme_blocks.headline_seeds(results, args).splitlines()
+    assert table[2] == "| 1 | 5,000 | 6,000 | 0.200 | 0.500 |"
+    assert table[-1] == "| median | 5,000 | 5,200 | 0.200 | 0.500 |"
+    assert readme_blocks.headline_seeds_verdict(results, args) == (
+        "over seeds 1,2,3, uma's p95 is below H.264 only's on 2 of 3 (medians 5,000 against "
+        "5,200 ms) and its frozen share at most 0.15 on 1 of 3 (median 0.200)"
+    )
+    with pytest.raises(ValueError, match="3 records, 2 labels"):
+        readme_blocks.headline_seeds(results, {"seeds": "1,2"})
