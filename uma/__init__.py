@@ -9,12 +9,14 @@ Sub-packages hold one job each (docs/architecture.md): `traces`, `video`, `face`
 `engine`, `sim`, `metrics`, `experiments`, `report`, `bench`, `cli`.
 
 Importing uma pins OpenBLAS's kernel set before NumPy loads (`uma.blas`), so a seed gives the
-same figures on other machines with AVX2 (docs/experiments.md says how far that is shown).
+same figures on other machines with AVX2 (docs/experiments.md says how far that is shown), and
+runs OpenCV on one thread a process unless told otherwise (`OPENCV_FOR_THREADS_NUM`).
 """
 
-from uma.blas import pin_kernels
+from uma.blas import pin_kernels, pin_opencv_threads
 
 pin_kernels()
+pin_opencv_threads()
 
 from uma.errors import (  # noqa: E402
     ConfigError,

@@ -9,6 +9,13 @@ loads, on every CPU that can run those kernels. It leaves OpenBLAS's own choice 
 variable is already set (a user's or a check's choice), when NumPy was imported before uma
 (too late: `uma.experiments.machine.blas_core` records what ran), and on a CPU without AVX2
 and FMA (the kernels would not run there). Child processes inherit the variable.
+
+`pin_opencv_threads`, which `import uma` calls next, sets `OPENCV_FOR_THREADS_NUM` to 1 before
+OpenCV loads: uma's processes (the simulation, every sweep worker, the benches) are
+single-threaded and run side by side, and OpenCV's own pool (one thread a core) only
+oversubscribes the cores under them; the pixels are the same either way (docs/mbc.md, branch
+mbc25). It leaves the variable alone when set (the user's choice) and when OpenCV was imported
+before uma (its pool is sized at load).
 """
 
 from __future__ import annotations
@@ -18,9 +25,19 @@ import sys
 from collections.abc import Mapping
 from pathlib import Path
 
-__all__ = ["PINNED_CORE", "cpu_flags", "cpuinfo_text", "pinned_core", "pin_kernels"]
+__all__ = [
+    "OPENCV_THREADS",
+    "PINNED_CORE",
+    "cpu_flags",
+    "cpuinfo_text",
+    "opencv_threads",
+    "pin_kernels",
+    "pin_opencv_threads",
+    "pinned_core",
+]
 
 PINNED_CORE = "Haswell"
+OPENCV_THREADS = 1
 _NEEDS = frozenset({"avx2", "fma"})  # what the Haswell kernels execute
 _CPUINFO = Path("/proc/cpuinfo")
 
@@ -58,3 +75,18 @@ def pin_kernels(cpuinfo_path: Path = _CPUINFO) -> str | None:
     if core is not None:
         os.environ["OPENBLAS_CORETYPE"] = core
     return core
+
+
+def opencv_threads(environ: Mapping[str, str], opencv_loaded: bool) -> int | None:
+    """OpenCV's thread count to pin, or None to leave OpenCV's own choice."""
+    if "OPENCV_FOR_THREADS_NUM" in environ or opencv_loaded:
+        return None
+    return OPENCV_THREADS
+
+
+def pin_opencv_threads() -> int | None:
+    """Set `OPENCV_FOR_THREADS_NUM` for this process and its children; the count, or None."""
+    threads = opencv_threads(os.environ, "cv2" in sys.modules)
+    if threads is not None:
+        os.environ["OPENCV_FOR_THREADS_NUM"] = str(threads)
+    return threads
