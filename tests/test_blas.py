@@ -10,7 +10,15 @@ from pathlib import Path
 import pytest
 
 import uma.experiments.machine
-from uma.blas import PINNED_CORE, PINNED_THREADS, cpu_flags, pinned_core, pinned_threads
+from uma.blas import (
+    OPENCV_THREADS,
+    PINNED_CORE,
+    PINNED_THREADS,
+    cpu_flags,
+    opencv_threads,
+    pinned_blas_threads,
+    pinned_core,
+)
 
 _AVX2 = frozenset({"sse2", "avx", "avx2", "fma"})
 
@@ -36,10 +44,10 @@ def test_otherwise_openblas_keeps_its_own_choice(environ, flags, numpy_loaded):
 
 
 def test_one_blas_thread_unless_the_user_chose_a_count():
-    assert pinned_threads({}, numpy_loaded=False) == PINNED_THREADS == "1"
+    assert pinned_blas_threads({}, numpy_loaded=False) == PINNED_THREADS == "1"
     for name in ("OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS"):
-        assert pinned_threads({name: "4"}, numpy_loaded=False) is None
-    assert pinned_threads({}, numpy_loaded=True) is None  # OpenBLAS has started its threads
+        assert pinned_blas_threads({name: "4"}, numpy_loaded=False) is None
+    assert pinned_blas_threads({}, numpy_loaded=True) is None  # OpenBLAS has started its threads
 
 
 _PINNED_BY_UMA = (
@@ -95,3 +103,27 @@ def test_importing_uma_first_runs_numpy_on_one_blas_thread():
     assert told == ran == "1"
     assert _in_a_process("import uma\n" + _THREADS, OPENBLAS_NUM_THREADS="2").split() == ["2", "2"]
     assert _in_a_process("import uma\n" + _THREADS, OMP_NUM_THREADS="2").split()[1] == "2"
+
+
+def test_opencv_runs_one_thread_unless_told_or_loaded_first():
+    assert opencv_threads({}, opencv_loaded=False) == OPENCV_THREADS == 1
+    assert opencv_threads({"OPENCV_FOR_THREADS_NUM": "3"}, opencv_loaded=False) is None
+    assert opencv_threads({}, opencv_loaded=True) is None
+
+
+def _opencv_threads_in_a_process(first: str, **env: str) -> int:
+    clean = {k: v for k, v in os.environ.items() if k != "OPENCV_FOR_THREADS_NUM"}
+    code = f"import {first}\nimport cv2, uma\nprint(cv2.getNumThreads())"
+    done = subprocess.run(
+        [sys.executable, "-c", code], env={**clean, **env}, capture_output=True, text=True
+    )
+    assert done.returncode == 0, done.stderr
+    return int(done.stdout)
+
+
+def test_importing_uma_first_runs_opencv_on_one_thread():
+    if os.cpu_count() == 1:
+        pytest.skip("one core: OpenCV's default is one thread already")
+    assert _opencv_threads_in_a_process("uma") == 1
+    assert _opencv_threads_in_a_process("uma", OPENCV_FOR_THREADS_NUM="3") == 3
+    assert _opencv_threads_in_a_process("cv2") > 1  # loaded first: its own pool

@@ -10,13 +10,15 @@ Sub-packages hold one job each (docs/architecture.md): `traces`, `video`, `face`
 
 Importing uma pins OpenBLAS's kernel set and its thread count (one) before NumPy loads
 (`uma.blas`), so a seed gives the same figures on other machines with AVX2, whatever their
-number of cores (docs/experiments.md says how far that is shown).
+number of cores (docs/experiments.md says how far that is shown), and runs OpenCV on one thread
+a process unless told otherwise (`OPENCV_FOR_THREADS_NUM`).
 """
 
-from uma.blas import pin_kernels, pin_threads
+from uma.blas import pin_blas_threads, pin_kernels, pin_opencv_threads
 
 pin_kernels()
-pin_threads()
+pin_blas_threads()
+pin_opencv_threads()
 
 from uma.errors import (  # noqa: E402
     ConfigError,

@@ -10,13 +10,20 @@ variable is already set (a user's or a check's choice), when NumPy was imported 
 (too late: `uma.experiments.machine.blas_core` records what ran), and on a CPU without AVX2
 and FMA (the kernels would not run there). Child processes inherit the variable.
 
-`pin_threads`, called beside it, sets `OPENBLAS_NUM_THREADS` to 1 under the same rules (not
+`pin_blas_threads`, called beside it, sets `OPENBLAS_NUM_THREADS` to 1 under the same rules (not
 when the user chose a thread count through it, `GOTO_NUM_THREADS` or `OMP_NUM_THREADS`, not
 after NumPy). OpenBLAS splits a factorisation by its thread count, and one thread sums in
-another order than several: the talking head's description (SciPy's `least_squares`) came out
-other in its last bits on a 1-core machine than on one with 2 to 8. uma's processes are
-single-threaded and a sweep runs one process a core (`--workers`), so BLAS threads only fought
-over the cores: under load a description took 13 s with two threads, 0.8 s with one.
+another order than several: a description fitted by SciPy's `least_squares` came out other in
+its last bits on a 1-core machine than on a multi-core one. uma's processes are single-threaded
+and a sweep runs one process a core (`--workers`), so BLAS threads only fought over the cores
+(docs/experiments.md).
+
+`pin_opencv_threads`, which `import uma` calls last, sets `OPENCV_FOR_THREADS_NUM` to 1 before
+OpenCV loads: uma's processes (the simulation, every sweep worker, the benches) are
+single-threaded and run side by side, and OpenCV's own pool (one thread a core) only
+oversubscribes the cores under them; the pixels are the same either way (docs/mbc.md, branch
+mbc25). It leaves the variable alone when set (the user's choice) and when OpenCV was imported
+before uma (its pool is sized at load).
 """
 
 from __future__ import annotations
@@ -27,17 +34,21 @@ from collections.abc import Mapping
 from pathlib import Path
 
 __all__ = [
+    "OPENCV_THREADS",
     "PINNED_CORE",
     "PINNED_THREADS",
     "cpu_flags",
     "cpuinfo_text",
-    "pinned_core",
-    "pinned_threads",
+    "opencv_threads",
+    "pin_blas_threads",
     "pin_kernels",
-    "pin_threads",
+    "pin_opencv_threads",
+    "pinned_blas_threads",
+    "pinned_core",
 ]
 
 PINNED_CORE = "Haswell"
+OPENCV_THREADS = 1
 _NEEDS = frozenset({"avx2", "fma"})  # what the Haswell kernels execute
 _CPUINFO = Path("/proc/cpuinfo")
 PINNED_THREADS = "1"
@@ -80,16 +91,31 @@ def pin_kernels(cpuinfo_path: Path = _CPUINFO) -> str | None:
     return core
 
 
-def pinned_threads(environ: Mapping[str, str], numpy_loaded: bool) -> str | None:
+def pinned_blas_threads(environ: Mapping[str, str], numpy_loaded: bool) -> str | None:
     """The BLAS thread count to pin, or None to leave the user's (or OpenBLAS's) choice."""
     if numpy_loaded or any(name in environ for name in _THREAD_VARIABLES):
         return None
     return PINNED_THREADS
 
 
-def pin_threads() -> str | None:
+def pin_blas_threads() -> str | None:
     """Set `OPENBLAS_NUM_THREADS` for this process and its children; the count, or None."""
-    threads = pinned_threads(os.environ, "numpy" in sys.modules)
+    threads = pinned_blas_threads(os.environ, "numpy" in sys.modules)
     if threads is not None:
         os.environ["OPENBLAS_NUM_THREADS"] = threads
+    return threads
+
+
+def opencv_threads(environ: Mapping[str, str], opencv_loaded: bool) -> int | None:
+    """OpenCV's thread count to pin, or None to leave OpenCV's own choice."""
+    if "OPENCV_FOR_THREADS_NUM" in environ or opencv_loaded:
+        return None
+    return OPENCV_THREADS
+
+
+def pin_opencv_threads() -> int | None:
+    """Set `OPENCV_FOR_THREADS_NUM` for this process and its children; the count, or None."""
+    threads = opencv_threads(os.environ, "cv2" in sys.modules)
+    if threads is not None:
+        os.environ["OPENCV_FOR_THREADS_NUM"] = str(threads)
     return threads
