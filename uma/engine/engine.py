@@ -218,7 +218,7 @@ class UmaEngine:
         if not self.ladder.scheduled(decision.frame, self.rung):
             return replace(decision, scheduled=False, reason="fps")
         probe_due = now_s - self.last_sent_s >= self.config.probe_interval_ms / 1000.0
-        seen_kbps = self.estimate_kbps if capacity_kbps is None else capacity_kbps
+        seen_kbps = self.rate.gate_kbps(self.estimate_kbps, capacity_kbps)
         held = pacing_held(
             self.config, point, now_s, self.inflight, seen_kbps, queued_bits=self.queued_bits
         )

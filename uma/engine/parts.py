@@ -95,6 +95,8 @@ def build_parts(
     outbox = Outbox(config.pacer, payload_bytes=payload_bytes, source_fps=source_fps)
     keyframes = Keyframes(keyframe_min_interval_s)
     rate = make_rate(config, feedback)
+    if config.rung_floor:  # the send gates judge by no less than the lowest skippable rung
+        rate.floor_kbps = min(p.rate_kbps for p in points if spec(p.codec).skip_for_backlog)
     position = Position(
         config, points, ladder=ladder, switcher=switcher, policy=POLICIES[config.policy],
         rung=ladder.initial(config, rate.state.estimate_kbps),

@@ -74,6 +74,9 @@ class RateControl:
         self.oracle = config.policy == "oracle"  # it reads the capacity: never paused
         self.state = EstimatorState(estimate_kbps=config.estimator.initial_kbps)
         self.drained_queue = config.drained_queue  # nothing in flight: no queue ahead
+        # With `engine.rung_floor`, the lowest skippable rung's rate (0: no floor): the least
+        # rate the send gates judge a frame by (`gate_kbps`, uma's skip rule).
+        self.floor_kbps = 0.0
         self.technology = ""  # the last the reports named
         self.handover = False  # the last report named a new technology (never the oracle)
 
@@ -105,6 +108,13 @@ class RateControl:
         gone quiet)."""
         return False
 
+    def gate_kbps(self, estimate_kbps: float, capacity_kbps: float | None = None) -> float:
+        """The rate the backlog hold judges a frame by: the true `capacity_kbps` when given
+        (the oracle's), else the estimate, at least `floor_kbps`."""
+        if capacity_kbps is not None:
+            return capacity_kbps
+        return max(estimate_kbps, self.floor_kbps)
+
     def refresh_held(self, now_s: float) -> bool:
         """Whether the refresh should neither be ordered nor leave (`paused`, or the kind's
         own earlier sign that the feedback is late)."""
@@ -125,7 +135,7 @@ class RateControl:
         """Whether a frame at `point` is not coded (`skip` on its share of the point's rate;
         never a codec that may not be skipped for backlog). `outstanding_bits`: in flight
         after the last reported packet (-1: not known)."""
-        if not spec(point.codec).skip_for_backlog:
+        if not spec(point.codec).skip_for_backlog or point.rate_kbps <= self.floor_kbps:
             return False
         frame_bits = point.rate_kbps * 1000.0 / point.fps
         return self.skip(frame_bits, queued_bits, now_s, outstanding_bits=outstanding_bits)
