@@ -200,10 +200,10 @@ def test_drained_queue_is_off_by_default_and_a_switch(tmp_path):
         load_scenario(write(tmp_path, MINIMAL + "engine: {drained_queue: maybe}\n"))
 
 
-def test_rung_floor_is_off_by_default_and_a_switch(tmp_path):
-    assert load_scenario(write(tmp_path, MINIMAL)).engine.rung_floor is False
-    on = load_scenario(write(tmp_path, MINIMAL + "engine: {rung_floor: true}\n"))
-    assert on.engine.rung_floor is True
+def test_rung_floor_is_on_by_default_and_a_switch(tmp_path):
+    assert load_scenario(write(tmp_path, MINIMAL)).engine.rung_floor is True
+    off = load_scenario(write(tmp_path, MINIMAL + "engine: {rung_floor: false}\n"))
+    assert off.engine.rung_floor is False
     with pytest.raises(ConfigError, match=r"engine\.rung_floor"):
         load_scenario(write(tmp_path, MINIMAL + "engine: {rung_floor: maybe}\n"))
 

@@ -46,8 +46,8 @@ def _frames(engine: UmaEngine, frames: tuple[int, ...]) -> list[str]:
     return reasons
 
 
-def test_the_floor_is_the_lowest_skippable_rung_and_off_by_default():
-    assert EngineConfig().rung_floor is False
+def test_the_floor_is_the_lowest_skippable_rung_and_on_by_default():
+    assert EngineConfig().rung_floor is True
     assert _engine(False).rate.floor_kbps == 0.0
     assert _engine(True).rate.floor_kbps == 16.0
 

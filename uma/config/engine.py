@@ -193,10 +193,10 @@ class EngineConfig(Section):
     (off, today's behaviour): once every packet sent has been reported, the queueing delay
     the last report measured is taken as drained (0) by the pacer's deadline and uma's skip
     rule, not carried until the next packet measures it (docs/rate-control.md, `rc24`).
-    `rung_floor` (off, today's behaviour): the skip rule and the backlog hold judge a frame
-    at no less than the lowest skippable rung's rate, so an estimate cut below that rung
-    (an on/off link's silences) does not hold the sender to the skip limit's one frame a
-    second (docs/rate-control.md, `rc26`).
+    `rung_floor` (on; off is the behaviour before session 25): the skip rule and the backlog
+    hold judge a frame at no less than the lowest skippable rung's rate, so an estimate cut
+    below that rung (an on/off link's silences) does not hold the sender to the skip limit's
+    one frame a second (docs/rate-control.md, `rc26` and "Session 25").
     """
 
     policy: Str = "throughput"
@@ -206,7 +206,7 @@ class EngineConfig(Section):
     up_hold_ms: NonNeg = 1000.0
     climb: Str = "stream"
     drained_queue: Bool = False
-    rung_floor: Bool = False
+    rung_floor: Bool = True
     fixed_rung: NonNegInt | None = None
     transcode_ms: NonNeg = 4.0
     estimator: EstimatorConfig = Field(default_factory=EstimatorConfig)

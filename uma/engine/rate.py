@@ -375,6 +375,11 @@ RATE_CONTROLS: dict[str, Callable[[EngineConfig, FeedbackConfig], RateControl]] 
 }
 
 
-def make_rate(config: EngineConfig, feedback: FeedbackConfig) -> RateControl:
-    """The rate control `engine.estimator.kind` names."""
-    return RATE_CONTROLS[config.estimator.kind](config, feedback)
+def make_rate(
+    config: EngineConfig, feedback: FeedbackConfig, *, floor_kbps: float = 0.0
+) -> RateControl:
+    """The rate control `engine.estimator.kind` names; its send gates judge a frame by no less
+    than `floor_kbps` (`engine.rung_floor`: the lowest skippable rung's rate)."""
+    rate = RATE_CONTROLS[config.estimator.kind](config, feedback)
+    rate.floor_kbps = floor_kbps
+    return rate
