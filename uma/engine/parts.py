@@ -94,9 +94,10 @@ def build_parts(
     declared += [Tally("skipped_frames", 0), Tally("probes", 0)]
     outbox = Outbox(config.pacer, payload_bytes=payload_bytes, source_fps=source_fps)
     keyframes = Keyframes(keyframe_min_interval_s)
-    floor_kbps = 0.0
-    if config.rung_floor:  # the send gates judge by no less than the lowest skippable rung
-        floor_kbps = min(p.rate_kbps for p in points if spec(p.codec).skip_for_backlog)
+    floor_kbps = 0.0  # the send gates judge by no less than the lowest skippable rung
+    if config.rung_floor:
+        skippable = [p.rate_kbps for p in points if spec(p.codec).skip_for_backlog]
+        floor_kbps = min(skippable, default=0.0)
     rate = make_rate(config, feedback, floor_kbps=floor_kbps)
     position = Position(
         config, points, ladder=ladder, switcher=switcher, policy=POLICIES[config.policy],
