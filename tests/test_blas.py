@@ -11,13 +11,13 @@ import pytest
 
 import uma.experiments.machine
 from uma.blas import (
-    OPENCV_THREADS,
+    PINNED_BLAS_THREADS,
     PINNED_CORE,
-    PINNED_THREADS,
+    PINNED_OPENCV_THREADS,
     cpu_flags,
-    opencv_threads,
     pinned_blas_threads,
     pinned_core,
+    pinned_opencv_threads,
 )
 
 _AVX2 = frozenset({"sse2", "avx", "avx2", "fma"})
@@ -44,7 +44,7 @@ def test_otherwise_openblas_keeps_its_own_choice(environ, flags, numpy_loaded):
 
 
 def test_one_blas_thread_unless_the_user_chose_a_count():
-    assert pinned_blas_threads({}, numpy_loaded=False) == PINNED_THREADS == "1"
+    assert pinned_blas_threads({}, numpy_loaded=False) == PINNED_BLAS_THREADS == 1
     for name in ("OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS"):
         assert pinned_blas_threads({name: "4"}, numpy_loaded=False) is None
     assert pinned_blas_threads({}, numpy_loaded=True) is None  # OpenBLAS has started its threads
@@ -106,9 +106,9 @@ def test_importing_uma_first_runs_numpy_on_one_blas_thread():
 
 
 def test_opencv_runs_one_thread_unless_told_or_loaded_first():
-    assert opencv_threads({}, opencv_loaded=False) == OPENCV_THREADS == 1
-    assert opencv_threads({"OPENCV_FOR_THREADS_NUM": "3"}, opencv_loaded=False) is None
-    assert opencv_threads({}, opencv_loaded=True) is None
+    assert pinned_opencv_threads({}, opencv_loaded=False) == PINNED_OPENCV_THREADS == 1
+    assert pinned_opencv_threads({"OPENCV_FOR_THREADS_NUM": "3"}, opencv_loaded=False) is None
+    assert pinned_opencv_threads({}, opencv_loaded=True) is None
 
 
 def _opencv_threads_in_a_process(first: str, **env: str) -> int:

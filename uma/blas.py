@@ -34,24 +34,24 @@ from collections.abc import Mapping
 from pathlib import Path
 
 __all__ = [
-    "OPENCV_THREADS",
+    "PINNED_BLAS_THREADS",
     "PINNED_CORE",
-    "PINNED_THREADS",
+    "PINNED_OPENCV_THREADS",
     "cpu_flags",
     "cpuinfo_text",
-    "opencv_threads",
     "pin_blas_threads",
     "pin_kernels",
     "pin_opencv_threads",
     "pinned_blas_threads",
     "pinned_core",
+    "pinned_opencv_threads",
 ]
 
 PINNED_CORE = "Haswell"
-OPENCV_THREADS = 1
+PINNED_OPENCV_THREADS = 1
 _NEEDS = frozenset({"avx2", "fma"})  # what the Haswell kernels execute
 _CPUINFO = Path("/proc/cpuinfo")
-PINNED_THREADS = "1"
+PINNED_BLAS_THREADS = 1
 # OpenBLAS reads its thread count from the first of these that is set.
 _THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS")
 
@@ -91,31 +91,31 @@ def pin_kernels(cpuinfo_path: Path = _CPUINFO) -> str | None:
     return core
 
 
-def pinned_blas_threads(environ: Mapping[str, str], numpy_loaded: bool) -> str | None:
+def pinned_blas_threads(environ: Mapping[str, str], numpy_loaded: bool) -> int | None:
     """The BLAS thread count to pin, or None to leave the user's (or OpenBLAS's) choice."""
     if numpy_loaded or any(name in environ for name in _THREAD_VARIABLES):
         return None
-    return PINNED_THREADS
+    return PINNED_BLAS_THREADS
 
 
-def pin_blas_threads() -> str | None:
+def pin_blas_threads() -> int | None:
     """Set `OPENBLAS_NUM_THREADS` for this process and its children; the count, or None."""
     threads = pinned_blas_threads(os.environ, "numpy" in sys.modules)
     if threads is not None:
-        os.environ["OPENBLAS_NUM_THREADS"] = threads
+        os.environ["OPENBLAS_NUM_THREADS"] = str(threads)
     return threads
 
 
-def opencv_threads(environ: Mapping[str, str], opencv_loaded: bool) -> int | None:
+def pinned_opencv_threads(environ: Mapping[str, str], opencv_loaded: bool) -> int | None:
     """OpenCV's thread count to pin, or None to leave OpenCV's own choice."""
     if "OPENCV_FOR_THREADS_NUM" in environ or opencv_loaded:
         return None
-    return OPENCV_THREADS
+    return PINNED_OPENCV_THREADS
 
 
 def pin_opencv_threads() -> int | None:
     """Set `OPENCV_FOR_THREADS_NUM` for this process and its children; the count, or None."""
-    threads = opencv_threads(os.environ, "cv2" in sys.modules)
+    threads = pinned_opencv_threads(os.environ, "cv2" in sys.modules)
     if threads is not None:
         os.environ["OPENCV_FOR_THREADS_NUM"] = str(threads)
     return threads
