@@ -3,7 +3,8 @@
 A seed reproduces a run byte for byte on one machine. From one machine to another, the same
 commit gave other figures on a 2-core AMD EPYC with AVX-512 than on one without it
 (`docs/experiments.md`): OpenBLAS's kernel set (`blas_core` names it; `import uma` now pins
-it, `uma.blas`) and the fitting kernels' `fastmath` (now off) each moved a run as far. The
+it, `uma.blas`) and the fitting kernels' `fastmath` (now off) each moved a run as far, and
+OpenBLAS's thread count moved a description's fit (`blas_threads`; pinned to one too). The
 gate keeps one baseline; a suite may still name a baseline per class (`machine_baselines`) if
 a kind of machine is ever shown to differ. The class is named by the CPU feature that told the
 two apart. Reads `/proc/cpuinfo` where there is one; elsewhere the class is `default`.
