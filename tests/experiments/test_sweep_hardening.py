@@ -219,7 +219,7 @@ _BUSY_PARENT = """
 import time
 from uma.experiments.executor import LocalExecutor
 executor = LocalExecutor(2)
-for _ in executor.map_unordered(time.sleep, [60, 60]):
+for _ in executor.map_unordered(time.sleep, [300, 300]):
     pass
 """
 
@@ -232,15 +232,17 @@ def test_killing_a_sweeps_parent_leaves_no_worker_running():
     )
     workers: list[int] = []
     try:
-        assert _wait_for(lambda: len(_children(parent.pid)) >= 2, 10.0)
+        # Liveness waits, not timings: each returns as soon as its condition holds. Starting two
+        # spawned workers took over 10 s on a loaded CI run (two suites and a bench on 2 cores).
+        assert _wait_for(lambda: len(_children(parent.pid)) >= 2, 60.0)
         time.sleep(0.2)  # the workers are running their tasks
         workers = _children(parent.pid)
         parent.kill()
         parent.wait()
         # A worker still starting (spawned: importing, its initializer not yet run) has no
         # parent-death signal yet and ends only when its initializer sees the parent gone: under a
-        # loaded CI run that took over 3 s. Their tasks sleep 60 s, so 20 s still tells.
-        assert _wait_for(lambda: not any(_alive(pid) for pid in workers), 20.0), [
+        # loaded CI run that took over 3 s. Their tasks sleep 300 s, so 60 s still tells.
+        assert _wait_for(lambda: not any(_alive(pid) for pid in workers), 60.0), [
             pid for pid in workers if _alive(pid)
         ]
     finally:
