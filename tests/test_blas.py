@@ -1,4 +1,5 @@
-"""`import uma` pins OpenBLAS's kernel set where the CPU can run it, and only there."""
+"""`import uma` pins OpenBLAS's kernel set where the CPU can run it, and OpenBLAS and OpenCV to one
+thread each, unless the user chose."""
 
 from __future__ import annotations
 
