@@ -34,6 +34,8 @@ from collections import Counter
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
+from links_settings import case_task, json_keys  # scripts/, this script's folder
+
 CAUSES = (
     "skip", "skip_paused", "backlog", "not_coded", "pacer_drop", "lost", "kf_wait",
     "late_key", "late", "start",
@@ -117,17 +119,12 @@ def _case(job: tuple) -> dict:
     import numpy as np
 
     seen = _observe()
-    from uma.bench.links import LinksConfig, link_task, row_of
-    from uma.config import load_scenario
+    from uma.bench.links import row_of
     from uma.config.scenario import Scenario
     from uma.sim import run_scenario
     from uma.sim.summary import run_metrics
 
-    scenario = load_scenario(Path("scenarios/salsify-tmobile-umts.yaml")).with_seed(0)
-    config = LinksConfig(scenario=scenario, traces=(trace,), duration_s=duration_s)
-    task = link_task(config, trace, engine, duration_s)
-    task["scenario"]["route"][0]["offset_s"] = offset_s
-    task["scenario"].setdefault("engine", {}).update(engine_keys)
+    task = case_task(trace, offset_s, duration_s, engine, engine_keys)
     result = run_scenario(Scenario.model_validate(task["scenario"]))
     row = row_of(result, run_metrics(result))
     dropped = _dropped(result.events)
@@ -165,10 +162,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--json", default=None)
     args = parser.parse_args(argv)
-    engine_keys = {}
-    for item in args.engine:
-        key, _, value = item.partition("=")
-        engine_keys[key] = json.loads(value)
+    engine_keys = json_keys(args.engine)
     jobs = []
     for case in args.case:
         trace, offset_s, duration_s = case.rsplit(":", 2)

@@ -24,20 +24,37 @@ from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 
-def _case_row(job: tuple) -> tuple:
-    trace, offset_s, duration_s, engine, overrides, engine_keys = job
-    import uma.engine.rate as rate
-    from uma.bench.links import LinksConfig, link_task, run_link
+def case_task(trace: str, offset_s: float, duration_s: float, engine: str, engine_keys: dict):
+    """The links bench's task for `engine` on `trace` from `offset_s`, with `engine_keys` set."""
+    from uma.bench.links import LinksConfig, link_task
     from uma.config import load_scenario
-    from uma.control.settings import UmaSettings
 
-    if overrides:
-        rate.UmaSettings = functools.partial(UmaSettings, **overrides)
     scenario = load_scenario(Path("scenarios/salsify-tmobile-umts.yaml")).with_seed(0)
     config = LinksConfig(scenario=scenario, traces=(trace,), duration_s=duration_s)
     task = link_task(config, trace, engine, duration_s)
     task["scenario"]["route"][0]["offset_s"] = offset_s
     task["scenario"].setdefault("engine", {}).update(engine_keys)
+    return task
+
+
+def json_keys(items: list[str]) -> dict:
+    """`KEY=JSON` arguments as a mapping."""
+    keys = {}
+    for item in items:
+        key, _, value = item.partition("=")
+        keys[key] = json.loads(value)
+    return keys
+
+
+def _case_row(job: tuple) -> tuple:
+    trace, offset_s, duration_s, engine, overrides, engine_keys = job
+    import uma.engine.rate as rate
+    from uma.bench.links import run_link
+    from uma.control.settings import UmaSettings
+
+    if overrides:
+        rate.UmaSettings = functools.partial(UmaSettings, **overrides)
+    task = case_task(trace, offset_s, duration_s, engine, engine_keys)
     return trace, offset_s, duration_s, engine, run_link(task)["row"]
 
 
@@ -50,14 +67,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--json", default=None)
     args = parser.parse_args(argv)
-    overrides = {}
-    for item in args.set:
-        key, _, value = item.partition("=")
-        overrides[key] = json.loads(value)
-    engine_keys = {}
-    for item in args.engine:
-        key, _, value = item.partition("=")
-        engine_keys[key] = json.loads(value)
+    overrides, engine_keys = json_keys(args.set), json_keys(args.engine)
     jobs = []
     for case in args.case:
         trace, offset_s, duration_s = case.rsplit(":", 2)
