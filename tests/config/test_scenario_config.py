@@ -192,20 +192,15 @@ def test_climb_names_are_the_policys_climbs_and_a_bad_one_is_named(tmp_path):
         load_scenario(write(tmp_path, MINIMAL + "engine: {climb: leap}\n"))
 
 
-def test_drained_queue_is_off_by_default_and_a_switch(tmp_path):
-    assert load_scenario(write(tmp_path, MINIMAL)).engine.drained_queue is False
-    on = load_scenario(write(tmp_path, MINIMAL + "engine: {drained_queue: true}\n"))
-    assert on.engine.drained_queue is True
-    with pytest.raises(ConfigError, match=r"engine\.drained_queue"):
-        load_scenario(write(tmp_path, MINIMAL + "engine: {drained_queue: maybe}\n"))
-
-
-def test_rung_floor_is_on_by_default_and_a_switch(tmp_path):
-    assert load_scenario(write(tmp_path, MINIMAL)).engine.rung_floor is True
-    off = load_scenario(write(tmp_path, MINIMAL + "engine: {rung_floor: false}\n"))
-    assert off.engine.rung_floor is False
-    with pytest.raises(ConfigError, match=r"engine\.rung_floor"):
-        load_scenario(write(tmp_path, MINIMAL + "engine: {rung_floor: maybe}\n"))
+@pytest.mark.parametrize(("key", "default"), [("drained_queue", False), ("rung_floor", True)])
+def test_engine_switches_have_their_default_take_the_other_and_refuse_a_non_boolean(
+    tmp_path, key, default
+):
+    assert getattr(load_scenario(write(tmp_path, MINIMAL)).engine, key) is default
+    flipped = f"engine: {{{key}: {str(not default).lower()}}}\n"
+    assert getattr(load_scenario(write(tmp_path, MINIMAL + flipped)).engine, key) is (not default)
+    with pytest.raises(ConfigError, match=rf"engine\.{key}"):
+        load_scenario(write(tmp_path, MINIMAL + f"engine: {{{key}: maybe}}\n"))
 
 
 def test_switching_calm_is_off_by_default_and_not_negative(tmp_path):
