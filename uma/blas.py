@@ -32,6 +32,7 @@ import os
 import sys
 from collections.abc import Mapping
 from pathlib import Path
+from typing import TypeVar
 
 __all__ = [
     "PINNED_BLAS_THREADS",
@@ -51,6 +52,7 @@ PINNED_CORE = "Haswell"
 PINNED_OPENCV_THREADS = 1
 _NEEDS = frozenset({"avx2", "fma"})  # what the Haswell kernels execute
 _CPUINFO = Path("/proc/cpuinfo")
+_T = TypeVar("_T", str, int)
 PINNED_BLAS_THREADS = 1
 # OpenBLAS reads its thread count from the first of these that is set.
 _THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS")
@@ -74,6 +76,13 @@ def cpuinfo_text(path: Path = _CPUINFO) -> str:
         return ""
 
 
+def _pin(variable: str, value: _T | None) -> _T | None:
+    """Set `variable` for this process and its children unless `value` is None; `value`."""
+    if value is not None:
+        os.environ[variable] = str(value)
+    return value
+
+
 def pinned_core(
     environ: Mapping[str, str], flags: frozenset[str], numpy_loaded: bool
 ) -> str | None:
@@ -85,10 +94,8 @@ def pinned_core(
 
 def pin_kernels(cpuinfo_path: Path = _CPUINFO) -> str | None:
     """Set `OPENBLAS_CORETYPE` for this process and its children; the set pinned, or None."""
-    core = pinned_core(os.environ, cpu_flags(cpuinfo_text(cpuinfo_path)), "numpy" in sys.modules)
-    if core is not None:
-        os.environ["OPENBLAS_CORETYPE"] = core
-    return core
+    flags = cpu_flags(cpuinfo_text(cpuinfo_path))
+    return _pin("OPENBLAS_CORETYPE", pinned_core(os.environ, flags, "numpy" in sys.modules))
 
 
 def pinned_blas_threads(environ: Mapping[str, str], numpy_loaded: bool) -> int | None:
@@ -100,10 +107,7 @@ def pinned_blas_threads(environ: Mapping[str, str], numpy_loaded: bool) -> int |
 
 def pin_blas_threads() -> int | None:
     """Set `OPENBLAS_NUM_THREADS` for this process and its children; the count, or None."""
-    threads = pinned_blas_threads(os.environ, "numpy" in sys.modules)
-    if threads is not None:
-        os.environ["OPENBLAS_NUM_THREADS"] = str(threads)
-    return threads
+    return _pin("OPENBLAS_NUM_THREADS", pinned_blas_threads(os.environ, "numpy" in sys.modules))
 
 
 def pinned_opencv_threads(environ: Mapping[str, str], opencv_loaded: bool) -> int | None:
@@ -115,7 +119,4 @@ def pinned_opencv_threads(environ: Mapping[str, str], opencv_loaded: bool) -> in
 
 def pin_opencv_threads() -> int | None:
     """Set `OPENCV_FOR_THREADS_NUM` for this process and its children; the count, or None."""
-    threads = pinned_opencv_threads(os.environ, "cv2" in sys.modules)
-    if threads is not None:
-        os.environ["OPENCV_FOR_THREADS_NUM"] = str(threads)
-    return threads
+    return _pin("OPENCV_FOR_THREADS_NUM", pinned_opencv_threads(os.environ, "cv2" in sys.modules))
