@@ -295,10 +295,8 @@ def _seed_rows(results: Results, args: Args) -> list[tuple[str, dict[str, Any], 
     if len(seeds) != len(results):
         raise ValueError(f"seeds={args['seeds']}: {len(results)} records, {len(seeds)} labels")
     engine, base = args.get("engine", "uma"), args.get("base", "h264")
-    return [
-        (seed, _scenario(result, args)[engine], _scenario(result, args)[base])
-        for seed, result in zip(seeds, results, strict=True)
-    ]
+    rows = [_scenario(result, args) for result in results]
+    return [(seed, row[engine], row[base]) for seed, row in zip(seeds, rows, strict=True)]
 
 
 def _median(values: list[float]) -> float:
