@@ -9,6 +9,8 @@ $(BIN)/uma: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install -q --upgrade pip
 	$(BIN)/python -m pip install -q -e '.[dev,webrtc]'
+	# numba's kernels compiled into their cache once, not in each process's first call.
+	$(BIN)/python -m uma.bench.warm
 	touch $@
 
 install: $(BIN)/uma

@@ -29,7 +29,7 @@ from uma.bench.timing import kernel_signatures, kernels_loaded_since, warm_up
 from uma.config.scenario import Scenario
 from uma.experiments.uplink_store import StoreSettings
 
-__all__ = ["SimBenchConfig", "run_sim_bench", "format_table"]
+__all__ = ["SimBenchConfig", "run_sim_bench", "format_table", "warm_kernels"]
 
 
 @dataclass(frozen=True)
@@ -217,6 +217,14 @@ def _warm_kernels(scenario: Scenario, source: _ListSource) -> None:
     renderer.set_reference(frame, result.params)
     renderer.render(result.params)
     warm_model_path(renderer, luma, result.params)
+
+
+def warm_kernels(scenario: Scenario, *, width: int, height: int, frames: int) -> None:
+    """Compile or load every kernel a run of `scenario` at `width` x `height` may call: the
+    bench's own warm-up on the first `frames` of its source (`uma.bench.warm`)."""
+    config = SimBenchConfig(scenario, frames, width, height)
+    prepared = _prepare(config)
+    _warm_kernels(prepared, _prepared_source(prepared, frames))
 
 
 def _uplink(scenario: Scenario, source: _ListSource, store: StoreSettings | None):
