@@ -1,0 +1,214 @@
+"""What a viewer sees on GPRS and GSM: uma against H.264 only, split by what is on screen.
+
+`python scripts/mbc_canvas_split.py [SCENARIO.yaml] [--seed N] [--out DIR] [--engines A,B]`
+runs the scenario as `uma bench headline`'s `uma` and `h264` engines do
+(`uma.bench.headline.engine_scenario`), tags every picture uma's receiver decodes (the codec
+and size of a full-frame picture; for the model codec, the canvas it draws over: the size and
+codec of the picture shown before the switch, its age in frames, and whether a refresh was
+taken), and prints, per technology (GPRS, GSM), the face PSNR / SSIM of uma's display instants
+split by that tag beside H.264 only's at the same instants. It writes OUT_DIR/split.json and
+side-by-side PNGs (source | uma | H.264 only, luma, the face box drawn) at a few instants of
+each tag. Run from the repository root; it only reads the simulation (it patches
+`ReceiverCoder.decode` in this process to watch it, and changes nothing it returns).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from collections import defaultdict
+from pathlib import Path
+
+import numpy as np
+
+TECHS = ("GPRS", "GSM")
+STEP = 5  # keep every STEP-th display instant's pictures for the PNGs
+
+
+def _tagging():
+    """Patch the receiver's decode to tag what each decoded frame is; the tags by frame."""
+    from uma.codecs import Role, spec
+    from uma.sim import coders
+
+    tags: dict[int, str] = {}
+    state = {"canvas": "none", "age": "", "since": -1}
+    original = coders.ReceiverCoder.decode
+
+    def decode(self, unit):
+        switched = unit.codec != self.codec
+        pictures = original(self, unit)
+        background = self.context.background
+        if switched and background is not None:
+            ages = [unit.frame - f for f, p in self.canvases.newest.values() if p is background]
+            state["canvas"] = f"{background.shape[1]}x{background.shape[0] * 2 // 3}"
+            state["age"] = f" {ages[0] / 25.0:.0f}s old" if ages else " last"
+            state["since"] = unit.frame
+        for frame, picture in pictures.items():
+            if spec(unit.codec).role is Role.MODEL:
+                refresh = getattr(self.decoder, "refresh_frame", -1) >= 0
+                age_s = (frame - state["since"]) / 25.0
+                age = "<2s" if age_s < 2 else ("<6s" if age_s < 6 else ">=6s")
+                tags[frame] = (
+                    f"mbc over {state['canvas']}{state['age']} "
+                    f"{'refreshed' if refresh else 'no refresh'} {age}"
+                )
+            else:
+                tags[frame] = f"{unit.codec}@{picture.shape[1]}x{picture.shape[0] * 2 // 3}"
+        return pictures
+
+    coders.ReceiverCoder.decode = decode
+    return tags, lambda: setattr(coders.ReceiverCoder, "decode", original)
+
+
+def _luma(picture, width: int, height: int) -> np.ndarray:
+    import cv2
+
+    if picture is None:
+        return np.full((height, width), 128, np.uint8)
+    luma = picture[: picture.shape[0] * 2 // 3]
+    if luma.shape != (height, width):
+        luma = cv2.resize(luma, (width, height), interpolation=cv2.INTER_LINEAR)
+    return np.ascontiguousarray(luma)
+
+
+def run(scenario, engine: str, keep: set[int] | None):
+    """One engine's run: (result, technology per instant, tags or None, kept pictures)."""
+    from uma.bench.headline import engine_scenario
+    from uma.sim import run_scenario
+
+    variant = engine_scenario(scenario, engine)
+    kept: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+    size = {}
+
+    def on_display(index, source, shown, picture):
+        if keep is None or index in keep:
+            h = source.shape[0] * 2 // 3
+            size["wh"] = (source.shape[1], h)
+            kept[index] = (_luma(source, source.shape[1], h), _luma(picture, source.shape[1], h))
+
+    tags, undo = _tagging() if engine == "uma" else ({}, lambda: None)
+    try:
+        result = run_scenario(variant, on_display=on_display)
+    finally:
+        undo()
+    from uma.sim.summary import display_technologies, run_metrics
+
+    metrics = run_metrics(result)
+    by_tech = metrics["by_technology"]
+    print(
+        f"{engine}: frozen {metrics['freeze_ratio']} p95 {metrics['delay_p95_ms']} ms; "
+        + "; ".join(f"{t} {r['psnr_face_db']} dB / {r['ssim_face']}" for t, r in by_tech.items()),
+        flush=True,
+    )
+    return result, display_technologies(result), tags, kept
+
+
+def _instant_tag(log, index: int, tags: dict[int, str]) -> str:
+    if log["frozen"][index]:
+        return "frozen"
+    shown = int(log["shown_frame"][index])
+    return tags.get(shown, "none shown")
+
+
+def split(uma, h264, tags) -> dict:
+    """Per technology and tag: instants, uma's and H.264 only's mean face PSNR / SSIM there."""
+    result, techs = uma[0], uma[1]
+    base = h264[0].log
+    out: dict = {}
+    for tech in TECHS:
+        rows: dict[str, list[int]] = defaultdict(list)
+        for index in np.flatnonzero(techs == tech):
+            rows[_instant_tag(result.log, int(index), tags)].append(int(index))
+        table = {}
+        for tag, idx in sorted(rows.items(), key=lambda kv: -len(kv[1])):
+            idx = np.array(idx)
+            table[tag] = {
+                "instants": int(idx.size),
+                "uma_psnr_face_db": _mean(result.log["psnr_face_db"][idx]),
+                "uma_ssim_face": _mean(result.log["ssim_face"][idx]),
+                "h264_psnr_face_db": _mean(base["psnr_face_db"][idx]),
+                "h264_ssim_face": _mean(base["ssim_face"][idx]),
+                "h264_frozen": round(float(base["frozen"][idx].mean()), 3),
+                "examples": [int(i) for i in idx[:: max(1, idx.size // 3)][:3]],
+            }
+        out[tech] = table
+    return out
+
+
+def _mean(values) -> float | None:
+    values = values[np.isfinite(values)]
+    return round(float(values.mean()), 3) if values.size else None
+
+
+def pngs(out_dir: Path, table: dict, uma_kept, h264_kept, boxes) -> None:
+    import cv2
+
+    for tech, rows in table.items():
+        for n, row in enumerate(rows.values()):
+            for index in row["examples"]:
+                index = index - index % STEP
+                if index not in uma_kept or index not in h264_kept:
+                    continue
+                source, shown = uma_kept[index]
+                _, base = h264_kept[index]
+                strip = np.concatenate([source, shown, base], axis=1)
+                strip = cv2.cvtColor(strip, cv2.COLOR_GRAY2BGR)
+                box = boxes[index] if index < len(boxes) else None
+                if box is not None:
+                    w = source.shape[1]
+                    for k in range(3):
+                        x0 = int(box.x) + k * w
+                        cv2.rectangle(strip, (x0, int(box.y)),
+                                      (x0 + int(box.width), int(box.y + box.height)), (0, 0, 255), 1)  # fmt: skip
+                name = f"{tech}-{n:02d}-{index:05d}.png"
+                cv2.imwrite(str(out_dir / name), strip)
+                row.setdefault("pngs", []).append(name)
+
+
+def main(argv: list[str] | None = None) -> int:
+    from uma.config.load import load_scenario
+
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("scenario", nargs="?", default="scenarios/stockholm-uppsala.yaml")
+    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--out", default="/tmp/mbc_canvas_split")
+    parser.add_argument(
+        "--canvas-window-s",
+        type=float,
+        default=None,
+        help="uma.sim.coders.CANVAS_WINDOW_S for this run (0: the last picture)",
+    )
+    parser.add_argument("--skip-h264", action="store_true", help="uma only (no split, no PNGs)")
+    args = parser.parse_args(argv)
+    if args.canvas_window_s is not None:
+        from uma.sim import coders
+
+        coders.CANVAS_WINDOW_S = args.canvas_window_s
+    scenario = load_scenario(Path(args.scenario))
+    scenario = scenario.model_copy(update={"seed": args.seed})
+    out_dir = Path(args.out)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    uma = run(scenario, "uma", None)
+    if args.skip_h264:
+        return 0
+    keep = {int(i) for i in np.flatnonzero(np.isin(uma[1], TECHS)) if i % STEP == 0}
+    uma_kept = {i: p for i, p in uma[3].items() if i in keep}
+    h264 = run(scenario, "h264", keep)
+    table = split(uma, h264, uma[2])
+    pngs(out_dir, table, uma_kept, h264[3], uma[0].face_boxes)
+    for tech, rows in table.items():
+        print(
+            f"{tech}: tag | instants | uma face PSNR / SSIM | H.264 only face PSNR / SSIM (frozen)"
+        )
+        for tag, row in rows.items():
+            print(
+                f"  {tag:48s} {row['instants']:5d}  {row['uma_psnr_face_db']} / "
+                f"{row['uma_ssim_face']}  |  {row['h264_psnr_face_db']} / {row['h264_ssim_face']}"
+                f" ({row['h264_frozen']})"
+            )
+    (out_dir / "split.json").write_text(json.dumps(table, indent=1) + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
