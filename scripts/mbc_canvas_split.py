@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-TECHS = ("GPRS", "GSM")
+TECHS = ["GPRS", "GSM"]
 STEP = 5  # keep every STEP-th display instant's pictures for the PNGs
 
 
@@ -110,6 +110,29 @@ def _instant_tag(log, index: int, tags: dict[int, str]) -> str:
     return tags.get(shown, "none shown")
 
 
+def _parts_db(kept, indices, boxes) -> dict[str, float | None]:
+    """Mean luma PSNR of the kept instants among `indices` over the face box's middle half
+    (the face itself) and the rest of the box (hair, neck, body, background)."""
+    errors: dict[str, list[float]] = {"inner": [], "ring": []}
+    for index in indices:
+        if index not in kept or index >= len(boxes) or boxes[index] is None:
+            continue
+        source, shown = kept[index]
+        box = boxes[index]
+        x0, y0, w, h = int(box.x), int(box.y), int(box.width), int(box.height)
+        err = (
+            source[y0 : y0 + h, x0 : x0 + w].astype(float) - shown[y0 : y0 + h, x0 : x0 + w]
+        ) ** 2
+        inner = np.zeros(err.shape, bool)
+        inner[h // 4 : h - h // 4, w // 4 : w - w // 4] = True
+        errors["inner"].append(float(err[inner].mean()))
+        errors["ring"].append(float(err[~inner].mean()))
+    return {
+        k: round(10 * np.log10(255.0**2 / max(np.mean(v), 1e-9)), 2) if v else None
+        for k, v in errors.items()
+    }
+
+
 def split(uma, h264, tags) -> dict:
     """Per technology and tag: instants, uma's and H.264 only's mean face PSNR / SSIM there."""
     result, techs = uma[0], uma[1]
@@ -130,6 +153,8 @@ def split(uma, h264, tags) -> dict:
                 "h264_ssim_face": _mean(base["ssim_face"][idx]),
                 "h264_frozen": round(float(base["frozen"][idx].mean()), 3),
                 "examples": [int(i) for i in idx[:: max(1, idx.size // 3)][:3]],
+                "uma_parts_db": _parts_db(uma[3], idx, result.face_boxes),
+                "h264_parts_db": _parts_db(h264[3], idx, result.face_boxes),
             }
         out[tech] = table
     return out
@@ -178,8 +203,10 @@ def main(argv: list[str] | None = None) -> int:
         default=None,
         help="uma.sim.coders.CANVAS_WINDOW_S for this run (0: the last picture)",
     )
+    parser.add_argument("--techs", default=",".join(TECHS), help="technologies to split")
     parser.add_argument("--skip-h264", action="store_true", help="uma only (no split, no PNGs)")
     args = parser.parse_args(argv)
+    TECHS[:] = args.techs.split(",")
     if args.canvas_window_s is not None:
         from uma.sim import coders
 
@@ -193,6 +220,7 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     keep = {int(i) for i in np.flatnonzero(np.isin(uma[1], TECHS)) if i % STEP == 0}
     uma_kept = {i: p for i, p in uma[3].items() if i in keep}
+    uma = (*uma[:3], uma_kept)
     h264 = run(scenario, "h264", keep)
     table = split(uma, h264, uma[2])
     pngs(out_dir, table, uma_kept, h264[3], uma[0].face_boxes)
@@ -204,7 +232,8 @@ def main(argv: list[str] | None = None) -> int:
             print(
                 f"  {tag:48s} {row['instants']:5d}  {row['uma_psnr_face_db']} / "
                 f"{row['uma_ssim_face']}  |  {row['h264_psnr_face_db']} / {row['h264_ssim_face']}"
-                f" ({row['h264_frozen']})"
+                f" ({row['h264_frozen']})  inner/ring dB uma {row['uma_parts_db']}"
+                f" h264 {row['h264_parts_db']}"
             )
     (out_dir / "split.json").write_text(json.dumps(table, indent=1) + "\n")
     return 0
