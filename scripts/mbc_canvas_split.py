@@ -41,17 +41,16 @@ def _tagging():
         if switched and background is not None:
             ages = [unit.frame - f for f, p in self.canvases.newest.values() if p is background]
             state["canvas"] = f"{background.shape[1]}x{background.shape[0] * 2 // 3}"
-            state["age"] = f" {ages[0] / 25.0:.0f}s old" if ages else " last"
+            state["age"] = f" {ages[0] / self.context.fps:.0f}s old" if ages else " last"
             state["since"] = unit.frame
         for frame, picture in pictures.items():
             if spec(unit.codec).role is Role.MODEL:
-                refresh = getattr(self.decoder, "refresh_frame", -1) >= 0
-                age_s = (frame - state["since"]) / 25.0
+                taken = getattr(self.decoder, "refresh_frame", -1)
+                since = taken if taken >= 0 else state["since"]
+                age_s = (frame - since) / self.context.fps
                 age = "<2s" if age_s < 2 else ("<6s" if age_s < 6 else ">=6s")
-                tags[frame] = (
-                    f"mbc over {state['canvas']}{state['age']} "
-                    f"{'refreshed' if refresh else 'no refresh'} {age}"
-                )
+                what = f"refresh {age} old" if taken >= 0 else f"no refresh, switch {age} ago"
+                tags[frame] = f"mbc over {state['canvas']}{state['age']}: {what}"
             else:
                 tags[frame] = f"{unit.codec}@{picture.shape[1]}x{picture.shape[0] * 2 // 3}"
         return pictures
@@ -110,10 +109,25 @@ def _instant_tag(log, index: int, tags: dict[int, str]) -> str:
     return tags.get(shown, "none shown")
 
 
+def _ring_fits(source: np.ndarray, shown: np.ndarray, ring: np.ndarray) -> tuple[float, float]:
+    """The ring's squared error with the best gain and offset of `shown` (the light), and
+    with the best shift of `shown` within 6 px (the pose)."""
+    s, u = source[ring].astype(float), shown[ring].astype(float)
+    fit = np.linalg.lstsq(np.stack([u, np.ones_like(u)], 1), s, rcond=None)[0]
+    light = float(((fit[0] * u + fit[1] - s) ** 2).mean())
+    pose = min(
+        float(((np.roll(shown, (dy, dx), (0, 1))[ring].astype(float) - s) ** 2).mean())
+        for dy in range(-6, 7, 2)
+        for dx in range(-6, 7, 2)
+    )
+    return light, pose
+
+
 def _parts_db(kept, indices, boxes) -> dict[str, float | None]:
     """Mean luma PSNR of the kept instants among `indices` over the face box's middle half
-    (the face itself) and the rest of the box (hair, neck, body, background)."""
-    errors: dict[str, list[float]] = {"inner": [], "ring": []}
+    (the face itself) and the rest of the box (hair, neck, body, background); the rest again
+    with its light fitted (gain, offset) and with its best shift (`_ring_fits`)."""
+    errors: dict[str, list[float]] = {"inner": [], "ring": [], "ring_lit": [], "ring_moved": []}
     for index in indices:
         if index not in kept or index >= len(boxes) or boxes[index] is None:
             continue
@@ -127,8 +141,13 @@ def _parts_db(kept, indices, boxes) -> dict[str, float | None]:
         inner[h // 4 : h - h // 4, w // 4 : w - w // 4] = True
         errors["inner"].append(float(err[inner].mean()))
         errors["ring"].append(float(err[~inner].mean()))
+        ring = np.zeros(source.shape, bool)
+        ring[y0 : y0 + h, x0 : x0 + w] = ~inner
+        lit, moved = _ring_fits(source, shown, ring)
+        errors["ring_lit"].append(lit)
+        errors["ring_moved"].append(moved)
     return {
-        k: round(10 * np.log10(255.0**2 / max(np.mean(v), 1e-9)), 2) if v else None
+        k: round(float(10 * np.log10(255.0**2 / max(np.mean(v), 1e-9))), 2) if v else None
         for k, v in errors.items()
     }
 
@@ -216,6 +235,10 @@ def main(argv: list[str] | None = None) -> int:
     out_dir = Path(args.out)
     out_dir.mkdir(parents=True, exist_ok=True)
     uma = run(scenario, "uma", None)
+    log = uma[0].log
+    np.savez(out_dir / "uma_frames.npz", **{k: log[k] for k in
+             ("codec", "width", "decoded", "shown_frame", "frozen", "psnr_face_db", "ssim_face")},
+             technology=uma[1])  # fmt: skip
     if args.skip_h264:
         return 0
     keep = {int(i) for i in np.flatnonzero(np.isin(uma[1], TECHS)) if i % STEP == 0}
