@@ -209,6 +209,23 @@ def pngs(out_dir: Path, table: dict, uma_kept, h264_kept, boxes) -> None:
                 row.setdefault("pngs", []).append(name)
 
 
+def _changed(scenario, settings: list[str]):
+    """`scenario` with each KEY=JSON of `settings` set (dotted keys into its sections)."""
+    from uma.config.scenario import Scenario
+
+    if not settings:
+        return scenario
+    data = scenario.model_dump(mode="json")
+    for item in settings:
+        key, _, value = item.partition("=")
+        *path, last = key.split(".")
+        node = data
+        for part in path:
+            node = node[part]
+        node[last] = json.loads(value)
+    return Scenario.model_validate(data)
+
+
 def main(argv: list[str] | None = None) -> int:
     from uma.config.load import load_scenario
 
@@ -223,6 +240,18 @@ def main(argv: list[str] | None = None) -> int:
         help="uma.sim.coders.CANVAS_WINDOW_S for this run (0: the last picture)",
     )
     parser.add_argument("--techs", default=",".join(TECHS), help="technologies to split")
+    parser.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="KEY=JSON",
+        help="a scenario key to change (engine.mbc.refresh.min_spare_kbps=2)",
+    )
+    parser.add_argument(
+        "--stretched",
+        action="store_true",
+        help="the model codec's stretched scene (CodecContext.layered False)",
+    )
     parser.add_argument("--skip-h264", action="store_true", help="uma only (no split, no PNGs)")
     args = parser.parse_args(argv)
     TECHS[:] = args.techs.split(",")
@@ -231,7 +260,13 @@ def main(argv: list[str] | None = None) -> int:
 
         coders.CANVAS_WINDOW_S = args.canvas_window_s
     scenario = load_scenario(Path(args.scenario))
-    scenario = scenario.model_copy(update={"seed": args.seed})
+    scenario = _changed(scenario.model_copy(update={"seed": args.seed}), args.set)
+    if args.stretched:
+        import functools
+
+        from uma.sim import codecs
+
+        codecs.CodecContext = functools.partial(codecs.CodecContext, layered=False)
     out_dir = Path(args.out)
     out_dir.mkdir(parents=True, exist_ok=True)
     uma = run(scenario, "uma", None)
