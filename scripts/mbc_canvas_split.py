@@ -31,6 +31,7 @@ def _tagging():
     from uma.sim import coders
 
     tags: dict[int, str] = {}
+    plates: dict[int, np.ndarray] = {}  # the model codec's reference luma, by decoded frame
     state = {"canvas": "none", "age": "", "since": -1}
     original = coders.ReceiverCoder.decode
 
@@ -51,12 +52,15 @@ def _tagging():
                 age = "<2s" if age_s < 2 else ("<6s" if age_s < 6 else ">=6s")
                 what = f"refresh {age} old" if taken >= 0 else f"no refresh, switch {age} ago"
                 tags[frame] = f"mbc over {state['canvas']}{state['age']}: {what}"
+                reference = getattr(getattr(self.decoder, "renderer", None), "reference", None)
+                if reference is not None:
+                    plates[frame] = reference[: reference.shape[0] * 2 // 3].copy()
             else:
                 tags[frame] = f"{unit.codec}@{picture.shape[1]}x{picture.shape[0] * 2 // 3}"
         return pictures
 
     coders.ReceiverCoder.decode = decode
-    return tags, lambda: setattr(coders.ReceiverCoder, "decode", original)
+    return tags, plates, lambda: setattr(coders.ReceiverCoder, "decode", original)
 
 
 def _luma(picture, width: int, height: int) -> np.ndarray:
@@ -85,7 +89,7 @@ def run(scenario, engine: str, keep: set[int] | None):
             size["wh"] = (source.shape[1], h)
             kept[index] = (_luma(source, source.shape[1], h), _luma(picture, source.shape[1], h))
 
-    tags, undo = _tagging() if engine == "uma" else ({}, lambda: None)
+    tags, plates, undo = _tagging() if engine == "uma" else ({}, {}, lambda: None)
     try:
         result = run_scenario(variant, on_display=on_display)
     finally:
@@ -99,7 +103,7 @@ def run(scenario, engine: str, keep: set[int] | None):
         + "; ".join(f"{t} {r['psnr_face_db']} dB / {r['ssim_face']}" for t, r in by_tech.items()),
         flush=True,
     )
-    return result, display_technologies(result), tags, kept
+    return result, display_technologies(result), tags, kept, plates
 
 
 def _instant_tag(log, index: int, tags: dict[int, str]) -> str:
@@ -123,11 +127,14 @@ def _ring_fits(source: np.ndarray, shown: np.ndarray, ring: np.ndarray) -> tuple
     return light, pose
 
 
-def _parts_db(kept, indices, boxes) -> dict[str, float | None]:
+def _parts_db(kept, indices, boxes, plates=None, shown_frames=None) -> dict[str, float | None]:
     """Mean luma PSNR of the kept instants among `indices` over the face box's middle half
     (the face itself) and the rest of the box (hair, neck, body, background); the rest again
-    with its light fitted (gain, offset) and with its best shift (`_ring_fits`)."""
-    errors: dict[str, list[float]] = {"inner": [], "ring": [], "ring_lit": [], "ring_moved": []}
+    with its light fitted (gain, offset) and with its best shift (`_ring_fits`); with
+    `plates`, the rest as the model codec's reference picture shows it, undrawn."""
+    errors: dict[str, list[float]] = {
+        "inner": [], "ring": [], "ring_lit": [], "ring_moved": [], "plate_ring": []
+    }  # fmt: skip
     for index in indices:
         if index not in kept or index >= len(boxes) or boxes[index] is None:
             continue
@@ -146,6 +153,11 @@ def _parts_db(kept, indices, boxes) -> dict[str, float | None]:
         lit, moved = _ring_fits(source, shown, ring)
         errors["ring_lit"].append(lit)
         errors["ring_moved"].append(moved)
+        plate = None if plates is None else plates.get(int(shown_frames[index]))
+        if plate is not None:
+            cut = plate[y0 : y0 + h, x0 : x0 + w].astype(float)
+            diff = (source[y0 : y0 + h, x0 : x0 + w].astype(float) - cut) ** 2
+            errors["plate_ring"].append(float(diff[~inner].mean()))
     return {
         k: round(float(10 * np.log10(255.0**2 / max(np.mean(v), 1e-9))), 2) if v else None
         for k, v in errors.items()
@@ -172,7 +184,9 @@ def split(uma, h264, tags) -> dict:
                 "h264_ssim_face": _mean(base["ssim_face"][idx]),
                 "h264_frozen": round(float(base["frozen"][idx].mean()), 3),
                 "examples": [int(i) for i in idx[:: max(1, idx.size // 3)][:3]],
-                "uma_parts_db": _parts_db(uma[3], idx, result.face_boxes),
+                "uma_parts_db": _parts_db(
+                    uma[3], idx, result.face_boxes, uma[4], result.log["shown_frame"]
+                ),
                 "h264_parts_db": _parts_db(h264[3], idx, result.face_boxes),
             }
         out[tech] = table
@@ -278,7 +292,7 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     keep = {int(i) for i in np.flatnonzero(np.isin(uma[1], TECHS)) if i % STEP == 0}
     uma_kept = {i: p for i, p in uma[3].items() if i in keep}
-    uma = (*uma[:3], uma_kept)
+    uma = (*uma[:3], uma_kept, uma[4])
     h264 = run(scenario, "h264", keep)
     table = split(uma, h264, uma[2])
     pngs(out_dir, table, uma_kept, h264[3], uma[0].face_boxes)
