@@ -1,17 +1,17 @@
 """What a viewer sees on GPRS and GSM: uma against H.264 only, split by what is on screen.
 
 `python scripts/mbc_canvas_split.py [SCENARIO.yaml] [--seed N] [--out DIR] [--techs GPRS,GSM]
-[--canvas-window-s S] [--set KEY=JSON ...] [--stretched] [--skip-h264]` runs the scenario as `uma bench headline`'s `uma` and `h264` engines do
-(`uma.bench.headline.engine_scenario`), tags every picture uma's receiver decodes (the codec
-and size of a full-frame picture; for the model codec, the canvas it draws over: the size and
-codec of the picture shown before the switch, its age in frames, and whether a refresh was
-taken), and prints, per technology (GPRS, GSM), the face PSNR / SSIM of uma's display instants
-split by that tag beside H.264 only's at the same instants, and on every 5th instant the face
-box's middle half against the rest (the rest again with its light fitted and its best shift).
-It writes OUT_DIR/split.json and
-side-by-side PNGs (source | uma | H.264 only, luma, the face box drawn) at a few instants of
-each tag. Run from the repository root; it only reads the simulation (it patches
-`ReceiverCoder.decode` in this process to watch it, and changes nothing it returns).
+[--canvas-window-s S] [--set KEY=JSON ...] [--stretched] [--skip-h264]` runs the scenario as
+`uma bench headline`'s `uma` and `h264` engines do (`uma.bench.headline.engine_scenario`),
+tags every picture uma's receiver decodes (a full-frame picture by codec and size; a model-
+codec picture by the canvas it draws over, its size and age, and by the time since the
+refresh taken or since the switch), and prints, per technology, the face PSNR / SSIM of uma's
+display instants split by that tag beside H.264 only's at the same instants, and on every 5th
+instant the face box's middle half against the rest (the rest again with its light fitted and
+with its best shift). It writes OUT_DIR/split.json, uma's per-frame scores
+(OUT_DIR/uma_frames.npz) and side-by-side PNGs (source | uma | H.264 only, luma, the face box
+drawn) at a few instants of each tag. Run from the repository root; it only watches the
+simulation (it patches `ReceiverCoder.decode` in this process and changes nothing it returns).
 """
 
 from __future__ import annotations
