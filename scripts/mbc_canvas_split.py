@@ -1,7 +1,7 @@
 """What a viewer sees on GPRS and GSM: uma against H.264 only, split by what is on screen.
 
 `python scripts/mbc_canvas_split.py [SCENARIO.yaml] [--seed N] [--out DIR] [--techs GPRS,GSM]
-[--canvas-window-s S] [--set KEY=JSON ...] [--stretched] [--skip-h264]` runs the scenario as
+[--set KEY=JSON ...] [--stretched] [--skip-h264]` runs the scenario as
 `uma bench headline`'s `uma` and `h264` engines do (`uma.bench.headline.engine_scenario`),
 tags every picture uma's receiver decodes (a full-frame picture by codec and size; a model-
 codec picture by the canvas it draws over, its size and age, and by the time since the
@@ -34,17 +34,19 @@ def _tagging():
 
     tags: dict[int, str] = {}
     plates: dict[int, np.ndarray] = {}  # the model codec's reference luma, by decoded frame
-    state = {"canvas": "none", "age": "", "since": -1}
+    state = {"canvas": "none", "age": "", "since": -1, "last": -1}
     original = coders.ReceiverCoder.decode
 
     def decode(self, unit):
-        switched = unit.codec != self.codec
+        switched, last = unit.codec != self.codec, state["last"]
         pictures = original(self, unit)
         background = self.context.background
+        if pictures:
+            state["last"] = max(pictures)
         if switched and background is not None:
-            ages = [unit.frame - f for f, p in self.canvases.newest.values() if p is background]
+            # The canvas is the last picture decoded before the switch (`ReceiverCoder`).
             state["canvas"] = f"{background.shape[1]}x{background.shape[0] * 2 // 3}"
-            state["age"] = f" {ages[0] / self.context.fps:.0f}s old" if ages else " last"
+            state["age"] = f" {(unit.frame - last) / self.context.fps:.0f}s old"
             state["since"] = unit.frame
         for frame, picture in pictures.items():
             if spec(unit.codec).role is Role.MODEL:
@@ -249,12 +251,6 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("scenario", nargs="?", default="scenarios/stockholm-uppsala.yaml")
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--out", default="/tmp/mbc_canvas_split")
-    parser.add_argument(
-        "--canvas-window-s",
-        type=float,
-        default=None,
-        help="uma.sim.coders.CANVAS_WINDOW_S for this run (0: the last picture)",
-    )
     parser.add_argument("--techs", default=",".join(TECHS), help="technologies to split")
     parser.add_argument(
         "--set",
@@ -271,10 +267,6 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--skip-h264", action="store_true", help="uma only (no split, no PNGs)")
     args = parser.parse_args(argv)
     TECHS[:] = args.techs.split(",")
-    if args.canvas_window_s is not None:
-        from uma.sim import coders
-
-        coders.CANVAS_WINDOW_S = args.canvas_window_s
     scenario = load_scenario(Path(args.scenario))
     scenario = _changed(scenario.model_copy(update={"seed": args.seed}), args.set)
     if args.stretched:

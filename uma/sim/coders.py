@@ -30,15 +30,7 @@ from uma.sim.mbc_codecs import SenderMbc
 from uma.sim.packets import EncodedUnit
 from uma.sim.uplink import UplinkMemo, UplinkReceiver, UplinkSender, settings_key
 
-__all__ = [
-    "CANVAS_WINDOW_S",
-    "CanvasKeeper",
-    "CodecClock",
-    "SenderCoder",
-    "EngineCoder",
-    "ReceiverCoder",
-    "compute_uplink",
-]
+__all__ = ["CodecClock", "SenderCoder", "EngineCoder", "ReceiverCoder", "compute_uplink"]
 
 
 class CodecClock:
@@ -223,39 +215,6 @@ class EngineCoder:
             self.refresh.engine_adopt(self.encoder, frame)
 
 
-# A codec that draws over a picture (the region and model codecs) may draw over the largest
-# full-frame picture decoded within this many seconds of source time before its first unit
-# (the newest of that size) instead of the last one, a low rung's perhaps. 0 (the default):
-# the last picture decoded; 4 s measured no better on the commutes (docs/mbc.md, "Branch
-# mbc26"), so it stays off.
-CANVAS_WINDOW_S = 0.0
-
-
-class CanvasKeeper:
-    """The newest full-frame picture of each size the receiver decoded, by source frame; the
-    canvas a drawing codec starts from (`pick`). Frame numbers are source frames, so the
-    window is source time, never the wall clock."""
-
-    def __init__(self, fps: float, window_s: float | None = None) -> None:
-        self.window_frames = (CANVAS_WINDOW_S if window_s is None else window_s) * fps
-        self.newest: dict[tuple[int, int], tuple[int, np.ndarray]] = {}
-
-    def add(self, frame: int, picture: np.ndarray) -> None:
-        self.newest[picture.shape] = (frame, picture)
-
-    def pick(self, frame: int, last: np.ndarray | None) -> np.ndarray | None:
-        """The largest picture decoded within the window before `frame` (the newest of the
-        largest); `last` when the window holds none or is 0."""
-        if self.window_frames <= 0:
-            return last
-        recent = [
-            (p.size, f, p) for f, p in self.newest.values() if frame - f <= self.window_frames
-        ]
-        if not recent:
-            return last
-        return max(recent, key=lambda item: item[:2])[2]
-
-
 class ReceiverCoder:
     """The receiver's decoders: one reference chain per run of units of one codec."""
 
@@ -264,20 +223,16 @@ class ReceiverCoder:
         self.decoder = None
         self.codec = ""
         self.last: np.ndarray | None = None
-        self.canvases = CanvasKeeper(float(context.fps))
 
     def decode(self, unit: EncodedUnit) -> dict[int, np.ndarray]:
         if unit.codec != self.codec:
-            # A new codec is a new reference chain, drawn over the best recent picture.
-            self.context.background = self.canvases.pick(unit.frame, self.last)
+            # A new codec is a new reference chain, rendered over the last picture shown.
+            self.context.background = self.last
             self.decoder = DECODERS[unit.codec](context=self.context)
             self.codec = unit.codec
         pictures = self.clock.timed(unit.codec, self.decoder.decode, unit)
         if pictures:
-            frame = max(pictures)
-            self.last = pictures[frame]
-            if spec(unit.codec).role is Role.FULL_FRAME:
-                self.canvases.add(frame, self.last)
+            self.last = pictures[max(pictures)]
         return pictures
 
     @property
