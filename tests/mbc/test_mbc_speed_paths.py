@@ -198,35 +198,3 @@ def test_a_drawing_for_one_box_keeps_the_whole_torso(moved) -> None:
         windowed._memo.clear()
         again, _ = windowed.render(params, light, body, luma_only=True)
         assert np.array_equal(again[:288], want[:288])
-
-
-@pytest.mark.parametrize("seed", range(6))
-def test_the_halo_and_torso_masks_over_their_box_are_the_whole_pictures(seed) -> None:
-    """`compose_layers`' halo (its gap to the head closed), person and cut torso, computed
-    over the box of the head and halo only, are the whole-picture forms, masks touching the
-    picture's edges included."""
-    import cv2
-
-    from uma.mbc.layered_render import _GAP_KERNEL, _closed_halo, _torso_cut, _union, mask_box
-
-    rng = np.random.default_rng(seed)
-    width, height = SIZE
-    head, halo = (np.zeros((height, width), np.uint8) for _ in range(2))
-    x0, y0 = int(rng.integers(-10, width - 30)), int(rng.integers(-10, height - 30))
-    head[max(y0, 0) : y0 + 40, max(x0, 0) : x0 + 30] = rng.random((40, 30))[
-        max(-y0, 0) : height - y0, max(-x0, 0) : width - x0] > 0.3  # fmt: skip
-    halo[max(y0 - 6, 0) : y0 + 46, max(x0 - 4, 0) : x0 + 34] = 1
-    halo &= rng.random((height, width)) > 0.5
-    torso = (rng.random((height, width)) > 0.4).astype(np.uint8)
-    torso[: height // 2] = 0
-    whole_halo = cv2.dilate(halo | head, _GAP_KERNEL) & (1 - head)
-    whole_person = whole_halo | head
-    boxed_halo, person, near = _closed_halo(
-        halo.copy(), head, _union(mask_box(halo), mask_box(head)), SIZE
-    )
-    assert np.array_equal(boxed_halo, whole_halo)
-    assert np.array_equal(person, whole_person)
-    cut, solid = _torso_cut(torso, person, near)
-    assert np.array_equal(cut, torso & (1 - whole_person))
-    assert np.array_equal(solid, (torso & (1 - whole_person)) | whole_person)
-    assert whole_halo.any() and cut.any()

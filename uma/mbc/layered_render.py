@@ -108,27 +108,22 @@ def _shifted(matrix: np.ndarray, x0: int, y0: int) -> np.ndarray:
 def _warped_mask(source: np.ndarray, source_box, matrix: np.ndarray, size) -> np.ndarray:
     """The 0/1 mask `source` moved by `matrix` into a picture of `size` (W, H), warped over
     the box its moved bounding box `source_box` covers only."""
-    return _warped_mask_in(source, source_box, matrix, size)[0]
-
-
-def _warped_mask_in(source: np.ndarray, source_box, matrix: np.ndarray, size):
-    """`_warped_mask` and the box (x0, y0, x1, y1) outside which it is 0 (None: all 0)."""
     import cv2
 
     width, height = size
     out = np.zeros((height, width), np.uint8)
     if source_box is None:
-        return out, None
+        return out
     x0, y0, x1, y1 = source_box
     corners = np.array([[x0, y0], [x1, y0], [x0, y1], [x1, y1]], np.float64)
     box = _box(corners @ matrix[:, :2].T + matrix[:, 2], size)
     if box is None:
-        return out, None
+        return out
     bx0, by0, bx1, by1 = box
     out[by0:by1, bx0:bx1] = cv2.warpAffine(
         source, _shifted(matrix, bx0, by0), (bx1 - bx0, by1 - by0), flags=cv2.INTER_NEAREST
     )
-    return out, box
+    return out
 
 
 def _draw_layer(renderer, out: np.ndarray, mask: np.ndarray, matrix: np.ndarray, box, chroma=True):
@@ -196,6 +191,7 @@ def compose_layers(
     Every layer is warped over the box it covers only (the plate's pixels elsewhere are
     never touched), which draws the same picture as whole-picture warps at a fraction of
     their cost."""
+    import cv2
 
     width, height = renderer.size
     size = (width, height)
@@ -205,16 +201,17 @@ def compose_layers(
     margin = ONLY_MARGIN_SOFT_PX if renderer.soft_outline else ONLY_MARGIN_PX
     clip = None if chroma else _clip_of(only, face, margin)
     out, plate, torso, body_moved = _torso_layer(renderer, body, chroma)
-    halo, halo_box = _warped_mask_in(renderer.halo_mask, renderer._halo_box, head_forward, size)
+    halo = _warped_mask(renderer.halo_mask, renderer._halo_box, head_forward, size)
     # The mesh's edge and the halo's rigid motion part by a pixel here and there: close the
-    # gap (it would show the plate as a dotted seam). Over the box of the head and halo and a
-    # pixel about it only: everything outside is 0, before the dilation and after.
-    halo, person, near = _closed_halo(halo, head, _union(halo_box, box), size)
+    # gap (it would show the plate as a dotted seam).
+    halo = cv2.dilate(halo | head, _GAP_KERNEL) & (1 - head)
+    person = halo | head
     moved = _head_moved_px(renderer, target)
     if plate is not None:  # the torso's outer edge only: it meets the head inside
+        torso = torso & (1 - person)
         strength = min(body_moved / FEATHER_FULL_PX, 1.0)
-        torso, solid = _torso_cut(torso, person, near)
-        _feather(out, plate, torso.view(bool), strength, solid.view(bool), chroma, clip)
+        _feather(out, plate, torso.view(bool), strength, (torso | person).view(bool), chroma,
+                 clip)  # fmt: skip
     # The picture moved with the head, around the head and halo: what their seam fades into.
     around_box = mask_box(person, _BLEED_MARGIN_PX) if moved > 0 else mask_box(halo)
     drawn_box, around = _within(around_box, clip, far_only=True), None
@@ -235,43 +232,6 @@ def compose_layers(
     if renderer.soft_outline:
         soften_outline(out, person.view(bool), face, moved, chroma)
     return out, face
-
-
-def _union(a, b):
-    """The box (x0, y0, x1, y1) holding boxes `a` and `b` (either None: the other)."""
-    if a is None or b is None:
-        return b if a is None else a
-    return min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3])
-
-
-def _closed_halo(halo: np.ndarray, head: np.ndarray, box, size):
-    """`cv2.dilate(halo | head, 3x3) & (1 - head)` (the halo, its gap to the head closed), the
-    person (that | head) and the box (y and x slices) outside which both are 0: computed over
-    `box` (where `halo` and `head` have all their pixels) and a pixel about it only, which
-    gives the whole picture's masks (the dilation reads 0 beyond, as outside the picture)."""
-    import cv2
-
-    width, height = size
-    person = np.zeros((height, width), np.uint8)
-    if box is None:
-        return halo, person, (slice(0, 0), slice(0, 0))
-    near = (
-        slice(max(box[1] - 1, 0), min(box[3] + 1, height)),
-        slice(max(box[0] - 1, 0), min(box[2] + 1, width)),
-    )
-    both = halo[near] | head[near]
-    halo[near] = cv2.dilate(both, _GAP_KERNEL) & (1 - head[near])
-    person[near] = halo[near] | head[near]
-    return halo, person, near
-
-
-def _torso_cut(torso: np.ndarray, person: np.ndarray, near):
-    """`torso & (1 - person)` and `torso | person` (new arrays), `person` being 0 outside the
-    box `near` (y and x slices): only that box is computed."""
-    cut, solid = torso.copy(), torso.copy()
-    cut[near] &= 1 - person[near]
-    solid[near] |= person[near]
-    return cut, solid
 
 
 def _head_masks(renderer, params: np.ndarray, target: np.ndarray):
