@@ -51,9 +51,10 @@ def make_params(
 
 def rotation_matrix(rx: np.ndarray, ry: np.ndarray, rz: np.ndarray) -> np.ndarray:
     """R = Rz @ Ry @ Rx for batched angles; shape (..., 3, 3)."""
-    rx, ry, rz = np.broadcast_arrays(
-        np.asarray(rx, float), np.asarray(ry, float), np.asarray(rz, float)
-    )
+    rx, ry, rz = np.asarray(rx, float), np.asarray(ry, float), np.asarray(rz, float)
+    if rx.ndim == ry.ndim == rz.ndim == 0:  # one pose: the same numbers, without the batch's
+        return _one_rotation(rx, ry, rz)  # indexing (a drawing projects several times)
+    rx, ry, rz = np.broadcast_arrays(rx, ry, rz)
     cx, sx, cy, sy, cz, sz = np.cos(rx), np.sin(rx), np.cos(ry), np.sin(ry), np.cos(rz), np.sin(rz)
     r = np.empty(rx.shape + (3, 3))
     r[..., 0, 0] = cz * cy
@@ -66,6 +67,20 @@ def rotation_matrix(rx: np.ndarray, ry: np.ndarray, rz: np.ndarray) -> np.ndarra
     r[..., 2, 1] = cy * sx
     r[..., 2, 2] = cy * cx
     return r
+
+
+def _one_rotation(rx: np.ndarray, ry: np.ndarray, rz: np.ndarray) -> np.ndarray:
+    """`rotation_matrix` of one pose (0-d angles): the same sines and cosines and the same
+    products in the same order, on scalars (IEEE doubles either way: the same to the bit)."""
+    cx, sx, cy, sy, cz, sz = np.cos(rx), np.sin(rx), np.cos(ry), np.sin(ry), np.cos(rz), np.sin(rz)
+    return np.array(
+        [
+            [cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx],
+            [sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx],
+            [-sy, cy * sx, cy * cx],
+        ],
+        dtype=np.float64,
+    )
 
 
 def deform(model: FaceModel, actions: np.ndarray) -> np.ndarray:
