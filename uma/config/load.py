@@ -93,6 +93,7 @@ def _check_files(scenario: Scenario, lines: KeyLines) -> None:
         (("engine", "mbc", "description"), scenario.engine.mbc.description),
     ]
     wanted += [(("route", i, "trace"), seg.trace) for i, seg in enumerate(scenario.route)]
+    wanted.append((("feedback", "trace"), scenario.feedback.trace))
     for key_path, path in wanted:
         if path is None:
             continue
@@ -113,6 +114,13 @@ def _check_files(scenario: Scenario, lines: KeyLines) -> None:
 
 
 def _check_names(scenario: Scenario, lines: KeyLines) -> None:
+    route = scenario.route
+    if scenario.feedback.trace is not None and (len(route) != 1 or route[0].trace is None):
+        raise ConfigError(
+            f"{lines.where(('feedback', 'trace'))}: expected a route of one trace segment "
+            f"beside it (the uplink is read from that segment's offset_s), got {len(route)} "
+            f"segment(s){'' if route[0].trace else ', the first generated'}"
+        )
     for index, segment in enumerate(scenario.route):
         if segment.trace is None and not technology_label(segment.technology):
             raise ConfigError(

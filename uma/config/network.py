@@ -68,3 +68,8 @@ class FeedbackConfig(Section):
     # transport feedback is every 50-100 ms) a run never ends.
     interval_ms: bounded(10.0, 60_000.0) = 100.0
     keyframe_min_interval_ms: NonNeg = 300.0
+    # The uplink's own measured capacity (a Mahimahi `.up` file, read as the route's one
+    # segment is, from its `offset_s`): a report waits for it instead of being lost whenever
+    # the downlink's capacity is zero. None: the downlink's capacity stands for both ways.
+    trace: Str | None = None
+    format: Str = "auto"

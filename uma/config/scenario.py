@@ -183,7 +183,10 @@ class Scenario(Section):
             update={"description": absolute(self.engine.mbc.description)}
         )
         engine = self.engine.model_copy(update={"ladder": absolute(self.engine.ladder), "mbc": mbc})
-        return self.model_copy(update={"route": route, "source": source, "engine": engine})
+        feedback = self.feedback.model_copy(update={"trace": absolute(self.feedback.trace)})
+        return self.model_copy(
+            update={"route": route, "source": source, "engine": engine, "feedback": feedback}
+        )
 
     def with_seed(self, seed: int) -> Scenario:
         """A copy with `seed`, checked against the key's bound (a copy skips validation)."""

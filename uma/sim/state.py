@@ -5,6 +5,7 @@ Units: simulation time in seconds; sizes in bits.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -22,7 +23,11 @@ from uma.sim.links import Downlink, FixedLink, LinkProps, deliver_later
 from uma.sim.receiver import ReceiverState
 from uma.sim.stats import ModelWork, SentBits
 
-__all__ = ["World"]
+__all__ = ["FEEDBACK_BYTES", "World"]
+
+# A report or keyframe request on the wire when the uplink's capacity is measured: the
+# headers and a transport-wide feedback message of one report interval's packets.
+FEEDBACK_BYTES = 100
 
 
 @dataclass
@@ -65,6 +70,10 @@ class World:
     model: ModelWork = field(default_factory=ModelWork)
     pacer_kick: simpy.Event | None = None  # wakes `pacer_process` when a unit is queued
     next_refresh_seq: int = 0  # the model-aided refresh's units are numbered apart
+    # The uplink's measured capacity (`feedback.trace`; None: the downlink's stands for it)
+    # and when it has sent the reports before (they leave in order).
+    feedback_capacity: CapacitySchedule | None = None
+    feedback_free_s: float = 0.0
 
     def kick_pacer(self) -> None:
         """Something was queued in the engine's pacer: let it look now."""
@@ -89,14 +98,30 @@ class World:
         return compute_s
 
     def send_feedback(self, item, handler: Callable) -> None:
-        """Carry a report or request over the mobile uplink; lost in an outage or at random."""
+        """Carry a report or request over the mobile uplink; lost in an outage or at random.
+
+        Without a measured uplink, an instant of zero downlink capacity is an outage both ways;
+        with one (`feedback_capacity`), the report waits for the uplink's own capacity behind
+        the reports before it, lost only if that never comes."""
         now_s = self.env.now
-        silent = self.faults is not None and self.faults.feedback_silent(now_s)
-        if silent or self.capacity.rate_kbps_at(now_s) <= 0.0:
+        if self.faults is not None and self.faults.feedback_silent(now_s):
             self.feedback_lost += 1
             return
+        sent_s = now_s
+        if self.feedback_capacity is None:
+            if self.capacity.rate_kbps_at(now_s) <= 0.0:
+                self.feedback_lost += 1
+                return
+        else:
+            start_s = max(now_s, self.feedback_free_s)
+            sent_s = self.feedback_capacity.finish_time_s(start_s, 8 * FEEDBACK_BYTES)
+            if not math.isfinite(sent_s):
+                self.feedback_lost += 1
+                return
+            self.feedback_free_s = sent_s
         props = self.link_props(self.capacity.technology_at(now_s))
         if self.feedback_rng.random() < props.loss_rate:
             self.feedback_lost += 1
             return
-        deliver_later(self.env, props.delay_s, lambda value: handler(value, self.env.now), item)
+        delay_s = sent_s - now_s + props.delay_s
+        deliver_later(self.env, delay_s, lambda value: handler(value, self.env.now), item)

@@ -39,7 +39,7 @@ from uma.sim.sources import open_source
 from uma.sim.state import World
 from uma.sim.uplink import UplinkMemo
 
-__all__ = ["RunResult", "run_scenario", "build_capacity", "scenario_link"]
+__all__ = ["RunResult", "run_scenario", "build_capacity", "feedback_capacity", "scenario_link"]
 
 
 def build_capacity(scenario: Scenario, rng: np.random.Generator) -> CapacitySchedule:
@@ -61,6 +61,22 @@ def build_capacity(scenario: Scenario, rng: np.random.Generator) -> CapacitySche
     return CapacitySchedule.from_trace(
         trace, handover_gap_s=scenario.downlink.handover_gap_ms / 1000.0
     )
+
+
+def feedback_capacity(scenario: Scenario) -> CapacitySchedule | None:
+    """The uplink's measured capacity (`feedback.trace`, read from the route's one segment's
+    offset for as long), or None when the scenario gives none."""
+    from uma.traces import RouteSegment, build_route
+
+    feedback = scenario.feedback
+    if feedback.trace is None:
+        return None
+    segment = scenario.route[0]
+    uplink = RouteSegment(
+        technology=segment.technology, duration_s=segment.duration_s, trace=feedback.trace,
+        format=feedback.format, offset_s=segment.offset_s,
+    )  # fmt: skip
+    return CapacitySchedule.from_trace(build_route([uplink], rng=np.random.default_rng(0)))
 
 
 def scenario_link(scenario: Scenario) -> tuple[CapacitySchedule, Callable[[str], float]]:
@@ -158,7 +174,7 @@ def run_scenario(
         progress=progress, inbox=simpy.Store(env), on_display=on_display,
         faults=faults if faults.active else None, playout=make_playout(scenario.receiver),
         init_us_per_evaluation=plan.init_us_per_evaluation, points=points,
-        face_boxes=face_boxes.boxes,
+        face_boxes=face_boxes.boxes, feedback_capacity=feedback_capacity(scenario),
     )  # fmt: skip
     _wire_receiver(world, loss_rng)
     _run(world)
