@@ -192,10 +192,7 @@ def test_climb_names_are_the_policys_climbs_and_a_bad_one_is_named(tmp_path):
         load_scenario(write(tmp_path, MINIMAL + "engine: {climb: leap}\n"))
 
 
-@pytest.mark.parametrize(
-    ("key", "default"),
-    [("drained_queue", False), ("rung_floor", True), ("floor_silence_skip", False)],
-)
+@pytest.mark.parametrize(("key", "default"), [("drained_queue", False), ("rung_floor", True)])
 def test_engine_switches_have_their_default_take_the_other_and_refuse_a_non_boolean(
     tmp_path, key, default
 ):

@@ -197,11 +197,6 @@ class EngineConfig(Section):
     hold judge a frame at no less than the lowest skippable rung's rate, so an estimate cut
     below that rung (an on/off link's silences) does not hold the sender to the skip limit's
     one frame a second (docs/rate-control.md, `rc26` and "Session 25").
-    `floor_silence_skip` (off, today's behaviour; `uma` only): with `rung_floor`, the lowest
-    rung's frames are skipped too while the sender is paused and the link is silent (the
-    frame would not drain within the skip limit at what arrived over the last second), so a
-    long outage does not fill the bottleneck with frames that arrive together at its end and
-    raise the receiver's playout delay (docs/rate-control.md, `rc27`).
     """
 
     policy: Str = "throughput"
@@ -212,7 +207,6 @@ class EngineConfig(Section):
     climb: Str = "stream"
     drained_queue: Bool = False
     rung_floor: Bool = True
-    floor_silence_skip: Bool = False
     fixed_rung: NonNegInt | None = None
     transcode_ms: NonNeg = 4.0
     estimator: EstimatorConfig = Field(default_factory=EstimatorConfig)

@@ -77,8 +77,6 @@ class RateControl:
         # With `engine.rung_floor`, the lowest skippable rung's rate (0: no floor): the least
         # rate the send gates judge a frame by (`gate_kbps`, uma's skip rule).
         self.floor_kbps = 0.0
-        # With `engine.floor_silence_skip`, the floor's frames are skipped in a silent pause.
-        self.floor_silence_skip = config.floor_silence_skip
         self.technology = ""  # the last the reports named
         self.handover = False  # the last report named a new technology (never the oracle)
 
@@ -135,19 +133,12 @@ class RateControl:
         self, point: OperatingPoint, queued_bits: int, now_s: float, outstanding_bits: int = -1
     ) -> bool:
         """Whether a frame at `point` is not coded (`skip` on its share of the point's rate;
-        never a codec that may not be skipped for backlog; a frame at the floor only, with
-        `floor_silence_skip`, when the link is `silent`). `outstanding_bits`: in flight after
-        the last reported packet (-1: not known)."""
-        if not spec(point.codec).skip_for_backlog:
+        never a codec that may not be skipped for backlog). `outstanding_bits`: in flight
+        after the last reported packet (-1: not known)."""
+        if not spec(point.codec).skip_for_backlog or point.rate_kbps <= self.floor_kbps:
             return False
         frame_bits = point.rate_kbps * 1000.0 / point.fps
-        if point.rate_kbps <= self.floor_kbps:
-            return self.floor_silence_skip and self.silent(frame_bits, now_s)
         return self.skip(frame_bits, queued_bits, now_s, outstanding_bits=outstanding_bits)
-
-    def silent(self, frame_bits: float, now_s: float) -> bool:
-        """Whether the link is silent for a frame of `frame_bits` (the base: never)."""
-        return False
 
     def _follow(self, report: ReceiverReport, estimate_kbps: float, queue_ms: float | None):
         """`state` after `report` with `estimate_kbps` (the kind's own, already within
@@ -297,12 +288,12 @@ class UmaRate(RateControl):
             if self._skipping_s is None:
                 self._skipping_s = now_s
             skip = now_s - self._skipping_s < s.max_skip_ms / 1000.0
-            skip = skip or (s.skip_limit_by_received and self.silent(frame_bits, now_s))
+            skip = skip or (s.skip_limit_by_received and self._silent(frame_bits, now_s))
         if not skip:
             self._skipping_s = None
         return skip
 
-    def silent(self, frame_bits: float, now_s: float) -> bool:
+    def _silent(self, frame_bits: float, now_s: float) -> bool:
         """Paused, and the frame would not drain within the skip limit's length at what
         arrived over the last `RECEIVED_WINDOW_S`: the link is silent, not trickling."""
         budget_bits = self.state.received_kbps * self.controller.settings.max_skip_ms
