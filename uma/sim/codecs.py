@@ -31,6 +31,7 @@ from uma.sim.coders import CodecClock, EngineCoder, ReceiverCoder, SenderCoder, 
 from uma.sim.context import CodecContext
 from uma.sim.mbc_codecs import MbcPointEncoder, MbcUnitDecoder, SelectedMbcEncoder, SenderMbc
 from uma.sim.packets import EncodedUnit
+from uma.sim.sent_view import SentView
 from uma.sim.uplink import UplinkMemo
 
 __all__ = [
@@ -89,6 +90,7 @@ class CodecChain:
             memo=uplink, **size,
         )  # fmt: skip
         self.receiver = ReceiverCoder(self.context, clock=self.clock, refresh=self.refresh)
+        self.sent = SentView(self.context)  # what the engine knows the receiver decodes
 
     @property
     def seconds(self) -> float:
@@ -126,10 +128,15 @@ class CodecChain:
     def engine_flush(self) -> Coded | None:
         return self.engine.flush()
 
+    def engine_released(self, unit: EncodedUnit) -> None:
+        """A point's unit left the engine whole (its last packet offered to the downlink)."""
+        self.sent.released(unit)
+
     def engine_refresh(self, picture: np.ndarray, order):
         """The refresh `order` of `picture` coded, judged against the picture the receiver's
-        model codec started its stretch from: (bytes, intra, gain_db), or None."""
-        return self.engine.code_refresh(picture, order, self.receiver.stretch_picture())
+        model codec started its stretch from, as the engine's released units decode (it
+        cannot see the receiver's): (bytes, intra, gain_db), or None."""
+        return self.engine.code_refresh(picture, order, self.sent.stretch_picture())
 
     def engine_discard_refresh(self, frame: int) -> None:
         self.engine.discard_refresh(frame)

@@ -239,10 +239,6 @@ class ReceiverCoder:
     def on_model(self) -> bool:
         return bool(self.codec) and spec(self.codec).role is Role.MODEL
 
-    def stretch_picture(self) -> np.ndarray | None:
-        """The picture the model codec's stretch started from (None: not on it)."""
-        return self.context.background if self.on_model else None
-
     def decode_refresh(self, unit: EncodedUnit) -> np.ndarray | None:
         """A refresh unit complete: its picture, or None (undecodable)."""
         if self.refresh is None:

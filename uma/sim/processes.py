@@ -116,6 +116,8 @@ def carry_out(world: World, actions, picture: np.ndarray | None = None) -> None:
                 )  # fmt: skip
             )
             world.sent.add(action.kind, action.size_bits)
+            if action.kind == "video" and action.index == action.count - 1:
+                world.codec.engine_released(action.payload)
         elif isinstance(action, Initialise):
             world.model.init_frames.append(action.frame)
             env.process(init_process(env, world, picture, action.rung, action.frame))
