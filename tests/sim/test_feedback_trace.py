@@ -96,3 +96,16 @@ def test_the_uplink_is_read_from_the_segments_offset(tmp_path):
     assert uplink.rate_kbps_at(0.5) == 80.0 and uplink.rate_kbps_at(1.5) == 0.0
     (tmp_path / "s.yaml").write_text(f"name: x\nroute:\n{route}")
     assert feedback_capacity(load_scenario(tmp_path / "s.yaml")) is None
+
+
+def test_an_outage_fault_silences_the_uplink_too(tmp_path):
+    from uma.sim.world import feedback_capacity
+
+    (tmp_path / "down.csv").write_text("time_s,rate_kbps\n0,100\n10,100\n")
+    (tmp_path / "up.csv").write_text("time_s,rate_kbps\n0,50\n10,50\n")
+    (tmp_path / "s.yaml").write_text(
+        "name: x\nroute:\n  - {technology: 3G, duration_s: 5, trace: down.csv}\n"
+        "feedback: {trace: up.csv}\nfaults: {outages: [{start_s: 1, duration_s: 2}]}\n"
+    )
+    uplink = feedback_capacity(load_scenario(tmp_path / "s.yaml"))
+    assert [uplink.rate_kbps_at(t) for t in (0.5, 1.5, 2.9, 3.5)] == [50.0, 0.0, 0.0, 50.0]

@@ -65,7 +65,8 @@ def build_capacity(scenario: Scenario, rng: np.random.Generator) -> CapacitySche
 
 def feedback_capacity(scenario: Scenario) -> CapacitySchedule | None:
     """The uplink's measured capacity (`feedback.trace`, read from the route's one segment's
-    offset for as long), or None when the scenario gives none."""
+    offset for as long, with the scenario's outage faults, which silence both ways), or None
+    when the scenario gives none."""
     from uma.traces import RouteSegment, build_route
 
     feedback = scenario.feedback
@@ -76,7 +77,9 @@ def feedback_capacity(scenario: Scenario) -> CapacitySchedule | None:
         technology=segment.technology, duration_s=segment.duration_s, trace=feedback.trace,
         format=feedback.format, offset_s=segment.offset_s,
     )  # fmt: skip
-    return CapacitySchedule.from_trace(build_route([uplink], rng=np.random.default_rng(0)))
+    # A trace segment draws nothing from its generator (only generated rates do).
+    trace = build_route([uplink], rng=np.random.default_rng(0))
+    return with_outages(CapacitySchedule.from_trace(trace), scenario.faults.outages)
 
 
 def scenario_link(scenario: Scenario) -> tuple[CapacitySchedule, Callable[[str], float]]:
