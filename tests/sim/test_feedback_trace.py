@@ -109,3 +109,18 @@ def test_an_outage_fault_silences_the_uplink_too(tmp_path):
     )
     uplink = feedback_capacity(load_scenario(tmp_path / "s.yaml"))
     assert [uplink.rate_kbps_at(t) for t in (0.5, 1.5, 2.9, 3.5)] == [50.0, 0.0, 0.0, 50.0]
+
+
+def test_a_bad_uplink_file_is_named_by_its_key(tmp_path):
+    from uma.errors import TraceError
+    from uma.sim.world import feedback_capacity
+
+    (tmp_path / "down.csv").write_text("time_s,rate_kbps\n0,100\n10,100\n")
+    (tmp_path / "bad.up").write_text("abc\n")
+    route = "  - {technology: 3G, duration_s: 5, trace: down.csv}\n"
+    (tmp_path / "s.yaml").write_text(f"name: x\nroute:\n{route}feedback: {{trace: bad.up}}\n")
+    with pytest.raises(TraceError) as caught:
+        feedback_capacity(load_scenario(tmp_path / "s.yaml"))
+    message = str(caught.value)
+    assert message.startswith("feedback.trace (") and "line 1 of" in message
+    assert "route segment" not in message and "\n" not in message

@@ -67,6 +67,7 @@ def feedback_capacity(scenario: Scenario) -> CapacitySchedule | None:
     """The uplink's measured capacity (`feedback.trace`, read from the route's one segment's
     offset for as long, with the scenario's outage faults, which silence both ways), or None
     when the scenario gives none."""
+    from uma.errors import TraceError
     from uma.traces import RouteSegment, build_route
 
     feedback = scenario.feedback
@@ -77,8 +78,11 @@ def feedback_capacity(scenario: Scenario) -> CapacitySchedule | None:
         technology=segment.technology, duration_s=segment.duration_s, trace=feedback.trace,
         format=feedback.format, offset_s=segment.offset_s,
     )  # fmt: skip
-    # A trace segment draws nothing from its generator (only generated rates do).
-    trace = build_route([uplink], rng=np.random.default_rng(0))
+    try:  # a trace segment draws nothing from its generator (only generated rates do)
+        trace = build_route([uplink], rng=np.random.default_rng(0))
+    except TraceError as err:  # named by the key, not as the route's segment
+        reason = str(err).split("): ", 1)[-1]
+        raise TraceError(f"feedback.trace ({feedback.trace}): {reason}") from None
     return with_outages(CapacitySchedule.from_trace(trace), scenario.faults.outages)
 
 
