@@ -21,9 +21,13 @@ demo: install
 # The fast suite (at most two minutes); the 15 slowest tests are listed at the end. It runs on
 # TEST_WORKERS processes (pytest-xdist; `auto`: one per core), each test file on one of them so
 # a module's fixtures are computed once; `make test TEST_WORKERS=0` runs it in this process.
+# Python's bytecode caches are written even where PYTHONDONTWRITEBYTECODE is set: otherwise every
+# worker and every `uma` subprocess of the suite compiles each module (and pytest rewrites each
+# test file's asserts) from source again.
 TEST_WORKERS ?= auto
 test: install
-	$(BIN)/python -m pytest -q -m "not slow" -n $(TEST_WORKERS) --dist loadfile --durations=15
+	env -u PYTHONDONTWRITEBYTECODE $(BIN)/python -m pytest -q -m "not slow" -n $(TEST_WORKERS) \
+		--dist loadfile --durations=15
 
 # The regression gate on the repository's baselines: eight short scenarios (about 35 s).
 regress: install
