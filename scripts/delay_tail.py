@@ -19,7 +19,12 @@ import sys
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
-from links_settings import case_task, json_keys  # scripts/, this script's folder
+from links_settings import (
+    add_case_arguments,
+    case_task,
+    cases,
+    json_keys,
+)  # scripts/, this script's folder
 
 
 def episodes(times_ms, gap_ms: float = 1000.0) -> list[tuple[float, float, int]]:
@@ -112,18 +117,11 @@ def _print(out: dict) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--case", action="append", required=True, help="TRACE:OFFSET_S:DURATION_S")
-    parser.add_argument("--engines", default="uma,gcc,oracle")
-    parser.add_argument("--engine", action="append", default=[], help="engine KEY=JSON")
-    parser.add_argument("--workers", type=int, default=2)
+    add_case_arguments(parser, "uma,gcc,oracle")
     parser.add_argument("--out", default="/tmp/delay_tail")
     args = parser.parse_args(argv)
     engine_keys = json_keys(args.engine)
-    jobs = []
-    for case in args.case:
-        trace, offset_s, duration_s = case.rsplit(":", 2)
-        for engine in args.engines.split(","):
-            jobs.append((trace, float(offset_s), float(duration_s), engine, engine_keys, args.out))
+    jobs = [(*case, engine_keys, args.out) for case in cases(args)]
     with ProcessPoolExecutor(args.workers) as pool:
         for out in pool.map(_case, jobs):
             _print(out)

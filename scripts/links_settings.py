@@ -46,6 +46,24 @@ def json_keys(items: list[str]) -> dict:
     return keys
 
 
+def add_case_arguments(parser: argparse.ArgumentParser, engines: str) -> None:
+    """The options the case scripts share: `--case` (repeated), `--engines`, `--engine KEY=JSON`
+    (repeated) and `--workers`."""
+    parser.add_argument("--case", action="append", required=True, help="TRACE:OFFSET_S:DURATION_S")
+    parser.add_argument("--engines", default=engines)
+    parser.add_argument("--engine", action="append", default=[], help="engine KEY=JSON")
+    parser.add_argument("--workers", type=int, default=2)
+
+
+def cases(args: argparse.Namespace) -> list[tuple[str, float, float, str]]:
+    """(trace, offset_s, duration_s, engine) for every `--case` and every engine of `--engines`."""
+    out = []
+    for case in args.case:
+        trace, offset_s, duration_s = case.rsplit(":", 2)
+        out += [(trace, float(offset_s), float(duration_s), e) for e in args.engines.split(",")]
+    return out
+
+
 def _case_row(job: tuple) -> tuple:
     trace, offset_s, duration_s, engine, overrides, engine_keys = job
     import uma.engine.rate as rate
@@ -60,20 +78,12 @@ def _case_row(job: tuple) -> tuple:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--case", action="append", required=True, help="TRACE:OFFSET_S:DURATION_S")
-    parser.add_argument("--engines", default="uma,gcc")
+    add_case_arguments(parser, "uma,gcc")
     parser.add_argument("--set", action="append", default=[], help="UmaSettings FIELD=JSON")
-    parser.add_argument("--engine", action="append", default=[], help="engine KEY=JSON")
-    parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--json", default=None)
     args = parser.parse_args(argv)
     overrides, engine_keys = json_keys(args.set), json_keys(args.engine)
-    jobs = []
-    for case in args.case:
-        trace, offset_s, duration_s = case.rsplit(":", 2)
-        for engine in args.engines.split(","):
-            extra = overrides if engine == "uma" else {}
-            jobs.append((trace, float(offset_s), float(duration_s), engine, extra, engine_keys))
+    jobs = [(*case, overrides if case[3] == "uma" else {}, engine_keys) for case in cases(args)]
     rows = []
     with ProcessPoolExecutor(args.workers) as pool:
         for trace, offset_s, duration_s, engine, row in pool.map(_case_row, jobs):
