@@ -45,8 +45,6 @@ def handle(args: argparse.Namespace) -> int:
     from uma.atomic import prepare_out_dir
     from uma.config import load_scenario
     from uma.errors import ConfigError
-    from uma.sim import run_scenario
-    from uma.sim.summary import format_summary, save_run
 
     scenario = load_scenario(args.scenario)
     if args.seed is not None:
@@ -59,6 +57,8 @@ def handle(args: argparse.Namespace) -> int:
     out_dir = prepare_out_dir(
         args.out if args.out is not None else Path("results") / scenario.name, replaceable=RUN_FILES
     )
+    from uma.sim import run_scenario  # after the checks: a refusal does not wait for the kernels
+    from uma.sim.summary import format_summary, save_run
 
     bar = None
     if not args.quiet and sys.stderr.isatty():
