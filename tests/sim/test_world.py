@@ -127,7 +127,7 @@ name: constant
 seed: 3
 source: {kind: pattern, width: 176, height: 144, fps: 25}
 route:
-  - {technology: 3G, duration_s: 40, trace: link.csv}
+  - {technology: 3G, duration_s: 20, trace: link.csv}
 downlink: {handover_gap_ms: 0, technologies: {3G: {delay_ms: 20, loss_rate: 0}}}
 engine: {estimator: ESTIMATOR}
 receiver: {playout: PLAYOUT}
