@@ -9,8 +9,10 @@ $(BIN)/uma: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install -q --upgrade pip
 	$(BIN)/python -m pip install -q -e '.[dev,webrtc]'
-	# numba's kernels compiled into their cache once, not in each process's first call.
+	# numba's kernels compiled into their cache once, not in each process's first call; the
+	# package's bytecode written once, as a non-editable install would (see `test`).
 	$(BIN)/python -m uma.bench.warm
+	env -u PYTHONDONTWRITEBYTECODE $(BIN)/python -m compileall -q uma
 	touch $@
 
 install: $(BIN)/uma
