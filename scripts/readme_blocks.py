@@ -345,6 +345,36 @@ def headline_seeds_verdict(results: Results, args: Args) -> str:
     )
 
 
+def mbc_speed_table(results: Results, args: Args) -> str:
+    """`scripts/model_path_runs.py`: each clip's model path (wall ms a CIF frame) in every run,
+    its medians over the runs, and which real clips' median is within `limit=` ms."""
+    runs, limit = results[0]["runs"], float(args.get("limit", "10"))
+    names = list(runs[0]["clips"])
+    lines = [
+        "| clip | "
+        + " | ".join(f"run {k + 1}" for k in range(len(runs)))
+        + " | median wall | median CPU |",
+        "|---|" + "---|" * (len(runs) + 2),
+    ]
+    medians, kinds = {}, {}
+    for name in names:
+        clips = [run["clips"][name] for run in runs]
+        walls = [clip["model_path_ms"] for clip in clips]
+        medians[name], kinds[name] = _median(walls), clips[0]["kind"]
+        cpu = _median([clip["model_path_cpu_ms"] for clip in clips])
+        label = name.replace("-", " ") + ("" if kinds[name] == "real clip" else f" ({kinds[name]})")
+        cells = [f"{wall:.1f}" for wall in walls] + [f"**{medians[name]:.1f}**", f"{cpu:.1f}"]
+        lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    loads = ", ".join(f"{run['load_1m']['before']:.2f}" for run in runs)
+    real = [name for name in names if kinds[name] == "real clip"]
+    within = [name for name in real if medians[name] <= limit]
+    lines += ["", f"Load (1 min) before each run: {loads}. The median is within {limit:g} ms on "
+              f"{len(within)} of {len(real)} real clips"
+              + "".join(f"; {name.replace('-', ' ')}: {medians[name]:.1f} ms"
+                        for name in names if name not in within) + "."]  # fmt: skip
+    return "\n".join(lines)
+
+
 RENDERERS: dict[str, Callable[[Results, Args], str]] = {
     "sim-table": sim_table,
     "headline-table": headline_table,
@@ -357,4 +387,5 @@ RENDERERS: dict[str, Callable[[Results, Args], str]] = {
     "links-verdicts": links_verdicts,
     "headline-seeds": headline_seeds,
     "headline-seeds-verdict": headline_seeds_verdict,
+    "mbc-speed-table": mbc_speed_table,
 }

@@ -296,3 +296,54 @@ def test_the_seeds_table_and_verdict_count_each_seed_and_take_medians():
     )
     with pytest.raises(ValueError, match="3 records, 2 labels"):
         readme_blocks.headline_seeds(results, {"seeds": "1,2"})
+
+
+def _speed_run(load: float, walls: dict[str, float]) -> dict:
+    kinds = {"talking-head": "model's own rendering"}
+    return {
+        "load_1m": {"before": load, "after": load},
+        "clips": {
+            name: {
+                "kind": kinds.get(name, "real clip"),
+                "model_path_ms": wall,
+                "model_path_cpu_ms": wall - 0.5,
+            }  # fmt: skip
+            for name, wall in walls.items()
+        },
+    }
+
+
+def test_the_speed_table_takes_each_clips_median_over_runs_and_judges_real_clips_only():
+    import readme_blocks
+
+    runs = [
+        _speed_run(1.0, {"talking-head": 9.0, "akiyo": 12.0, "foreman": 5.0}),
+        _speed_run(1.2, {"talking-head": 8.0, "akiyo": 9.5, "foreman": 11.0}),
+        _speed_run(1.1, {"talking-head": 9.5, "akiyo": 10.5, "foreman": 6.0}),
+    ]
+    text = readme_blocks.mbc_speed_table([{"runs": runs}], {}).splitlines()
+    assert text[2] == "| talking head (model's own rendering) | 9.0 | 8.0 | 9.5 | **9.0** | 8.5 |"
+    assert text[3] == "| akiyo | 12.0 | 9.5 | 10.5 | **10.5** | 10.0 |"
+    assert text[-1] == (
+        "Load (1 min) before each run: 1.00, 1.20, 1.10. The median is within 10 ms on 1 of 2 "
+        "real clips; talking head: 9.0 ms; akiyo: 10.5 ms."
+    )
+    assert "on 2 of 2 real clips" in readme_blocks.mbc_speed_table(
+        [{"runs": runs}], {"limit": "11"}
+    )
+
+
+def test_the_speed_runs_compare_every_figure_but_times_and_loads():
+    import model_path_runs
+
+    result = {"clips": {"akiyo": {"kind": "real clip", "params_kbps": 2.9, "payload_bytes": 3,
+                                  "model_path_ms": 9.1, "stages_cpu_ms": {"track": 1.0},
+                                  "kernel_warm_up_s": 0.2, "load_1m": 1.0, "reinits": 1}}}  # fmt: skip
+    kept = model_path_runs.figures(result)
+    assert kept == {"clips": {"akiyo": {"kind": "real clip", "params_kbps": 2.9,
+                                        "payload_bytes": 3, "reinits": 1}}}  # fmt: skip
+    other = json.loads(json.dumps(result))
+    other["clips"]["akiyo"]["model_path_ms"] = 14.0
+    assert model_path_runs.figures(other) == kept
+    other["clips"]["akiyo"]["reinits"] = 2
+    assert model_path_runs.figures(other) != kept
