@@ -3,8 +3,9 @@ path per clip: the figures issue #27's speed target is judged on (median over th
 
     python scripts/model_path_runs.py [--runs N] [--allow-dirty]
 
-writes `docs/results/mbc-speed.json` (as scripts/record_bench.py writes a record: `command`,
-`commit`, `date_utc`, `load_1m`, `duration_s`, `machine`) whose `result` holds, per run, the
+writes `docs/results/mbc-speed.json` (as scripts/record_bench.py writes a record: `command`
+(the bench's, with the runs and this script), `commit`, `date_utc`, `load_1m`, `duration_s`,
+`machine`) whose `result` holds, per run, the
 1-minute load before and after and, per clip, `model_path_ms` (wall), `model_path_cpu_ms`,
 `stages_ms` and `stages_cpu_ms` as `uma bench mbc --json` printed them. One run's model path
 is deterministic work, yet on this 2-core machine the same clip's figure spread 10.8-15.1 ms
@@ -99,7 +100,9 @@ def record(runs: int, allow_dirty: bool = False) -> Path:
             )
         out.append({"load_1m": load, "clips": timings(result)})
     doc = {
-        "command": f"python scripts/model_path_runs.py --runs {runs}",
+        # What ran, as a user types it, and how many times (the records' rule: `uma bench ...`).
+        "command": f"uma bench mbc --json --quiet (x{runs}: python scripts/model_path_runs.py "
+        f"--runs {runs})",
         "argv": argv[1:],
         "commit": commit,
         "dirty": dirty,

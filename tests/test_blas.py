@@ -1,5 +1,5 @@
-"""`import uma` pins OpenBLAS's kernel set where the CPU can run it, and OpenBLAS and OpenCV to one
-thread each, unless the user chose."""
+"""`import uma` pins OpenBLAS's kernel set where the CPU can run it, keeps OpenCV and NumPy off
+their AVX-512 paths, and OpenBLAS and OpenCV to one thread each, unless the user chose."""
 
 from __future__ import annotations
 
@@ -14,10 +14,12 @@ import uma.experiments.machine
 from uma.blas import (
     PINNED_BLAS_THREADS,
     PINNED_CORE,
+    PINNED_DISPATCH,
     PINNED_OPENCV_THREADS,
     cpu_flags,
     pinned_blas_threads,
     pinned_core,
+    pinned_dispatch,
     pinned_opencv_threads,
 )
 
@@ -52,6 +54,8 @@ def test_one_blas_thread_unless_the_user_chose_a_count():
 
 
 _PINNED_BY_UMA = (
+    "OPENCV_CPU_DISABLE",
+    "NPY_DISABLE_CPU_FEATURES",
     "OPENBLAS_CORETYPE",
     "OPENBLAS_NUM_THREADS",
     "GOTO_NUM_THREADS",
@@ -128,3 +132,42 @@ def test_importing_uma_first_runs_opencv_on_one_thread():
     assert _opencv_threads_in_a_process("uma") == 1
     assert _opencv_threads_in_a_process("uma", OPENCV_FOR_THREADS_NUM="3") == 3
     assert _opencv_threads_in_a_process("cv2") > 1  # loaded first: its own pool
+
+
+_AVX512 = _AVX2 | {"avx512f", "avx512cd", "avx512bw", "avx512dq", "avx512vl"}
+
+
+def test_an_avx512_cpu_keeps_opencv_and_numpy_off_their_avx512_paths():
+    assert pinned_dispatch({}, _AVX512, frozenset()) == {
+        "OPENCV_CPU_DISABLE": "AVX512-SKX",
+        "NPY_DISABLE_CPU_FEATURES": "X86_V4 AVX512_ICL AVX512_SPR",
+    }
+    # No AVX-512 (or only part of it): nothing to keep off, and OpenCV would print a line
+    # about a feature this CPU does not have.
+    assert pinned_dispatch({}, _AVX2, frozenset()) == {}
+    assert pinned_dispatch({}, _AVX2 | {"avx512f"}, frozenset()) == {}
+    # The user's choice, or a library loaded before uma, is left alone.
+    assert pinned_dispatch({"OPENCV_CPU_DISABLE": ""}, _AVX512, frozenset()) == {
+        "NPY_DISABLE_CPU_FEATURES": "X86_V4 AVX512_ICL AVX512_SPR"
+    }
+    assert pinned_dispatch({}, _AVX512, frozenset({"numpy", "cv2"})) == {}
+
+
+_DISPATCH = (
+    "import uma, cv2, numpy, os\n"
+    "print([os.environ.get(v) for v, _, _ in uma.blas.PINNED_DISPATCH], cv2.getCPUFeaturesLine())"
+)
+
+
+def test_importing_uma_then_opencv_and_numpy_prints_nothing_and_pins_by_the_cpu():
+    clean = {k: v for k, v in os.environ.items() if k not in _PINNED_BY_UMA}
+    done = subprocess.run(
+        [sys.executable, "-c", _DISPATCH], env=clean, capture_output=True, text=True
+    )
+    assert done.returncode == 0 and done.stderr == "", done.stderr
+    with open("/proc/cpuinfo", encoding="utf-8", errors="replace") as stream:
+        avx512 = cpu_flags(stream.read()) >= _AVX512 - _AVX2
+    told = [value for _, value, _ in PINNED_DISPATCH] if avx512 else [None, None]
+    assert done.stdout.startswith(repr(told))
+    if avx512:  # OpenCV marks a dispatched feature it was told not to use with "?"
+        assert "AVX512-SKX?" in done.stdout

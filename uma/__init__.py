@@ -10,14 +10,16 @@ Sub-packages hold one job each (docs/architecture.md): `traces`, `video`, `face`
 
 Importing uma pins OpenBLAS's kernel set and its thread count (one) before NumPy loads
 (`uma.blas`), so a seed gives the same figures on other machines with AVX2, whatever their
-number of cores (docs/experiments.md says how far that is shown), and runs OpenCV on one thread
-a process unless told otherwise (`OPENCV_FOR_THREADS_NUM`).
+number of cores (docs/experiments.md says how far that is shown), keeps OpenCV and NumPy off
+their AVX-512 paths where the CPU has them (the same figures as on an AVX2 machine), and runs
+OpenCV on one thread a process unless told otherwise (`OPENCV_FOR_THREADS_NUM`).
 """
 
-from uma.blas import pin_blas_threads, pin_kernels, pin_opencv_threads
+from uma.blas import pin_blas_threads, pin_dispatch, pin_kernels, pin_opencv_threads
 
 pin_kernels()
 pin_blas_threads()
+pin_dispatch()
 pin_opencv_threads()
 
 from uma.errors import (  # noqa: E402

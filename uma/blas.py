@@ -24,6 +24,17 @@ single-threaded and run side by side, and OpenCV's own pool (one thread a core) 
 oversubscribes the cores under them; the pixels are the same either way (docs/mbc.md, branch
 mbc25). It leaves the variable alone when set (the user's choice) and when OpenCV was imported
 before uma (its pool is sized at load).
+
+`pin_dispatch`, called beside them, keeps OpenCV and NumPy off their AVX-512 code paths on a CPU
+that has AVX-512 (the five feature sets of OpenCV's `AVX512-SKX` and NumPy's `X86_V4`). Both
+choose a path per function when they load, and the AVX-512 ones round some float results
+otherwise: on such a machine the synthetic pattern's frames (OpenCV's float `warpAffine`,
+`getRectSubPix`, `resize`) and the model codec's figures came out other than on an AVX2
+machine, and the gate's short commute moved 40 ms in p95. With `OPENCV_CPU_DISABLE=AVX512-SKX`
+and `NPY_DISABLE_CPU_FEATURES="X86_V4 AVX512_ICL AVX512_SPR"`, the gate and `uma bench mbc` give
+every figure of the AVX2 machine's records (docs/experiments.md). The variables are left alone
+when set (the user's choice), when the library was imported before uma (its paths are chosen),
+and on a CPU without AVX-512, where OpenCV would print a line about a feature it cannot disable.
 """
 
 from __future__ import annotations
@@ -41,10 +52,12 @@ __all__ = [
     "cpu_flags",
     "cpuinfo_text",
     "pin_blas_threads",
+    "pin_dispatch",
     "pin_kernels",
     "pin_opencv_threads",
     "pinned_blas_threads",
     "pinned_core",
+    "pinned_dispatch",
     "pinned_opencv_threads",
 ]
 
@@ -54,6 +67,12 @@ _NEEDS = frozenset({"avx2", "fma"})  # what the Haswell kernels execute
 _CPUINFO = Path("/proc/cpuinfo")
 _T = TypeVar("_T", str, int)
 PINNED_BLAS_THREADS = 1
+# The AVX-512 paths each library skips: variable, its value, the module that reads it at load.
+PINNED_DISPATCH = (
+    ("OPENCV_CPU_DISABLE", "AVX512-SKX", "cv2"),
+    ("NPY_DISABLE_CPU_FEATURES", "X86_V4 AVX512_ICL AVX512_SPR", "numpy"),
+)
+_AVX512 = frozenset({"avx512f", "avx512cd", "avx512bw", "avx512dq", "avx512vl"})
 # OpenBLAS reads its thread count from the first of these that is set.
 _THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS")
 
@@ -120,3 +139,25 @@ def pinned_opencv_threads(environ: Mapping[str, str], opencv_loaded: bool) -> in
 def pin_opencv_threads() -> int | None:
     """Set `OPENCV_FOR_THREADS_NUM` for this process and its children; the count, or None."""
     return _pin("OPENCV_FOR_THREADS_NUM", pinned_opencv_threads(os.environ, "cv2" in sys.modules))
+
+
+def pinned_dispatch(
+    environ: Mapping[str, str], flags: frozenset[str], loaded: frozenset[str]
+) -> dict[str, str]:
+    """The variables of `PINNED_DISPATCH` to set (the modules in `loaded` were imported)."""
+    if not flags >= _AVX512:
+        return {}
+    return {
+        variable: value
+        for variable, value, module in PINNED_DISPATCH
+        if variable not in environ and module not in loaded
+    }
+
+
+def pin_dispatch(cpuinfo_path: Path = _CPUINFO) -> dict[str, str]:
+    """Set the variables `pinned_dispatch` names for this process and its children; them."""
+    flags = cpu_flags(cpuinfo_text(cpuinfo_path))
+    pinned = pinned_dispatch(os.environ, flags, frozenset(sys.modules))
+    for variable, value in pinned.items():
+        _pin(variable, value)
+    return pinned

@@ -192,3 +192,15 @@ def _counting(once, passes):
         return once()
 
     return counted
+
+
+def test_the_pattern_is_the_same_pixels_on_every_machine():
+    """The gate's pattern scenarios start here: OpenCV's float warps on an AVX-512 CPU drew
+    other pixels until `import uma` kept it off those paths (uma.blas.pin_dispatch)."""
+    import hashlib
+    import itertools
+
+    digest = hashlib.sha256()
+    for frame in itertools.islice(PatternSource(176, 144, 25, seed=3).frames(), 25):
+        digest.update(frame.tobytes())
+    assert digest.hexdigest() == "86096c05d83edc5670799cceb1604635bfde27f4ae4e30fb145ef87d4837dacc"

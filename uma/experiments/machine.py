@@ -4,19 +4,22 @@ A seed reproduces a run byte for byte on one machine. From one machine to anothe
 commit gave other figures on a 2-core AMD EPYC with AVX-512 than on one without it
 (`docs/experiments.md`): OpenBLAS's kernel set (`blas_core` names it; `import uma` now pins
 it, `uma.blas`) and the fitting kernels' `fastmath` (now off) each moved a run as far, and
-OpenBLAS's thread count moved a description's fit (`blas_threads`; pinned to one too). The
-gate keeps one baseline; a suite may still name a baseline per class (`machine_baselines`) if
+OpenBLAS's thread count moved a description's fit (`blas_threads`; pinned to one too). On an
+AVX-512 machine OpenCV's and NumPy's AVX-512 paths moved the pattern's pixels and the model
+codec's figures (`import uma` keeps them off those paths, `uma.blas.pin_dispatch`; `avx512_off`
+says what was kept off). The gate keeps one baseline; a suite may still name a baseline per class (`machine_baselines`) if
 a kind of machine is ever shown to differ. The class is named by the CPU feature that told the
 two apart. Reads `/proc/cpuinfo` where there is one; elsewhere the class is `default`.
 """
 
 from __future__ import annotations
 
+import os
 import platform
 from importlib import metadata
 from pathlib import Path
 
-from uma.blas import cpu_flags, cpuinfo_text
+from uma.blas import PINNED_DISPATCH, cpu_flags, cpuinfo_text
 from uma.errors import ConfigError
 
 __all__ = [
@@ -103,13 +106,14 @@ def blas_threads() -> int | None:
 
 def machine_summary(cpuinfo_path: Path = _CPUINFO) -> dict:
     """What a record says of the machine that made it: class, CPU, BLAS kernels and threads,
-    Python, library versions."""
+    the AVX-512 paths kept off, Python, library versions."""
     text = cpuinfo_text(cpuinfo_path)
     return {
         "class": "avx512" if "avx512f" in cpu_flags(text) else "default",
         "cpu": _cpu_model(text),
         "blas_core": blas_core(),
         "blas_threads": blas_threads(),
+        "avx512_off": {v: os.environ[v] for v, _, _ in PINNED_DISPATCH if v in os.environ},
         "arch": platform.machine(),
         "python": platform.python_version(),
         "packages": {name: _version(name) for name in _PACKAGES},
