@@ -61,6 +61,16 @@ def test_links_malformed_trace_is_one_line_and_exit_2(tmp_path, capsys):
     assert len(err) == 1 and "bad.csv" in err[0]
 
 
+def test_a_trace_too_short_for_one_frame_is_one_line_before_any_run(tmp_path, capsys):
+    short = tmp_path / "short.down"  # Mahimahi: three delivery opportunities in 1 ms
+    short.write_text("0\n0\n1\n", encoding="utf-8")
+    plot = tmp_path / "links.png"
+    assert main(["bench", "links", "--trace", str(short), "--plot", str(plot), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"--trace {short}" in err[0] and "holds no frame" in err[0], err
+    assert not plot.exists()
+
+
 def test_median_row_skips_missing_values():
     rows = [dict.fromkeys(ROW_KEYS, 1.0), dict.fromkeys(ROW_KEYS, 3.0), dict.fromkeys(ROW_KEYS)]
     assert median_row(rows) == dict.fromkeys(ROW_KEYS, 2.0)

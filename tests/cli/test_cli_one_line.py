@@ -86,3 +86,27 @@ def test_a_seed_set_from_code_is_bounded_too():
 
     with pytest.raises(ValueError, match=r"seed: expected an integer from 0 to 2\*\*63 - 1"):
         load_scenario().with_seed(2**64)
+
+
+def test_a_reader_that_went_away_ends_the_command_quietly():
+    """`uma ... --json | head`: stdout's reader closed mid-output; exit 1, no traceback."""
+    import os
+    import subprocess
+    import sys
+
+    # A command that prints more than a pipe holds (as `uma bench links --json` does).
+    code = (
+        "import sys, uma.cli as cli\n"
+        "cli._main = lambda argv: sys.stdout.write('x' * 1_000_000) and 0\n"
+        "sys.exit(cli.main([]))"
+    )
+    read_end, write_end = os.pipe()
+    os.close(read_end)  # every write to stdout is EPIPE
+    try:
+        done = subprocess.run(
+            [sys.executable, "-c", code], stdout=write_end, stderr=subprocess.PIPE, text=True,
+            check=False,
+        )  # fmt: skip
+    finally:
+        os.close(write_end)
+    assert done.returncode == 1 and done.stderr == "", done.stderr

@@ -110,6 +110,24 @@ def link_task(config: LinksConfig, trace: str, engine: str, trace_s: float) -> d
     return {"trace": label, "engine": engine, "scenario": data}
 
 
+def _check_task(task: dict[str, Any]) -> None:
+    """`ConfigError` naming the trace when `task`'s scenario does not validate (a trace too
+    short to hold one frame)."""
+    from pydantic import ValidationError
+
+    from uma.config import Scenario
+    from uma.errors import ConfigError
+
+    try:
+        Scenario.model_validate(task["scenario"])
+    except ValidationError as err:
+        message = err.errors()[0]["msg"].removeprefix("Value error, ")
+        trace = task["scenario"]["route"][0]["trace"]
+        raise ConfigError(
+            f"--trace {trace}: the links scenario cannot run on it: {message}"
+        ) from None
+
+
 def row_of(result, metrics: dict[str, Any]) -> dict[str, Any]:
     """One engine's row from a run: the `ROW_KEYS` plus the capacity it saw."""
     from uma.codecs import metric_key
@@ -189,6 +207,8 @@ def run_links(
         for trace in config.traces
         for engine in config.engines
     ]
+    for task in tasks:  # before any runs: a trace the scenario cannot run is one line
+        _check_task(task)
     replies: Iterator[dict[str, Any]] = (
         executor.map_unordered(run_link, tasks) if executor is not None else map(run_link, tasks)
     )

@@ -57,13 +57,22 @@ def _version() -> str:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status.
 
-    Ctrl-C at any moment, imports and parsing included, is one line and exit 130.
+    Ctrl-C at any moment, imports and parsing included, is one line and exit 130. A reader of
+    stdout that went away (`uma bench ... --json | head`) ends the command quietly with exit 1,
+    as Python's documentation advises for SIGPIPE, instead of a traceback.
     """
     try:
         return _main(argv)
     except KeyboardInterrupt:
         print("uma: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:
+        # Python flushes stdout again at exit, which would fail the same way: point it at null.
+        import os
+
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 1
 
 
 def _main(argv: Sequence[str] | None) -> int:
