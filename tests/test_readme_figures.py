@@ -347,3 +347,37 @@ def test_the_speed_runs_compare_every_figure_but_times_and_loads():
     assert model_path_runs.figures(other) == kept
     other["clips"]["akiyo"]["reinits"] = 2
     assert model_path_runs.figures(other) != kept
+
+
+def _speed_bench(reinits: int, wall_ms: float) -> dict:
+    clip = {"kind": "real clip", "reinits": reinits, "model_path_ms": wall_ms,
+            "model_path_cpu_ms": wall_ms, "stages_ms": {}, "stages_cpu_ms": {}}  # fmt: skip
+    return {"clips": {"akiyo": clip}}
+
+
+def test_the_speed_runs_are_recorded_only_when_every_run_gives_the_same_figures(
+    monkeypatch, tmp_path
+):
+    import model_path_runs
+
+    out = tmp_path / "mbc-speed.json"
+    answers = {"rev-parse": COMMIT, "status": ""}
+    monkeypatch.setattr(record_bench, "_git", lambda *args: answers[args[0]])
+    monkeypatch.setattr(record_bench, "_machine", lambda: {"class": "default"})
+    monkeypatch.setattr(record_bench, "result_path", lambda name, variant: out)
+    load = {"before": 1.0, "after": 1.0}
+    runs = iter([_speed_bench(1, 9.0), _speed_bench(1, 11.0)])
+    monkeypatch.setattr(model_path_runs, "_run_once", lambda argv: (next(runs), load))
+    assert model_path_runs.record(2) == out
+    doc = json.loads(out.read_text(encoding="utf-8"))
+    assert doc["command"].startswith("uma bench mbc --json") and doc["commit"] == COMMIT
+    walls = [run["clips"]["akiyo"]["model_path_ms"] for run in doc["result"]["runs"]]
+    assert walls == [9.0, 11.0]
+    out.unlink()
+    runs = iter([_speed_bench(1, 9.0), _speed_bench(2, 9.0)])  # run 2 re-initialised more
+    with pytest.raises(RuntimeError, match="run 2: its figures differ"):
+        model_path_runs.record(2)
+    assert not out.exists()
+    answers["status"] = " M uma/mbc/layers.py"
+    with pytest.raises(record_bench.RecordError, match="uncommitted changes"):
+        model_path_runs.record(2)
