@@ -24,6 +24,9 @@ VALID = {
     ),
     "bytes-per-sec": "1,1000\n2,2000\n3,0\n",
     "nyu-mets": "1.5,Mbits/sec\n300,Kbits/sec\n0,bits/sec\n",
+    "nyu-mets-multivariate": (
+        "18.8,6,0,-88,-15,2,0,2100\n0,6,1,-101,-15,4,0.35,700\n2.5,3,0,-90,-14,2,3.57,2100\n"
+    ),
     "uma-csv": "time_s,rate_kbps,technology\n# duration_s=4\n0,100,3G\n1,0,\n2.5,50,GPRS\n",
 }
 
@@ -57,6 +60,10 @@ def test_small_examples_mean_what_they_say(tmp_path):
     assert labelled.duration_s == 4.0
     nyu = read_trace(write(tmp_path, VALID["nyu-mets"]))
     assert nyu.rates_kbps.tolist() == [1500.0, 300.0, 0.0]
+    multivariate = read_trace(write(tmp_path, VALID["nyu-mets-multivariate"]))
+    assert multivariate.rates_kbps.tolist() == [18800.0, 0.0, 2500.0]  # the first column, Mbit/s
+    assert multivariate.times_s.tolist() == [0.0, 1.0, 2.0] and multivariate.duration_s == 3.0
+    assert multivariate.technologies == ("", "", "")
     own = read_trace(write(tmp_path, VALID["uma-csv"]))
     assert own.technologies == ("3G", "", "GPRS") and own.duration_s == 4.0
 
@@ -121,6 +128,21 @@ BAD = [
     ("bytes-per-sec", "1,100\n2,100,3\n", r"line 2 of .*expected 2 fields 'sec,bytes_per_sec'"),
     ("nyu-mets", "1,Mbits/sec\n2,Gbytes/sec\n", r"line 2 of .*unit among .*got 'Gbytes/sec'"),
     ("nyu-mets", "1,Mbits/sec\nNaN,Mbits/sec\n", r"line 2 of .*finite rate, got 'NaN'"),
+    (
+        "nyu-mets-multivariate",
+        "1,2,0,-88,-15,2,0,2100\n1,2,0,-88,x,2,0,2100\n",
+        r"line 2 of .*a number \(RSRQ\), got 'x'",
+    ),
+    (
+        "nyu-mets-multivariate",
+        "1,2,0,-88,-15,2,0,2100\n-1,2,0,-88,-15,2,0,2100\n",
+        r"line 2 of .*rate >= 0, got '-1'",
+    ),
+    (
+        "nyu-mets-multivariate",
+        "1,2,0,-88,-15,2,0,2100\n1,2,0,-88,-15,2,0\n",
+        r"line 2 of .*expected 8 fields 'Mbit/s,neighbours,eNodeB_changed",
+    ),
     ("uma-csv", "time_s,rate_kbps,technology\n0,100,3G\n1,nan,3G\n", r"line 3 of .*finite rate"),
     ("uma-csv", "time_s,rate_kbps,technology\n0,100,3G\n1,-5,3G\n", r"line 3 of .*>= 0"),
     ("uma-csv", "time_s,rate_kbps,technology\n0,100,3G\n1,abc,3G\n", r"line 3 of .*'abc'"),
@@ -197,7 +219,7 @@ def test_unreadable_files_and_unknown_formats(tmp_path):
     with pytest.raises(
         TraceError,
         match="unknown trace format 'csv'; expected auto or one of mahimahi, pensieve, "
-        "hsdpa-log, labelled-csv, bytes-per-sec, nyu-mets, uma-csv",
+        "hsdpa-log, labelled-csv, bytes-per-sec, nyu-mets, nyu-mets-multivariate, uma-csv",
     ):
         read_trace(path, format="csv")
     with pytest.raises(TraceError, match="format pensieve takes no option bin_ms"):

@@ -24,6 +24,7 @@ def traces(shared_data):
         ("mp-traces-wifi-cellular/7_2_cellular.csv", "bytes-per-sec", 100, 100.0),
         ("nyu-mets/QTrain.csv", "nyu-mets", 2404, 2404.0),
         ("nyu-mets/bus62.csv", "nyu-mets", 3293, 3293.0),
+        ("nyu-mets/BB62.txt.gz", "nyu-mets-multivariate", 22005, 22005.0),
     ],
 )
 def test_every_format_sniffed_and_read(traces, relative, fmt, steps, duration_s):

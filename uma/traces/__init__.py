@@ -13,6 +13,7 @@ from uma.traces.readers import (
     read_hsdpa_log,
     read_mahimahi,
     read_nyu_mets,
+    read_nyu_mets_multivariate,
     read_pensieve,
 )
 from uma.traces.route import RouteSegment, build_route
@@ -39,6 +40,7 @@ __all__ = [
     "read_labelled_csv",
     "read_bytes_per_sec",
     "read_nyu_mets",
+    "read_nyu_mets_multivariate",
     "read_uma_csv",
     "write_uma_csv",
     "LABELS",

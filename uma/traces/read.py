@@ -11,6 +11,7 @@ Units: the `Trace` returned is in seconds and kbit/s whatever the file's units.
 | labelled-csv   | header with `NetworkMode`, `DL_bitrate` kbit/s | `duplicates` ("mean", "split") |
 | bytes-per-sec  | `sec,bytes_per_sec`                          |                                 |
 | nyu-mets       | `value,unit` (Mbits/sec, Kbits/sec, bits/sec) | one row a second               |
+| nyu-mets-multivariate | eight numbers, the first Mbit/s (BB62.txt.gz) | one row a second, rate only |
 
 `format="auto"` looks at the first data lines (all of the first five must agree), and falls back
 on the file name (`*.down`, `*.up`: Mahimahi) so a broken Mahimahi file gets the Mahimahi
@@ -30,6 +31,7 @@ from uma.traces.readers import (
     read_hsdpa_log,
     read_mahimahi,
     read_nyu_mets,
+    read_nyu_mets_multivariate,
     read_pensieve,
 )
 from uma.traces.trace import Trace
@@ -44,6 +46,7 @@ FORMATS: dict[str, Callable[..., Trace]] = {
     "labelled-csv": read_labelled_csv,
     "bytes-per-sec": read_bytes_per_sec,
     "nyu-mets": read_nyu_mets,
+    "nyu-mets-multivariate": read_nyu_mets_multivariate,
     "uma-csv": read_uma_csv,
 }
 _OPTIONS = {"mahimahi": {"bin_ms"}, "labelled-csv": {"duplicates"}}
@@ -63,6 +66,8 @@ def _shape(line: str) -> str | None:
     if line.isascii() and line.isdigit():
         return "mahimahi"
     commas = [field.strip() for field in line.split(",")]
+    if len(commas) == 8 and all(_is_number(field) for field in commas):
+        return "nyu-mets-multivariate"
     if len(commas) == 2 and _is_number(commas[0]):
         if _is_number(commas[1]):
             return "bytes-per-sec"

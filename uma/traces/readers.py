@@ -27,6 +27,7 @@ __all__ = [
     "read_hsdpa_log",
     "read_bytes_per_sec",
     "read_nyu_mets",
+    "read_nyu_mets_multivariate",
     "MAHIMAHI_PACKET_BITS",
     "DEFAULT_BIN_MS",
 ]
@@ -200,6 +201,30 @@ def read_nyu_mets(source: Source) -> Trace:
                 n, f"expected a unit among Gbits/sec, Mbits/sec, Kbits/sec, bits/sec, got {unit!r}"
             )
         rates.append(text.number(n, value, "rate") * scale)
+    steps = len(rates)
+    return Trace(
+        np.arange(steps, dtype=np.float64), rates, ("",) * steps, float(steps), text.path.name
+    )
+
+
+# NYU-METS's multivariate files (BB62.txt.gz, TT7.txt.gz): eight numbers a row, one row a second.
+# Its README lists the columns as "throughput, LTE-neighbors, RSSI, RSRQ, Echng, TA, Speed,
+# Band"; the data hold the flag third (0 or 1 in column 3 of every BB62 row, 471 of 22,005 set;
+# column 5 is never 0 or 1): Mbit/s, neighbours, eNodeB changed, RSRP, RSRQ, TA, speed, band MHz.
+def read_nyu_mets_multivariate(source: Source) -> Trace:
+    """NYU-METS multivariate rows (`Mbit/s,neighbours,eNodeB_changed,RSRP,RSRQ,TA,speed,band`):
+    row k covers [k, k + 1) s at its first column's rate. Only the rate is read: every row is
+    LTE (an eNodeB change is a cell change within it, not a change of technology), so the steps
+    stay unlabelled, as the other NYU-METS files'; the other columns must be numbers."""
+    text = _text(source)
+    rates = []
+    layout = "Mbit/s,neighbours,eNodeB_changed,RSRP,RSRQ,TA,speed,band"
+    names = layout.split(",")
+    for n, line in text.lines:
+        fields = text.fields(n, line, separator=",", layout=layout)
+        for field, name in zip(fields[1:], names[1:], strict=True):
+            text.number(n, field, f"a number ({name})", minimum=-math.inf)
+        rates.append(text.number(n, fields[0], "rate") * 1000.0)
     steps = len(rates)
     return Trace(
         np.arange(steps, dtype=np.float64), rates, ("",) * steps, float(steps), text.path.name
