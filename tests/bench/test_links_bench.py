@@ -71,6 +71,15 @@ def test_a_trace_too_short_for_one_frame_is_one_line_before_any_run(tmp_path, ca
     assert not plot.exists()
 
 
+def test_a_trace_longer_than_a_route_segment_runs_its_first_part(tmp_path, capsys):
+    long = tmp_path / "long.csv"  # NYU-METS rows, 4 h 10 min: BB62 rides six hours
+    long.write_text("2,Mbits/sec\n" * 15_000, encoding="utf-8")
+    args = ["bench", "links", "--trace", str(long), "--duration", "0.5", "--json", "--quiet"]
+    assert main(args) == 0, capsys.readouterr().err
+    trace = json.loads(capsys.readouterr().out)["traces"]["long.csv"]
+    assert trace["duration_s"] == 0.5 and trace["capacity_kbps_mean"] == 2000.0
+
+
 def test_median_row_skips_missing_values():
     rows = [dict.fromkeys(ROW_KEYS, 1.0), dict.fromkeys(ROW_KEYS, 3.0), dict.fromkeys(ROW_KEYS)]
     assert median_row(rows) == dict.fromkeys(ROW_KEYS, 2.0)
