@@ -17,10 +17,8 @@ run's, else nothing is written (exit 1). Exit 0 recorded; 1 a run failed; 2 bad 
 from __future__ import annotations
 
 import argparse
-import datetime
 import json
 import os
-import subprocess
 import sys
 import time
 from pathlib import Path
@@ -63,17 +61,8 @@ def timings(result: dict) -> dict:
 def _run_once(argv: list[str]) -> tuple[dict, dict]:
     """One bench run: its result and its load before and after."""
     before = os.getloadavg()[0]
-    env = dict(os.environ, PYTHONPATH=str(record_bench.ROOT))
-    done = subprocess.run(argv, cwd=record_bench.ROOT, env=env, stdout=subprocess.PIPE,
-                          check=False)  # fmt: skip
-    if done.returncode != 0:
-        raise RuntimeError(f"uma bench mbc exited {done.returncode}; nothing recorded")
-    try:
-        result = json.loads(done.stdout)
-    except ValueError as exc:
-        raise RuntimeError(f"uma bench mbc --json printed no JSON object: {exc}") from exc
-    load = {"before": round(before, 2), "after": round(os.getloadavg()[0], 2)}
-    return result, load
+    result = record_bench.run_bench("mbc", argv)
+    return result, {"before": round(before, 2), "after": round(os.getloadavg()[0], 2)}
 
 
 def record(runs: int, allow_dirty: bool = False) -> Path:
@@ -99,20 +88,14 @@ def record(runs: int, allow_dirty: bool = False) -> Path:
                 f"run {index + 1}: its figures differ from run 1's; nothing recorded"
             )
         out.append({"load_1m": load, "clips": timings(result)})
-    doc = {
-        # What ran, as a user types it, and how many times (the records' rule: `uma bench ...`).
-        "command": f"uma bench mbc --json --quiet (x{runs}: python scripts/model_path_runs.py "
-        f"--runs {runs})",
-        "argv": argv[1:],
-        "commit": commit,
-        "dirty": dirty,
-        "date_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
-        "load_1m": {"before": round(load_before, 2), "after": round(os.getloadavg()[0], 2)},
-        "cores": os.cpu_count(),
-        "duration_s": round(time.monotonic() - start, 1),
-        "machine": record_bench._machine(),
-        "result": {"runs": out},
-    }
+    # What ran, as a user types it, and how many times (the records' rule: `uma bench ...`).
+    command = (
+        f"uma bench mbc --json --quiet (x{runs}: python scripts/model_path_runs.py --runs {runs})"
+    )
+    duration_s = time.monotonic() - start
+    doc = record_bench.record_doc(
+        command, argv, (commit, dirty), load_before, duration_s, {"runs": out}
+    )
     record_bench._write_atomic(path, json.dumps(doc, indent=2) + "\n")
     return path
 

@@ -26,7 +26,7 @@ import tempfile
 import time
 from pathlib import Path
 
-__all__ = ["main", "record", "result_path"]
+__all__ = ["main", "record", "record_doc", "result_path", "run_bench"]
 
 ROOT = Path(__file__).resolve().parent.parent
 RESULTS_DIR = ROOT / "docs" / "results"
@@ -79,6 +79,40 @@ def _machine() -> dict:
     return machine_summary()
 
 
+def record_doc(command: str, argv: list[str], tree: tuple[str, bool], load_before: float,
+               duration_s: float, result: dict) -> dict:  # fmt: skip
+    """A record: `result` beside what ran (`command` as a user types it, `argv`), the tree
+    (commit, dirty), the load before and now, the wall time and the machine."""
+    return {
+        "command": command,
+        "argv": argv[1:],
+        "commit": tree[0],
+        "dirty": tree[1],
+        "date_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+        "load_1m": {"before": round(load_before, 2), "after": round(os.getloadavg()[0], 2)},
+        "cores": os.cpu_count(),
+        "duration_s": round(duration_s, 1),
+        "machine": _machine(),
+        "result": result,
+    }
+
+
+def run_bench(name: str, argv: list[str]) -> dict:
+    """`argv` (a `uma bench NAME ... --json`) run from the repository root with this checkout's
+    uma; the JSON object it printed, or RuntimeError."""
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    done = subprocess.run(argv, cwd=ROOT, env=env, stdout=subprocess.PIPE, check=False)
+    if done.returncode != 0:
+        raise RuntimeError(f"uma bench {name} exited {done.returncode}; nothing recorded")
+    try:
+        result = json.loads(done.stdout)
+    except ValueError as exc:
+        raise RuntimeError(f"uma bench {name} --json printed no JSON object: {exc}") from exc
+    if not isinstance(result, dict):
+        raise RuntimeError(f"uma bench {name} --json printed a {type(result).__name__}")
+    return result
+
+
 def record(
     name: str, bench_args: list[str], variant: str | None = None, allow_dirty: bool = False
 ) -> Path:
@@ -93,31 +127,12 @@ def record(
             f"{ROOT}: uncommitted changes; commit them first (or pass --allow-dirty, recorded)"
         )
     argv = [sys.executable, "-m", "uma", "bench", name, *bench_args, "--json"]
-    env = dict(os.environ, PYTHONPATH=str(ROOT))
     load_before = os.getloadavg()[0]
     start = time.monotonic()
-    done = subprocess.run(argv, cwd=ROOT, env=env, stdout=subprocess.PIPE, check=False)
+    result = run_bench(name, argv)
     duration_s = time.monotonic() - start
-    if done.returncode != 0:
-        raise RuntimeError(f"uma bench {name} exited {done.returncode}; nothing recorded")
-    try:
-        result = json.loads(done.stdout)
-    except ValueError as exc:
-        raise RuntimeError(f"uma bench {name} --json printed no JSON object: {exc}") from exc
-    if not isinstance(result, dict):
-        raise RuntimeError(f"uma bench {name} --json printed a {type(result).__name__}")
-    doc = {
-        "command": " ".join(["uma", "bench", name, *bench_args, "--json"]),
-        "argv": argv[1:],
-        "commit": commit,
-        "dirty": dirty,
-        "date_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
-        "load_1m": {"before": round(load_before, 2), "after": round(os.getloadavg()[0], 2)},
-        "cores": os.cpu_count(),
-        "duration_s": round(duration_s, 1),
-        "machine": _machine(),
-        "result": result,
-    }
+    command = " ".join(["uma", "bench", name, *bench_args, "--json"])
+    doc = record_doc(command, argv, (commit, dirty), load_before, duration_s, result)
     _write_atomic(path, json.dumps(doc, indent=2, sort_keys=False) + "\n")
     return path
 
