@@ -29,8 +29,8 @@ before uma (its pool is sized at load).
 that has AVX-512 (the five feature sets of OpenCV's `AVX512-SKX` and NumPy's `X86_V4`). Both
 choose a path per function when they load, and the AVX-512 ones round some float results
 otherwise: on such a machine the synthetic pattern's frames (OpenCV's float `warpAffine`,
-`getRectSubPix`, `resize`) and the model codec's figures came out other than on an AVX2
-machine, and the gate's short commute moved 40 ms in p95. With `OPENCV_CPU_DISABLE=AVX512-SKX`
+`getRectSubPix`, `resize`), the gate's figures and the model codec's came out other than on an
+AVX2 machine. With `OPENCV_CPU_DISABLE=AVX512-SKX`
 and `NPY_DISABLE_CPU_FEATURES="X86_V4 AVX512_ICL AVX512_SPR"`, the gate and `uma bench mbc` give
 every figure of the AVX2 machine's records (docs/experiments.md). The variables are left alone
 when set (the user's choice), when the library was imported before uma (its paths are chosen),

@@ -118,7 +118,6 @@ def _check_task(task: dict[str, Any]) -> None:
     short to hold one frame)."""
     from pydantic import ValidationError
 
-    from uma.config import Scenario
     from uma.errors import ConfigError
 
     try:

@@ -7,8 +7,8 @@ it, `uma.blas`) and the fitting kernels' `fastmath` (now off) each moved a run a
 OpenBLAS's thread count moved a description's fit (`blas_threads`; pinned to one too). On an
 AVX-512 machine OpenCV's and NumPy's AVX-512 paths moved the pattern's pixels and the model
 codec's figures (`import uma` keeps them off those paths, `uma.blas.pin_dispatch`; `avx512_off`
-says what was kept off). The gate keeps one baseline; a suite may still name a baseline per class (`machine_baselines`) if
-a kind of machine is ever shown to differ. The class is named by the CPU feature that told the
+says what was kept off). The gate keeps one baseline; a suite may still name a baseline per
+class (`machine_baselines`) if a kind of machine is ever shown to differ. The class is named by the CPU feature that told the
 two apart. Reads `/proc/cpuinfo` where there is one; elsewhere the class is `default`.
 """
 
