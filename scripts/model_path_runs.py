@@ -70,12 +70,7 @@ def record(runs: int, allow_dirty: bool = False) -> Path:
     if runs < 1:
         raise record_bench.RecordError(f"--runs: expected at least 1, got {runs}")
     path = record_bench.result_path(NAME, None)
-    commit = record_bench._git("rev-parse", "HEAD")
-    dirty = bool(record_bench._git("status", "--porcelain", "--untracked-files=no"))
-    if dirty and not allow_dirty:
-        raise record_bench.RecordError(
-            f"{record_bench.ROOT}: uncommitted changes; commit them first (or pass --allow-dirty)"
-        )
+    commit, dirty = record_bench.tree(allow_dirty)
     argv = [sys.executable, "-m", "uma", "bench", "mbc", "--json", "--quiet"]
     load_before, start = os.getloadavg()[0], time.monotonic()
     first, out = None, []

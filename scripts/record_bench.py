@@ -26,7 +26,7 @@ import tempfile
 import time
 from pathlib import Path
 
-__all__ = ["main", "record", "record_doc", "result_path", "run_bench"]
+__all__ = ["main", "record", "record_doc", "result_path", "run_bench", "tree"]
 
 ROOT = Path(__file__).resolve().parent.parent
 RESULTS_DIR = ROOT / "docs" / "results"
@@ -79,6 +79,18 @@ def _machine() -> dict:
     return machine_summary()
 
 
+def tree(allow_dirty: bool) -> tuple[str, bool]:
+    """This checkout's commit and whether it has uncommitted changes; RecordError when it has
+    and `allow_dirty` is not given."""
+    commit = _git("rev-parse", "HEAD")
+    dirty = bool(_git("status", "--porcelain", "--untracked-files=no"))
+    if dirty and not allow_dirty:
+        raise RecordError(
+            f"{ROOT}: uncommitted changes; commit them first (or pass --allow-dirty, recorded)"
+        )
+    return commit, dirty
+
+
 def record_doc(command: str, argv: list[str], tree: tuple[str, bool], load_before: float,
                duration_s: float, result: dict) -> dict:  # fmt: skip
     """A record: `result` beside what ran (`command` as a user types it, `argv`), the tree
@@ -120,12 +132,7 @@ def record(
     path = result_path(name, variant)
     if "--json" in bench_args:
         bench_args = [a for a in bench_args if a != "--json"]
-    commit = _git("rev-parse", "HEAD")
-    dirty = bool(_git("status", "--porcelain", "--untracked-files=no"))
-    if dirty and not allow_dirty:
-        raise RecordError(
-            f"{ROOT}: uncommitted changes; commit them first (or pass --allow-dirty, recorded)"
-        )
+    commit, dirty = tree(allow_dirty)
     argv = [sys.executable, "-m", "uma", "bench", name, *bench_args, "--json"]
     load_before = os.getloadavg()[0]
     start = time.monotonic()

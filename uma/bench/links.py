@@ -227,7 +227,7 @@ def run_links(
         first = next(iter(engines.values()))
         traces[label] = {
             "file": trace,
-            "duration_s": min(config.duration_s, trace_durations_s[trace], MAX_DURATION_S),
+            "duration_s": task_of[label]["scenario"]["duration_s"],  # what ran
             "capacity_kbps_mean": first["capacity_kbps_mean"],
             "bound": link_bound(task_of[label]),
             "engines": {

@@ -185,6 +185,14 @@ def read_bytes_per_sec(source: Source) -> Trace:
     return _intervals_ending_at(text, stamps, rates, numbers, 1.0)
 
 
+def _per_second(text: TraceText, rates_kbps: Sequence[float]) -> Trace:
+    """One unlabelled step a second: row k of `text` covers [k, k + 1) s."""
+    steps = len(rates_kbps)
+    return Trace(
+        np.arange(steps, dtype=np.float64), rates_kbps, ("",) * steps, float(steps), text.path.name
+    )
+
+
 NYU_UNITS_KBPS = {"gbits/sec": 1e6, "mbits/sec": 1e3, "kbits/sec": 1.0, "bits/sec": 1e-3}
 
 
@@ -201,10 +209,7 @@ def read_nyu_mets(source: Source) -> Trace:
                 n, f"expected a unit among Gbits/sec, Mbits/sec, Kbits/sec, bits/sec, got {unit!r}"
             )
         rates.append(text.number(n, value, "rate") * scale)
-    steps = len(rates)
-    return Trace(
-        np.arange(steps, dtype=np.float64), rates, ("",) * steps, float(steps), text.path.name
-    )
+    return _per_second(text, rates)
 
 
 # NYU-METS's multivariate files (BB62.txt.gz, TT7.txt.gz): eight numbers a row, one row a second.
@@ -225,7 +230,4 @@ def read_nyu_mets_multivariate(source: Source) -> Trace:
         for field, name in zip(fields[1:], names[1:], strict=True):
             text.number(n, field, f"a number ({name})", minimum=-math.inf)
         rates.append(text.number(n, fields[0], "rate") * 1000.0)
-    steps = len(rates)
-    return Trace(
-        np.arange(steps, dtype=np.float64), rates, ("",) * steps, float(steps), text.path.name
-    )
+    return _per_second(text, rates)
