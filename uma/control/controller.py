@@ -117,12 +117,15 @@ class UmaController:
         report: DeliveryReport,
         *,
         due: tuple[float, int] | None = None,
+        owed_bits: int | None = None,
         technology: str = "",
     ) -> RateDecision:
         """One feedback report in; the target (and a probe when the link is unmeasured) out.
         `due`: (send stamp in ms, size in bits) of the oldest packet sent and not yet in any
         report (the sender knows it): a report with no packet while that one was due is
-        no news from the link (`_quiet_from`). `technology`: one the report names anew (its
+        no news from the link (`_quiet_from`). `owed_bits`: the bits sent after the last
+        packet reported (None: not known); with `queue_from_owed` the queue is at most their
+        time at the capacity estimate (`_queue`). `technology`: one the report names anew (its
         prior caps a recovery probe; `on_handover` follows)."""
         s = self.settings
         now_ms = report.end_ms
@@ -141,8 +144,7 @@ class UmaController:
             self._recovered(report)
             self._last_train_ms = now_ms
             self._probe_pending = False
-        if report.queue_delay_ms:
-            self.queue_ms = min(report.queue_delay_ms)
+        self._queue(report, owed_bits)
         for record in report.records:
             delta = self.groups.on_packet(record.send_ms, record.arrival_ms)
             if delta is not None:
@@ -156,6 +158,17 @@ class UmaController:
         self.target_kbps = self._bounded(target)
         probe = self._recovery_probe(report, technology, now_ms)
         return RateDecision(self.target_kbps, probe or self._probe(report, now_ms), reason)
+
+    def _queue(self, report: DeliveryReport, owed_bits: int | None) -> None:
+        """The queue a packet sent now meets: the report's smallest queueing-delay sample
+        (bursty delivery jitters the others); with `queue_from_owed`, at most what the link
+        still owes at the estimate, since in this path the queue is the stream's own: after
+        an outage the report's packets waited it out, but a paused sender has little behind
+        them, so that wait is a backlog gone, not a standing queue to drain."""
+        if report.queue_delay_ms:
+            self.queue_ms = min(report.queue_delay_ms)
+        if self.settings.queue_from_owed and owed_bits is not None:
+            self.queue_ms = min(self.queue_ms, owed_bits / self.capacity_kbps)
 
     def _weighed(self, report: DeliveryReport, train_kbps: float, weight: float) -> float:
         """The estimate moved `weight` of the way to the train; with `bounded_queued_drop`, a

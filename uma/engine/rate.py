@@ -58,6 +58,8 @@ __all__ = [
     "make_rate",
 ]
 
+# (sent in s, size in bits) of the oldest packet the link owes (None: none).
+Due = tuple[float, int] | None
 # The received rate the rest of the engine reads (the refresh's spend) is over this window.
 RECEIVED_WINDOW_S = 1.0
 # aiortc's estimate falls by this factor while reports are missing (as before the controllers).
@@ -81,10 +83,11 @@ class RateControl:
         self.handover = False  # the last report named a new technology (never the oracle)
 
     def on_report(
-        self, report: ReceiverReport, now_s: float, *, due: tuple[float, int] | None = None
+        self, report: ReceiverReport, now_s: float, *, due: Due = None, owed_bits: int | None = None
     ) -> tuple[ProbeRequest | None, list]:
         """Fold `report` in; `due`: (sent in s, size in bits) of the oldest packet sent and
-        not yet reported (None: none), the sender's own knowledge of what the link owes."""
+        not yet reported (None: none), and `owed_bits` the bits sent after the last packet
+        reported (None: not known): the sender's own knowledge of what the link owes."""
         raise NotImplementedError
 
     def on_silence(self, now_s: float) -> list:
@@ -221,7 +224,7 @@ class UmaRate(RateControl):
         self.spacing = ReportSpacing()
 
     def on_report(
-        self, report: ReceiverReport, now_s: float, *, due: tuple[float, int] | None = None
+        self, report: ReceiverReport, now_s: float, *, due: Due = None, owed_bits: int | None = None
     ) -> tuple[ProbeRequest | None, list]:
         probe = None
         self.spacing.on_report(now_s)
@@ -230,7 +233,7 @@ class UmaRate(RateControl):
             named = report.technology
             fresh = named if named and self.technology and named != self.technology else ""
             decision: RateDecision = self.controller.on_report(
-                report.delivery, due=due_ms, technology=fresh
+                report.delivery, due=due_ms, owed_bits=owed_bits, technology=fresh
             )
             self._report_ms, self._report_s = report.delivery.end_ms, now_s
             self._follow(report, decision.target_kbps, self.controller.queue_ms)
@@ -313,7 +316,7 @@ class GccRate(RateControl):
         )
 
     def on_report(
-        self, report: ReceiverReport, now_s: float, *, due: tuple[float, int] | None = None
+        self, report: ReceiverReport, now_s: float, *, due: Due = None, owed_bits: int | None = None
     ) -> tuple[ProbeRequest | None, list]:
         self._named(report.technology)
         if report.delivery is None:
@@ -339,7 +342,7 @@ class WebrtcRate(RateControl):
         self._stale_s = 0.0
 
     def on_report(
-        self, report: ReceiverReport, now_s: float, *, due: tuple[float, int] | None = None
+        self, report: ReceiverReport, now_s: float, *, due: Due = None, owed_bits: int | None = None
     ) -> tuple[ProbeRequest | None, list]:
         self._named(report.technology)
         for record in () if report.delivery is None else report.delivery.records:
