@@ -8,7 +8,9 @@ on the trace from OFFSET_S for DURATION_S (`route[0].offset_s`), and prints its 
 and median in ms, unfrozen SSIM in dB, frozen share, utilisation, video kbit/s). `--set` changes
 a field of `uma.control.UmaSettings` for the `uma` engine (values are JSON): the controller's
 settings that have no scenario key are reached by building the engine's `UmaSettings` with
-them (the `uma` rows of a run with no `--set` are the bench's to the digit). `--engine` sets a
+them, and a `--set` wins over the scenario's key of the same name (before session 29 the
+scenario's won: `--set judge_silence=true` and the other `engine.estimator` keys were silently
+ignored); the `uma` rows of a run with no `--set` are the bench's to the digit. `--engine` sets a
 key of the scenario's `engine` section for every engine (values are JSON; `climb` is the rate
 policy's, which every engine follows: docs/rate-control.md, branch rc23). Run from the
 repository root with the checkout on `PYTHONPATH` (docs/rate-control.md, branch rc22).
@@ -17,7 +19,6 @@ repository root with the checkout on `PYTHONPATH` (docs/rate-control.md, branch 
 from __future__ import annotations
 
 import argparse
-import functools
 import json
 import sys
 from concurrent.futures import ProcessPoolExecutor
@@ -70,8 +71,8 @@ def _case_row(job: tuple) -> tuple:
     from uma.bench.links import run_link
     from uma.control.settings import UmaSettings
 
-    if overrides:
-        rate.UmaSettings = functools.partial(UmaSettings, **overrides)
+    if overrides:  # over the keys the engine passes from the scenario too
+        rate.UmaSettings = lambda **keys: UmaSettings(**{**keys, **overrides})
     task = case_task(trace, offset_s, duration_s, engine, engine_keys)
     return trace, offset_s, duration_s, engine, run_link(task)["row"]
 

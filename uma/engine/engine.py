@@ -86,11 +86,9 @@ class UmaEngine:
     def on_report(self, report: ReceiverReport, now_s: float) -> list:
         self.inflight.on_report(report.highest_seq, now_s)
         actions = self.description.on_report(report.description_complete, now_s)
-        inflight = self.inflight
-        probe, taken = self.rate.on_report(
-            report, now_s, due=inflight.oldest_outstanding(), owed_bits=inflight.outstanding_bits
-        )
+        probe, taken = self.rate.on_report(report, now_s, self.inflight)
         actions += taken + self.sender.probe(None if self.oracle else probe, now_s)
+        self.position.on_report(undone=self.rate.undone, judging=self.rate.judging)
         if self.refresh is not None:
             actions += self.refresh.on_report(report, now_s, self.estimate_kbps, self.rate.handover)
         return self._keep(actions)

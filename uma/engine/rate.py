@@ -44,6 +44,7 @@ from uma.control import (
 )
 from uma.control.gcc_rate import GccRateSettings
 from uma.engine.estimator import EstimatorState, windowed_received
+from uma.engine.inflight import InFlight
 from uma.engine.points import OperatingPoint
 from uma.engine.records import EngineEvent
 from uma.engine.reports import ReceiverReport
@@ -58,8 +59,6 @@ __all__ = [
     "make_rate",
 ]
 
-# (sent in s, size in bits) of the oldest packet the link owes (None: none).
-Due = tuple[float, int] | None
 # The received rate the rest of the engine reads (the refresh's spend) is over this window.
 RECEIVED_WINDOW_S = 1.0
 # aiortc's estimate falls by this factor while reports are missing (as before the controllers).
@@ -81,13 +80,15 @@ class RateControl:
         self.floor_kbps = 0.0
         self.technology = ""  # the last the reports named
         self.handover = False  # the last report named a new technology (never the oracle)
+        self.undone = False  # the last report undid a silence's cut (uma's only)
+        self.judging = False  # a silence's cut waits for a report to judge it
 
     def on_report(
-        self, report: ReceiverReport, now_s: float, *, due: Due = None, owed_bits: int | None = None
+        self, report: ReceiverReport, now_s: float, inflight: InFlight | None = None
     ) -> tuple[ProbeRequest | None, list]:
-        """Fold `report` in; `due`: (sent in s, size in bits) of the oldest packet sent and
-        not yet reported (None: none), and `owed_bits` the bits sent after the last packet
-        reported (None: not known): the sender's own knowledge of what the link owes."""
+        """Fold `report` in; `inflight` (None: not known), the sender's own knowledge of what
+        the link owes: the oldest packet sent and not yet reported, the bits sent after the
+        last packet reported."""
         raise NotImplementedError
 
     def on_silence(self, now_s: float) -> list:
@@ -224,12 +225,14 @@ class UmaRate(RateControl):
         self.spacing = ReportSpacing()
 
     def on_report(
-        self, report: ReceiverReport, now_s: float, *, due: Due = None, owed_bits: int | None = None
+        self, report: ReceiverReport, now_s: float, inflight: InFlight | None = None
     ) -> tuple[ProbeRequest | None, list]:
-        probe = None
+        probe, self.undone = None, False
         self.spacing.on_report(now_s)
         if report.delivery is not None:  # what arrived (over the old path, if it changed)
+            due = None if inflight is None else inflight.oldest_outstanding()
             due_ms = None if due is None else (due[0] * 1000.0, due[1])
+            owed_bits = None if inflight is None else inflight.outstanding_bits
             named = report.technology
             fresh = named if named and self.technology and named != self.technology else ""
             decision: RateDecision = self.controller.on_report(
@@ -237,8 +240,10 @@ class UmaRate(RateControl):
             )
             self._report_ms, self._report_s = report.delivery.end_ms, now_s
             self._follow(report, decision.target_kbps, self.controller.queue_ms)
-            probe = decision.probe
-        return probe, self._technology(report.technology, now_s)
+            probe, self.undone = decision.probe, decision.restored
+        events = self._technology(report.technology, now_s)
+        self.judging = self.controller.judging  # after a handover's forgetting
+        return probe, events
 
     def _technology(self, technology: str, now_s: float) -> list:
         """A change of the technology the reports name: the controller's prior for it."""
@@ -316,7 +321,7 @@ class GccRate(RateControl):
         )
 
     def on_report(
-        self, report: ReceiverReport, now_s: float, *, due: Due = None, owed_bits: int | None = None
+        self, report: ReceiverReport, now_s: float, inflight: InFlight | None = None
     ) -> tuple[ProbeRequest | None, list]:
         self._named(report.technology)
         if report.delivery is None:
@@ -342,7 +347,7 @@ class WebrtcRate(RateControl):
         self._stale_s = 0.0
 
     def on_report(
-        self, report: ReceiverReport, now_s: float, *, due: Due = None, owed_bits: int | None = None
+        self, report: ReceiverReport, now_s: float, inflight: InFlight | None = None
     ) -> tuple[ProbeRequest | None, list]:
         self._named(report.technology)
         for record in () if report.delivery is None else report.delivery.records:
