@@ -22,8 +22,10 @@ def test_the_policy_goes_back_at_once_to_the_rung_the_budget_carries_up_to_back_
     assert throughput_policy(view(current=0, last_switch_s=9.99, back_to=5)) == 5
     # without it: the hold
     assert throughput_policy(view(current=0, last_switch_s=9.99)) == 0
-    # never down to it, and down at once as ever
+    # never down to it, and at or below the current rung the climb is as ever
     assert throughput_policy(view(current=6, last_switch_s=9.99, back_to=2)) == 6
+    assert throughput_policy(view(current=0, back_to=0)) == 1  # one size up, after the hold
+    assert throughput_policy(view(current=0, last_switch_s=9.99, back_to=0)) == 0
     assert throughput_policy(view(current=8, estimate_kbps=100.0, back_to=8)) == 3
 
 

@@ -116,8 +116,9 @@ def throughput_policy(view: PolicyView) -> int:
     current = rungs.index(view.current)
     if target < current:
         return rungs[target]
-    if view.back_to in rungs:
-        return rungs[max(current, min(target, rungs.index(view.back_to)))]
+    back = rungs.index(view.back_to) if view.back_to in rungs else -1
+    if target > current and back > current:
+        return rungs[min(target, back)]
     if target > current and view.now_s - view.last_switch_s >= view.up_hold_s:
         if view.climb == "fit":
             return _fitting_top(view, rungs, current, target)
