@@ -17,6 +17,7 @@ KEYS = (
     "take_queued_drop",
     "bounded_queued_drop",
     "judge_silence",
+    "queue_from_owed",
 )
 ON_KEYS = (  # adopted (docs/rate-control.md, rc14, rc15)
     "fixed_due_time",

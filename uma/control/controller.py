@@ -16,7 +16,8 @@ now_ms)` when the link changes technology; each returns a `RateDecision`. One se
   `queued_drop_floor` (a half) of itself;
 - **queue**: the smallest queueing-delay sample of a report (bursty delivery jitters the
   others; a standing queue raises every one); above `queue_target_ms` the excess is drained
-  over `drain_ms`;
+  over `drain_ms`; with `queue_from_owed` the queue is at most the bits the sender still has
+  in flight at the capacity estimate (an outage's backlog behind a paused sender is gone);
 - **trend**: GCC's trendline and adaptive threshold over the same packets; an over-use signal
   while the queue is above `queue_low_ms` backs the target off by `beta`;
 - **loss**: GCC's loss-based bound (above 10 % down by half the loss, below 2 % free);

@@ -217,6 +217,7 @@ class UmaRate(RateControl):
                 bounded_queued_drop=cfg.bounded_queued_drop,
                 skip_limit_by_received=cfg.skip_limit_by_received,
                 judge_silence=cfg.judge_silence,
+                queue_from_owed=cfg.queue_from_owed,
             )
         )
         self._report_ms: float | None = None  # the last report's end, on the receiver's clock
