@@ -200,10 +200,7 @@ class EngineConfig(Section):
     `rung_floor` (on; off is the behaviour before session 25): the skip rule and the backlog
     hold judge a frame at no less than the lowest skippable rung's rate, so an estimate cut
     below that rung (an on/off link's silences) does not hold the sender to the skip limit's
-    one frame a second (docs/rate-control.md, `rc26` and "Session 25"). `climb_back` (off):
-    when the rate control undoes a silence's cut (the link delivered again at its old rate),
-    the throughput policy goes at once back to the rung it was on before the cuts, or the
-    highest below it that the estimate carries (docs/measured.md, section 19).
+    one frame a second (docs/rate-control.md, `rc26` and "Session 25").
     """
 
     policy: Str = "throughput"
@@ -214,7 +211,6 @@ class EngineConfig(Section):
     climb: Str = "stream"
     drained_queue: Bool = False
     rung_floor: Bool = True
-    climb_back: Bool = False
     fixed_rung: NonNegInt | None = None
     transcode_ms: NonNeg = 4.0
     estimator: EstimatorConfig = Field(default_factory=EstimatorConfig)

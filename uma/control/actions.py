@@ -28,4 +28,3 @@ class RateDecision:
     target_kbps: float
     probe: ProbeRequest | None = None
     reason: str = ""
-    restored: bool = False  # a silence's cut was undone by this report (`SilenceJudge`)

@@ -158,8 +158,7 @@ class UmaController:
                 reason = "loss"
         self.target_kbps = self._bounded(target)
         probe = self._recovery_probe(report, technology, now_ms)
-        probe = probe or self._probe(report, now_ms)
-        return RateDecision(self.target_kbps, probe, reason, restored=restored_kbps is not None)
+        return RateDecision(self.target_kbps, probe or self._probe(report, now_ms), reason)
 
     def _queue(self, report: DeliveryReport, owed_bits: int | None) -> None:
         """The queue a packet sent now meets: the report's smallest queueing-delay sample
@@ -286,11 +285,6 @@ class UmaController:
         report costs a frame or two; a handover's gap or an outage gets none of the stream)."""
         quiet_ms = self.quiet_ms(now_ms)
         return self._overdue or (quiet_ms is not None and quiet_ms >= self.settings.pause_ms)
-
-    @property
-    def judging(self) -> bool:
-        """A silence's cut waits for a report to judge it (undo it or let it stand)."""
-        return self._judge.held_kbps is not None
 
     def quiet_ms(self, now_ms: float) -> float | None:
         """How long no report has come (None: none yet)."""

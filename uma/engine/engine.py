@@ -88,7 +88,6 @@ class UmaEngine:
         actions = self.description.on_report(report.description_complete, now_s)
         probe, taken = self.rate.on_report(report, now_s, self.inflight)
         actions += taken + self.sender.probe(None if self.oracle else probe, now_s)
-        self.position.on_report(undone=self.rate.undone, judging=self.rate.judging)
         if self.refresh is not None:
             actions += self.refresh.on_report(report, now_s, self.estimate_kbps, self.rate.handover)
         return self._keep(actions)

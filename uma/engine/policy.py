@@ -49,9 +49,7 @@ class PolicyView:
     real policies); `points` is the engine's ladder, `current` the index of the point in use;
     `fixed_rung` counts rate-ladder points only; `ladder`, when given, is the rate ladder the
     engine allows now (the face-region rungs left out while no face is found); `climb` how
-    `throughput_policy` goes up after `up_hold_s` (one of `CLIMBS`); `back_to`, when given,
-    the point the engine was on before a silence's cuts that were just undone (the policy may
-    go back there at once).
+    `throughput_policy` goes up after `up_hold_s` (one of `CLIMBS`).
     """
 
     now_s: float
@@ -65,7 +63,6 @@ class PolicyView:
     fixed_rung: int | None = None
     ladder: tuple[int, ...] | None = None
     climb: str = "step"
-    back_to: int | None = None
 
     def __post_init__(self) -> None:
         if self.climb not in CLIMBS:
@@ -106,8 +103,6 @@ def throughput_policy(view: PolicyView) -> int:
     only with the margin (one keyframe for the whole climb).
 
     From a point off the rate ladder (the model codec's), straight to the highest rung that fits.
-    With `view.back_to` (a silence's cuts undone), at once up to that rung, or the highest
-    below it that fits: no hold, no margin (the estimate carried it before the silence).
     """
     rungs = view.rate_ladder
     target = highest_fitting(view.rates_kbps, view.safety * view.estimate_kbps)
@@ -116,9 +111,6 @@ def throughput_policy(view: PolicyView) -> int:
     current = rungs.index(view.current)
     if target < current:
         return rungs[target]
-    back = rungs.index(view.back_to) if view.back_to in rungs else -1
-    if target > current and back > current:
-        return rungs[min(target, back)]
     if target > current and view.now_s - view.last_switch_s >= view.up_hold_s:
         if view.climb == "fit":
             return _fitting_top(view, rungs, current, target)

@@ -33,8 +33,6 @@ class Position:
         self.switched_between = False  # the next frame sent starts a new stream
         self.codec_since_s = self.last_switch_s = 0.0
         self.cut_s = float("-inf")  # the last silence cut of the estimate
-        self.before_cut: int | None = None  # the point at the first cut not yet judged
-        self.back_to: int | None = None  # that point, once the cut was undone, until reached
         switching = config.switching
         oracle_ahead = switching.policy == "oracle"
         self.lookahead_s = switching.oracle_lookahead_ms / 1000.0 if oracle_ahead else None
@@ -49,15 +47,12 @@ class Position:
         `cut`: the estimate was cut for a silence just now."""
         config = self.config
         self.cut_s = now_s if cut else self.cut_s
-        if cut and config.climb_back:
-            self.before_cut = self.rung if self.before_cut is None else self.before_cut
-            self.back_to = None  # a new silence: the way back waits for its judgement
         view = PolicyView(
             now_s=now_s, points=self.points, current=self.rung, last_switch_s=self.last_switch_s,
             estimate_kbps=estimate_kbps, safety=config.safety,
             up_hold_s=config.up_hold_ms / 1000.0, capacity_kbps=capacity_kbps,
             fixed_rung=config.fixed_rung, ladder=self.ladder.allowed(now_s),
-            climb=config.climb, back_to=self.back_to,
+            climb=config.climb,
         )  # fmt: skip
         if config.switching.policy == "none":
             return self.policy(view), None, []
@@ -68,15 +63,6 @@ class Position:
             view, self.policy, since_s=self.codec_since_s, budget_kbps=budget_kbps,
             budget_ahead_kbps=ahead, cut_s=self.cut_s,
         )  # fmt: skip
-
-    def on_report(self, *, undone: bool, judging: bool) -> None:
-        """A report came: with `engine.climb_back`, a silence's cuts it undid send the rate
-        policy back towards the point before them (until it is reached or a silence cuts
-        again); a cut judged to stand (or forgotten at a handover) is forgotten here too."""
-        if undone:
-            self.back_to = self.before_cut
-        if undone or not judging:
-            self.before_cut = None
 
     def switch_to(self, wanted: int, now_s: float, kind: str, estimate_kbps: float) -> list:
         old, new = self.points[self.rung], self.points[wanted]
@@ -89,7 +75,6 @@ class Position:
         else:
             event = EngineEvent(now_s, kind, f"{self.rung}->{wanted} {estimate}")
         self.rung, self.last_switch_s = wanted, now_s
-        self.back_to = None if wanted == self.back_to else self.back_to
         return [event]
 
     def fall_back(self, lowest: int, now_s: float, estimate_kbps: float) -> list:

@@ -80,8 +80,6 @@ class RateControl:
         self.floor_kbps = 0.0
         self.technology = ""  # the last the reports named
         self.handover = False  # the last report named a new technology (never the oracle)
-        self.undone = False  # the last report undid a silence's cut (uma's only)
-        self.judging = False  # a silence's cut waits for a report to judge it
 
     def on_report(
         self, report: ReceiverReport, now_s: float, inflight: InFlight | None = None
@@ -228,7 +226,7 @@ class UmaRate(RateControl):
     def on_report(
         self, report: ReceiverReport, now_s: float, inflight: InFlight | None = None
     ) -> tuple[ProbeRequest | None, list]:
-        probe, self.undone = None, False
+        probe = None
         self.spacing.on_report(now_s)
         if report.delivery is not None:  # what arrived (over the old path, if it changed)
             due = None if inflight is None else inflight.oldest_outstanding()
@@ -241,10 +239,8 @@ class UmaRate(RateControl):
             )
             self._report_ms, self._report_s = report.delivery.end_ms, now_s
             self._follow(report, decision.target_kbps, self.controller.queue_ms)
-            probe, self.undone = decision.probe, decision.restored
-        events = self._technology(report.technology, now_s)
-        self.judging = self.controller.judging  # after a handover's forgetting
-        return probe, events
+            probe = decision.probe
+        return probe, self._technology(report.technology, now_s)
 
     def _technology(self, technology: str, now_s: float) -> list:
         """A change of the technology the reports name: the controller's prior for it."""
