@@ -74,3 +74,34 @@ def test_past_the_skip_limit_a_silent_link_gets_no_frame_and_a_trickle_does(
     `skip_limit_by_received` only if its 10 kbit drain within that second at what arrived
     (20 kbit/s, not 2)."""
     assert 50 - _skipped_after_a_report(on, received_kbps) == sent
+
+
+@pytest.mark.parametrize(("owed", "sent_after_bits", "queue_ms"), [
+    (False, 0, 900.0), (True, 0, 0.0), (True, 48_000, 160.0), (True, None, 900.0),
+])  # fmt: skip
+def test_the_queue_is_read_from_what_the_engine_s_record_still_owes(
+    owed, sent_after_bits, queue_ms
+):
+    """A report of a packet (seq 0) that met 900 ms of queue, the estimate 300 kbit/s: with
+    `queue_from_owed` the controller's queue is at most the bits sent after it at that rate
+    (48,000 bits: 160 ms; none: 0); without the key, or with no in-flight record, the 900."""
+    from uma.control.delivery import DeliveryReport, PacketRecord
+    from uma.engine.inflight import InFlight
+    from uma.engine.reports import ReceiverReport
+
+    rate = make_rate(
+        EngineConfig(estimator=EstimatorConfig(queue_from_owed=owed)), FeedbackConfig()
+    )
+    inflight = InFlight()
+    inflight.on_sent([9600], 0.0)
+    if sent_after_bits:
+        inflight.on_sent([sent_after_bits], 0.9)
+    inflight.on_report(0, 1.0)
+    delivery = DeliveryReport(
+        start_ms=900.0, end_ms=1000.0, packets=1, received_bits=9600, lost=0, train_bits=0,
+        train_ms=0.0, queue_delay_ms=(900.0,), records=(PacketRecord(0, 0.0, 950.0, 9600),),
+    )  # fmt: skip
+    report = ReceiverReport(1.0, 0.1, 9600, 1, 0, 0, 900.0, delivery=delivery)
+    rate.on_report(report, 1.0, None if sent_after_bits is None else inflight)
+    assert rate.controller.capacity_kbps == pytest.approx(300.0)
+    assert rate.controller.queue_ms == pytest.approx(queue_ms)
