@@ -65,14 +65,21 @@ def cases(args: argparse.Namespace) -> list[tuple[str, float, float, str]]:
     return out
 
 
-def _case_row(job: tuple) -> tuple:
-    trace, offset_s, duration_s, engine, overrides, engine_keys = job
+def override_settings(overrides: dict) -> None:
+    """Build the `uma` engine's `UmaSettings` with `overrides`, over the keys the engine
+    passes from the scenario too (this process only: the script runs each case in a worker)."""
     import uma.engine.rate as rate
-    from uma.bench.links import run_link
     from uma.control.settings import UmaSettings
 
-    if overrides:  # over the keys the engine passes from the scenario too
-        rate.UmaSettings = lambda **keys: UmaSettings(**{**keys, **overrides})
+    rate.UmaSettings = lambda **keys: UmaSettings(**{**keys, **overrides})
+
+
+def _case_row(job: tuple) -> tuple:
+    trace, offset_s, duration_s, engine, overrides, engine_keys = job
+    from uma.bench.links import run_link
+
+    if overrides:
+        override_settings(overrides)
     task = case_task(trace, offset_s, duration_s, engine, engine_keys)
     return trace, offset_s, duration_s, engine, run_link(task)["row"]
 
