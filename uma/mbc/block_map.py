@@ -265,8 +265,9 @@ def _barred(face: np.ndarray, plate_known, window) -> np.ndarray:
     c0, r0, c1, r1 = window
     rows, cols = r1 - r0, c1 - c0
 
-    def any_in_block(crop):
-        return crop.reshape(rows, BLOCK_PX, cols, BLOCK_PX).any(axis=(1, 3))
+    def any_in_block(crop):  # the rows of a block first: a contiguous reduction, then its columns
+        down = np.logical_or.reduce(crop.reshape(rows, BLOCK_PX, cols * BLOCK_PX), axis=1)
+        return down.reshape(rows, cols, BLOCK_PX).any(axis=2)
 
     off_face = ~_window_crop(face, window)  # the window's pixels only
     out = np.zeros((len(CHOICES), rows, cols), bool)

@@ -40,14 +40,21 @@ def affine_maps(labels, table, empty, xs, ys, map_x, map_y):
     label is negative) at the pixel's (`xs`, `ys`): c0 x + c1 y + c2, c3 x + c4 y + c5."""
     height, width = labels.shape
     for i in range(height):
+        row, row_x, row_y, out_x, out_y = labels[i], xs[i], ys[i], map_x[i], map_y[i]
+        last = -2  # no label: the first pixel reads its triangle's row
+        c0 = c1 = c2 = c3 = c4 = c5 = np.float32(0.0)
         for j in range(width):
-            t = labels[i, j]
-            if t < 0:
-                t = empty
-            x = xs[i, j]
-            y = ys[i, j]
-            map_x[i, j] = table[t, 0] * x + table[t, 1] * y + table[t, 2]
-            map_y[i, j] = table[t, 3] * x + table[t, 4] * y + table[t, 5]
+            t = row[j]
+            if t != last:  # a row's pixels come in runs of one triangle: its row read once
+                last = t
+                if t < 0:
+                    t = empty
+                c0, c1, c2 = table[t, 0], table[t, 1], table[t, 2]
+                c3, c4, c5 = table[t, 3], table[t, 4], table[t, 5]
+            x = row_x[j]
+            y = row_y[j]
+            out_x[j] = c0 * x + c1 * y + c2
+            out_y[j] = c3 * x + c4 * y + c5
 
 
 @njit("void(uint8[:, :], uint8[:, :], float32[:, :])", cache=True)
