@@ -41,11 +41,11 @@ def affine_maps(labels, table, empty, xs, ys, map_x, map_y):
     height, width = labels.shape
     for i in range(height):
         row, row_x, row_y, out_x, out_y = labels[i], xs[i], ys[i], map_x[i], map_y[i]
-        last = -2  # no label: the first pixel reads its triangle's row
+        last = -1  # read at the first pixel whatever its label
         c0 = c1 = c2 = c3 = c4 = c5 = np.float32(0.0)
         for j in range(width):
             t = row[j]
-            if t != last:  # a row's pixels come in runs of one triangle: its row read once
+            if j == 0 or t != last:  # a row's pixels come in runs of one triangle: read once
                 last = t
                 if t < 0:
                     t = empty
