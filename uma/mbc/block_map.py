@@ -371,8 +371,8 @@ def _compose(shown, lumas, state, window, held, on_face, kept: dict) -> np.ndarr
         candidate = _chroma(k, shown, held, window, on_face)
         for plane in range(2):
             accumulate(mixed_chroma[plane], base_chroma[plane], candidate[plane], half_weight[0])
-    luma[:] = np.clip(np.rint(mixed_luma), 0, 255)
-    chroma[:] = np.clip(np.rint(mixed_chroma), 0, 255)
+    for mixed, into in ((mixed_luma, luma), (mixed_chroma, chroma)):  # rounded in place
+        into[:] = np.clip(np.rint(mixed, out=mixed), 0, 255, out=mixed)
     return out
 
 

@@ -301,7 +301,8 @@ def _continue_edges(filled: np.ndarray, known: np.ndarray, edge: str, band_px: i
         out[where] = filled[known][labels[where] - 1]
         return out
     radius_px = EDGE_RADIUS_CIF_PX if filled.shape[1] >= CIF_WIDTH_PX else EDGE_RADIUS_PX
-    return np.where(where, inpaint_band(filled, near, radius_px), filled)  # Telea, part by part
+    # Telea, part by part; it writes only the band's pixels (the rest is `filled`'s copy)
+    return inpaint_band(filled, near, radius_px)
 
 
 class Plate:
