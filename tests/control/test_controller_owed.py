@@ -51,5 +51,5 @@ def test_a_queue_still_owed_is_drained(owed_bits, queue_ms):
     assert decision.target_kbps == pytest.approx(expected_kbps)
 
 
-def test_the_key_is_off_by_default():
-    assert UmaSettings().queue_from_owed is False
+def test_the_key_is_on_by_default():
+    assert UmaSettings().queue_from_owed is True

@@ -31,7 +31,7 @@ def _report(seq: int, *, reported_seq: int) -> ReceiverReport:
 
 def _engine(drained: bool) -> UmaEngine:
     config = EngineConfig(
-        estimator=EstimatorConfig(initial_kbps=300.0),
+        estimator=EstimatorConfig(initial_kbps=300.0, queue_from_owed=False),  # this key alone
         pacer=PacerConfig(deadline_ms=1000.0),
         drained_queue=drained,
     )
@@ -82,7 +82,8 @@ def test_uma_s_skip_rule_takes_no_queue_ahead_once_nothing_is_in_flight(
     is past the skip budget (300 ms: 90 kbit), so a 4-kbit frame is skipped; with
     `drained_queue` and nothing in flight the queue ahead is none and it is coded. Bits
     still in flight (or not known: -1) keep the reported queue."""
-    config = EngineConfig(estimator=EstimatorConfig(initial_kbps=300.0), drained_queue=drained)
+    estimator = EstimatorConfig(initial_kbps=300.0, queue_from_owed=False)  # this key alone
+    config = EngineConfig(estimator=estimator, drained_queue=drained)
     rate = make_rate(config, FeedbackConfig())
     rate.on_report(_report(0, reported_seq=0), 2.1)
     assert rate.controller.queue_ms == pytest.approx(2000.0)

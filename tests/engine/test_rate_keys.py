@@ -17,12 +17,12 @@ KEYS = (
     "take_queued_drop",
     "bounded_queued_drop",
     "judge_silence",
-    "queue_from_owed",
 )
-ON_KEYS = (  # adopted (docs/rate-control.md, rc14, rc15)
+ON_KEYS = (  # adopted (docs/rate-control.md, rc14, rc15; docs/measured.md, section 19)
     "fixed_due_time",
     "no_probe_while_paused",
     "skip_limit_by_received",
+    "queue_from_owed",
 )
 
 

@@ -79,7 +79,7 @@ class EstimatorConfig(Section):
     `judge_silence` (`uma` only; off): a silence's cut is also undone when, on the same path
     and soon after, the packets it held up drain as a train at the estimate before the cut
     (`uma.control.silence`; docs/rate-control.md, `rc22`).
-    `queue_from_owed` (`uma` only; off): the queue the controller drains is at most what the
+    `queue_from_owed` (`uma` only; on): the queue the controller drains is at most what the
     sender still has in flight after the report, at the estimate (a backlog an outage left
     behind a paused sender is gone, not a standing queue; docs/measured.md, section 19).
     """
@@ -99,7 +99,7 @@ class EstimatorConfig(Section):
     bounded_queued_drop: Bool = False
     skip_limit_by_received: Bool = True
     judge_silence: Bool = False
-    queue_from_owed: Bool = False
+    queue_from_owed: Bool = True
 
     @model_validator(mode="after")
     def _consistent(self) -> EstimatorConfig:

@@ -60,7 +60,7 @@ class UmaSettings:
     judge_silence: bool = False
     judge_window_ms: float = 1500.0
     judge_fraction: float = 1.0
-    queue_from_owed: bool = False
+    queue_from_owed: bool = True
     priors_kbps: Mapping[str, float] = field(default_factory=lambda: DEFAULT_PRIORS_KBPS)
 
     def __post_init__(self) -> None:
