@@ -7,7 +7,8 @@ import cv2
 import numpy as np
 import pytest
 
-from uma.mbc.layered_render import _GAP_KERNEL, _close_gap, _copy_where
+from uma.mbc.layered_kernels import copy_where as _copy_where
+from uma.mbc.layered_render import _GAP_KERNEL, _close_gap
 
 
 def _blob(rng: np.random.Generator, shape, box) -> np.ndarray:

@@ -221,7 +221,8 @@ class BlockMap:
         gain = (current - sse.min(axis=0)).ravel()
         best = sse.argmin(axis=0).ravel()
         cost = change_bits(rows * cols)
-        order = [k for k in np.argsort(-gain, kind="stable") if gain[k] > 0]
+        ranked = np.argsort(-gain, kind="stable")
+        order = ranked[gain[ranked] > 0].tolist()  # the blocks that gain, most first
         n = 0
         while n < len(order) and count_bits(n + 1) + (n + 1) * cost <= self.bucket:
             n += 1
@@ -335,7 +336,7 @@ def _weights(chosen: np.ndarray, kept: dict, k: int) -> tuple[np.ndarray, np.nda
     if k in kept and kept[k][0] == key:
         return kept[k][1]
     half = np.repeat(np.repeat(chosen, BLOCK_PX // 2, axis=0), BLOCK_PX // 2, axis=1)
-    whole = np.repeat(np.repeat(half, 2, axis=0), 2, axis=1)
+    whole = np.repeat(np.repeat(chosen, BLOCK_PX, axis=0), BLOCK_PX, axis=1)
     out = _feathered(whole, FEATHER_SIGMA_PX), _feathered(half, FEATHER_SIGMA_PX / 2)[None]
     kept[k] = (key, out)
     return out

@@ -19,7 +19,14 @@ from uma.mbc.layer_boxes import clip_box as _clip_of
 from uma.mbc.layer_boxes import crop as _crop
 from uma.mbc.layer_boxes import points_box as _box
 from uma.mbc.layer_boxes import within as _within
-from uma.mbc.layered_kernels import STILL_MAP, blend, triangle_maps
+from uma.mbc.layered_kernels import (
+    STILL_MAP,
+    blend,
+    copy_where,
+    half_map,
+    triangle_maps,
+    zero_where,
+)
 from uma.mbc.layers import (
     N_BODY,
     N_TORSO,
@@ -126,15 +133,6 @@ def _warped_mask(source: np.ndarray, source_box, matrix: np.ndarray, size) -> np
     return out
 
 
-def _copy_where(dst: np.ndarray, src: np.ndarray, mask: np.ndarray) -> None:
-    """`np.copyto(dst, src, where=mask)` (uint8 pictures; `mask` bool or 0/1 uint8) by
-    OpenCV's vectorised masked copy, in place (numpy's where= copy costs several times more)."""
-    import cv2
-
-    if cv2.copyTo(src, mask.view(np.uint8), dst) is not dst:  # a new array: copy it back
-        np.copyto(dst, src, where=mask.view(bool))
-
-
 def _draw_layer(renderer, out: np.ndarray, mask: np.ndarray, matrix: np.ndarray, box, chroma=True):
     """Draw the reference moved by `matrix` into `out` where `mask`, over `box` only; the
     moved picture over `box` (luma rows, then both chroma planes' rows, left undrawn without
@@ -150,7 +148,7 @@ def _draw_layer(renderer, out: np.ndarray, mask: np.ndarray, matrix: np.ndarray,
         renderer.reference[:height], moved, (x1 - x0, y1 - y0), flags=linear, borderMode=edge
     )
     inside = mask[y0:y1, x0:x1]
-    _copy_where(out[y0:y1, x0:x1], drawn[: y1 - y0], inside)
+    copy_where(out[y0:y1, x0:x1], drawn[: y1 - y0], inside)
     if not chroma:
         return drawn
     at = (inside[0::2, 0::2] | inside[1::2, 1::2]).view(bool)
@@ -160,7 +158,7 @@ def _draw_layer(renderer, out: np.ndarray, mask: np.ndarray, matrix: np.ndarray,
     for k, source in enumerate((renderer._u, renderer._v)):
         below[k] = cv2.warpAffine(source, chroma_matrix(moved), half, flags=linear,
                                   borderMode=edge)  # fmt: skip
-        _copy_where(planes[k][y0 // 2 : y1 // 2, x0 // 2 : x1 // 2], below[k], at)
+        copy_where(planes[k][y0 // 2 : y1 // 2, x0 // 2 : x1 // 2], below[k], at)
     return drawn
 
 
@@ -174,16 +172,15 @@ def _draw_head(renderer, out: np.ndarray, inside: np.ndarray, maps, box, chroma=
     map_x, map_y = maps
     linear, edge = cv2.INTER_LINEAR, cv2.BORDER_REPLICATE
     drawn = cv2.remap(renderer.reference[:height], map_x, map_y, linear, borderMode=edge)
-    _copy_where(out[y0:y1, x0:x1], drawn, inside)
+    copy_where(out[y0:y1, x0:x1], drawn, inside)
     if not chroma:
         return
-    cx = (map_x[0::2, 0::2] + map_x[1::2, 1::2] - 1.0) * 0.25
-    cy = (map_y[0::2, 0::2] + map_y[1::2, 1::2] - 1.0) * 0.25
+    cx, cy = half_map(map_x), half_map(map_y)
     at = inside[0::2, 0::2] | inside[1::2, 1::2]
     planes = out[height:].reshape(2, height // 2, -1)
     for plane, source in zip(planes, (renderer._u, renderer._v), strict=True):
         drawn = cv2.remap(source, cx, cy, linear, borderMode=edge)
-        _copy_where(plane[y0 // 2 : y1 // 2, x0 // 2 : x1 // 2], drawn, at)
+        copy_where(plane[y0 // 2 : y1 // 2, x0 // 2 : x1 // 2], drawn, at)
 
 
 def compose_layers(
@@ -329,7 +326,7 @@ def _bleed(
     x0, y0, x1, y1 = box
     inside = mask[y0:y1, x0:x1]
     weight = strength * cv2.GaussianBlur(inside.astype(np.float32), (0, 0), FEATHER_SIGMA_PX)
-    weight[inside] = 0.0
+    zero_where(weight, inside)
     if not chroma:
         _blend(out[y0:y1, x0:x1], around[: y1 - y0], weight)
         return
@@ -373,7 +370,7 @@ def _feather(
     inner = cv2.GaussianBlur(solid[y0:y1, x0:x1].astype(np.float32), (0, 0), FEATHER_SIGMA_PX)
     # How far each pixel goes toward `under` (1 - the share of itself it keeps).
     away = strength * (1.0 - inner)
-    away[~mask[y0:y1, x0:x1]] = 0.0
+    zero_where(away, ~mask[y0:y1, x0:x1])
     half = away[0::2, 0::2]
     rows = slice(y0 // 2, y1 // 2), slice(x0 // 2, x1 // 2)
     top = out[height:].reshape(2, height // 2, -1)

@@ -25,6 +25,7 @@ import numpy as np
 from uma.mbc.band_parts import inpaint_band
 from uma.mbc.errors import SceneError
 from uma.mbc.fill_kernels import pull_level, settle
+from uma.mbc.layer_boxes import dilated
 
 __all__ = [
     "BODY_NAMES",
@@ -186,7 +187,7 @@ def cut_person(scene, points: np.ndarray, size: tuple[int, int], halo_of_head: f
     raised = head.copy()
     if 0 < rise < height:
         raised[:-rise] |= head[rise:]
-    halo = cv2.dilate(raised, kernel) & (1 - head)
+    halo = dilated(raised, kernel, radius) & (1 - head)  # over the head's box only
     torso &= 1 - (head | halo)
     return head, halo, torso, anchor
 
