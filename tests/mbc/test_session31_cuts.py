@@ -1,6 +1,5 @@
-"""Session 31's exact cuts give what the plain calls give: the halo's dilation over the raised
-head's box, weights zeroed by OpenCV's masked copy, the head's chroma maps in place, and the
-block map's ranked gains."""
+"""Session 31's exact cuts give what the plain calls give: the push-pull without its finest
+level's pull, weights zeroed by OpenCV's masked copy, and the block map's ranked gains."""
 
 from __future__ import annotations
 
@@ -8,24 +7,9 @@ import cv2
 import numpy as np
 import pytest
 
-from uma.mbc.layer_boxes import dilated
-from uma.mbc.layered_kernels import half_map, zero_where
-
-
-@pytest.mark.parametrize("seed", range(6))
-def test_the_dilation_over_the_mask_s_box_is_the_whole_picture_s(seed):
-    """Random masks (at the picture's edges too, or empty) and elliptic kernels: the same
-    as dilating the whole picture."""
-    rng = np.random.default_rng(seed)
-    shape = (144, 176)
-    mask = np.zeros(shape, np.uint8)
-    if seed:
-        x0, y0 = int(rng.integers(-30, 170)), int(rng.integers(-30, 140))
-        box = mask[max(y0, 0) : max(y0, 0) + 60, max(x0, 0) : max(x0, 0) + 50]
-        box[:] = rng.random(box.shape) < 0.6
-    radius = int(rng.integers(3, 15))
-    kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * radius + 1, 2 * radius + 1))
-    np.testing.assert_array_equal(dilated(mask, kernel, radius), cv2.dilate(mask, kernel))
+from uma.mbc.fill_kernels import pull_level, settle
+from uma.mbc.layered_kernels import zero_where
+from uma.mbc.layers import _push_pull
 
 
 def test_weights_zeroed_by_the_masked_copy_are_the_boolean_index_s():
@@ -40,15 +24,6 @@ def test_weights_zeroed_by_the_masked_copy_are_the_boolean_index_s():
     assert not np.signbit(weight[where[10:50, 20:72]]).any()
 
 
-def test_the_chroma_maps_in_place_are_numpy_s_expression():
-    rng = np.random.default_rng(5)
-    full = (rng.random((64, 90)) * 400 - 50).astype(np.float32)
-    expected = (full[0::2, 0::2] + full[1::2, 1::2] - 1.0) * 0.25
-    got = half_map(full)
-    assert got.dtype == np.float32
-    np.testing.assert_array_equal(got, expected)
-
-
 def test_the_ranked_gains_are_the_loop_s():
     """The blocks that gain, most first, ties in index order, as the list loop ranked them."""
     rng = np.random.default_rng(6)
@@ -58,3 +33,40 @@ def test_the_ranked_gains_are_the_loop_s():
     expected = [k for k in np.argsort(-gain, kind="stable") if gain[k] > 0]
     ranked = np.argsort(-gain, kind="stable")
     assert ranked[gain[ranked] > 0].tolist() == [int(k) for k in expected]
+
+
+def _push_pull_every_level(plane, known, weights):
+    """The push-pull as it was: every level pulled, the finest too, then settled."""
+    values = plane.astype(np.float32) * weights[0]
+    levels = [values]
+    for w in weights[1:]:
+        levels.append(
+            cv2.resize(levels[-1], (w.shape[1], w.shape[0]), interpolation=cv2.INTER_AREA)
+        )
+    v, w = levels[-1], weights[-1]
+    filled = np.where(w > 1e-6, v / np.maximum(w, 1e-6), float(values.sum() / weights[0].sum()))
+    for v, w in zip(reversed(levels[:-1]), reversed(weights[:-1]), strict=True):
+        up = cv2.resize(filled, (v.shape[1], v.shape[0]), interpolation=cv2.INTER_LINEAR)
+        filled = np.empty_like(v)
+        pull_level(v, w, up, np.float32(1e-6), filled)
+    out = np.empty_like(plane)
+    settle(np.ascontiguousarray(plane), known, filled, out)
+    return out
+
+
+@pytest.mark.parametrize("shape", [(288, 352), (144, 176), (37, 53), (3, 5), (2, 9)])
+@pytest.mark.parametrize("share", [0.02, 0.4, 0.97])
+def test_the_push_pull_without_the_finest_pull_is_the_same(shape, share):
+    """The finest level's weights are 0 or 1: its pull is the plane where known (which the
+    settling keeps anyway) and the coarser level upsampled elsewhere, to the bit."""
+    rng = np.random.default_rng(int(share * 100) + shape[0])
+    plane = rng.integers(0, 256, shape, dtype=np.uint8)
+    known = rng.random(shape) < share
+    known[0, 0] = True
+    weights = [known.astype(np.float32)]
+    while min(weights[-1].shape) > 2:
+        w = weights[-1]
+        size = (max(w.shape[1] // 2, 1), max(w.shape[0] // 2, 1))
+        weights.append(cv2.resize(w, size, interpolation=cv2.INTER_AREA))
+    expected = _push_pull_every_level(plane, known, weights)
+    np.testing.assert_array_equal(_push_pull(plane, known, weights), expected)

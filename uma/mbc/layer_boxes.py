@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["points_box", "mask_box", "within", "clip_box", "crop", "dilated", "ONLY_MARGIN_PX",
+__all__ = ["points_box", "mask_box", "within", "clip_box", "crop", "ONLY_MARGIN_PX",
            "ONLY_MARGIN_SOFT_PX"]  # fmt: skip
 
 # A drawing for a caller reading one box (`compose_layers`' `only`) is drawn over that box and
@@ -74,18 +74,3 @@ def clip_box(only, face: np.ndarray, margin_px: int = ONLY_MARGIN_PX):
 def crop(picture: np.ndarray, box) -> np.ndarray:
     """`picture`'s (H, W) pixels in `box` (x0, y0, x1, y1)."""
     return picture[box[1] : box[3], box[0] : box[2]]
-
-
-def dilated(mask: np.ndarray, kernel: np.ndarray, radius: int) -> np.ndarray:
-    """`cv2.dilate(mask, kernel)` (0/1 uint8; `kernel` reaching at most `radius` px from its
-    centre) over `mask_box(mask, radius)` only: outside that box no pixel is within reach of
-    one of `mask`'s, so it is 0 there either way, and inside it every pixel the kernel reaches
-    beyond the box is 0 (a maximum over the box's pixels alone is the same)."""
-    import cv2
-
-    out = np.zeros_like(mask)
-    box = mask_box(mask, radius)
-    if box is not None:
-        x0, y0, x1, y1 = box
-        out[y0:y1, x0:x1] = cv2.dilate(mask[y0:y1, x0:x1], kernel)
-    return out

@@ -17,7 +17,6 @@ __all__ = [
     "affine_maps",
     "blend",
     "copy_where",
-    "half_map",
     "zero_where",
     "relight",
     "relight_face",
@@ -154,13 +153,3 @@ def zero_where(weight: np.ndarray, where: np.ndarray) -> None:
 
     if cv2.copyTo(np.zeros_like(weight), where.view(np.uint8), weight) is not weight:
         weight[where] = 0.0
-
-
-def half_map(full: np.ndarray) -> np.ndarray:
-    """`(full[0::2, 0::2] + full[1::2, 1::2] - 1.0) * 0.25` (float32): where a chroma sample
-    reads, from its block's diagonal luma pixels' map; in place on one array (the same float32
-    operations in the same order, without a temporary array each)."""
-    half = np.add(full[0::2, 0::2], full[1::2, 1::2])
-    half -= np.float32(1.0)
-    half *= np.float32(0.25)
-    return half

@@ -23,7 +23,6 @@ from uma.mbc.layered_kernels import (
     STILL_MAP,
     blend,
     copy_where,
-    half_map,
     triangle_maps,
     zero_where,
 )
@@ -175,7 +174,8 @@ def _draw_head(renderer, out: np.ndarray, inside: np.ndarray, maps, box, chroma=
     copy_where(out[y0:y1, x0:x1], drawn, inside)
     if not chroma:
         return
-    cx, cy = half_map(map_x), half_map(map_y)
+    cx = (map_x[0::2, 0::2] + map_x[1::2, 1::2] - 1.0) * 0.25
+    cy = (map_y[0::2, 0::2] + map_y[1::2, 1::2] - 1.0) * 0.25
     at = inside[0::2, 0::2] | inside[1::2, 1::2]
     planes = out[height:].reshape(2, height // 2, -1)
     for plane, source in zip(planes, (renderer._u, renderer._v), strict=True):

@@ -25,7 +25,6 @@ import numpy as np
 from uma.mbc.band_parts import inpaint_band
 from uma.mbc.errors import SceneError
 from uma.mbc.fill_kernels import pull_level, settle
-from uma.mbc.layer_boxes import dilated
 
 __all__ = [
     "BODY_NAMES",
@@ -187,7 +186,7 @@ def cut_person(scene, points: np.ndarray, size: tuple[int, int], halo_of_head: f
     raised = head.copy()
     if 0 < rise < height:
         raised[:-rise] |= head[rise:]
-    halo = dilated(raised, kernel, radius) & (1 - head)  # over the head's box only
+    halo = cv2.dilate(raised, kernel) & (1 - head)
     torso &= 1 - (head | halo)
     return head, halo, torso, anchor
 
@@ -259,8 +258,10 @@ def _push_pull(plane: np.ndarray, known: np.ndarray, weights: list[np.ndarray]) 
     v, w = levels[-1], weights[-1]
     filled = np.where(w > 1e-6, v / np.maximum(w, 1e-6), float(values.sum() / weights[0].sum()))
     for v, w in zip(reversed(levels[:-1]), reversed(weights[:-1]), strict=True):
-        up = cv2.resize(filled, (v.shape[1], v.shape[0]), interpolation=cv2.INTER_LINEAR)
-        filled = np.empty_like(v)  # t (v / max(w, 1e-6)) + (1 - t) up, t = clip(w, 0, 1)
+        filled = cv2.resize(filled, (v.shape[1], v.shape[0]), interpolation=cv2.INTER_LINEAR)
+        if v is values:  # the finest level, w 0 or 1: its pull is `filled` where not known
+            break
+        up, filled = filled, np.empty_like(v)  # t (v / max(w, 1e-6)) + (1 - t) up, t = clip(w)
         pull_level(v, w, up, np.float32(1e-6), filled)
     out = np.empty_like(plane)  # plane where known, else rint(filled) clipped to 0-255
     settle(np.ascontiguousarray(plane), known, filled, out)
