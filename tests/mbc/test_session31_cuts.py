@@ -7,6 +7,8 @@ import cv2
 import numpy as np
 import pytest
 
+from uma.fit.cost import batch_visible
+from uma.mbc.encoder import FaceTracker
 from uma.mbc.fill_kernels import pull_level, settle
 from uma.mbc.layered_kernels import zero_where
 from uma.mbc.layers import _push_pull
@@ -70,3 +72,31 @@ def test_the_push_pull_without_the_finest_pull_is_the_same(shape, share):
         weights.append(cv2.resize(w, size, interpolation=cv2.INTER_AREA))
     expected = _push_pull_every_level(plane, known, weights)
     np.testing.assert_array_equal(_push_pull(plane, known, weights), expected)
+
+
+def test_the_gate_s_shortcut_keeps_every_pixel_the_einsum_keeps(head, head_frames):
+    """With every vertex a pixel inside the picture, the pixels' positions (the einsum the gate
+    skips) all land inside it; moved to the picture's edge, the einsum still decides."""
+    from uma.fit.kernels import project_batch
+
+    tracker = FaceTracker(head.description, rng=0)
+    gate, checked = tracker.gate, 0
+    for index, picture in enumerate(head_frames):
+        result = tracker.track(picture, frame=index)
+        if not result:
+            continue
+        image = np.asarray(picture, np.float32)
+        for shift in (0.0, -result.params[0] + 20.0):  # as tracked; at the left edge
+            params = result.params.copy()
+            params[0] += shift
+            samples, kept = gate._sample(image, params)
+            points = project_batch(gate._vertices, gate._units, np.ascontiguousarray(params[None]))
+            where = np.einsum("kc,kcd->kd", gate._bary, points[0][gate._corners])
+            height, width = image.shape
+            inside = (where[:, 0] >= 0) & (where[:, 0] <= width - 1)
+            inside &= (where[:, 1] >= 0) & (where[:, 1] <= height - 1)
+            visible = batch_visible(gate.template.model, points)[0][gate._tri]
+            expected = visible & inside & np.isfinite(samples)
+            np.testing.assert_array_equal(kept, expected)
+            checked += 1
+    assert checked >= 20

@@ -93,9 +93,13 @@ class AppearanceGate:
         local = np.ascontiguousarray(points - np.array([x0, y0], np.float32))
         samples = sample_at(crop, self._corners, self._bary, local)[0].astype(np.float64)
         visible = batch_visible(self.template.model, points)[0][self._tri]
-        # Only pixels that land in the picture: a face leaving it is not a covered face.
-        where = np.einsum("kc,kcd->kd", self._bary, points[0][self._corners])
+        # Only pixels that land in the picture: a face leaving it is not a covered face. Each
+        # lands inside its triangle (weights within [0, 1] to float32's rounding): with every
+        # vertex a pixel or more inside the picture, every one lands inside it.
         height, width = image.shape
+        if low[0] >= 1 and low[1] >= 1 and high[0] <= width - 2 and high[1] <= height - 2:
+            return samples, visible & np.isfinite(samples)
+        where = np.einsum("kc,kcd->kd", self._bary, points[0][self._corners])
         inside = (where[:, 0] >= 0) & (where[:, 0] <= width - 1)
         inside &= (where[:, 1] >= 0) & (where[:, 1] <= height - 1)
         return samples, visible & inside & np.isfinite(samples)
