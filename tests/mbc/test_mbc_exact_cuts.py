@@ -1,4 +1,4 @@
-"""Session 31's exact cuts give what the plain calls give: the push-pull without its finest
+"""Exact cuts give what the plain calls give: the push-pull without its finest
 level's pull, weights zeroed by OpenCV's masked copy, and the block map's ranked gains."""
 
 from __future__ import annotations
