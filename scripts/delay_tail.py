@@ -14,6 +14,10 @@ checkout on `PYTHONPATH`.
 
 from __future__ import annotations
 
+from uma import __version__  # noqa: F401  (first: importing uma pins NumPy's and OpenCV's code paths)
+
+# isort: split
+
 import argparse
 import sys
 from concurrent.futures import ProcessPoolExecutor

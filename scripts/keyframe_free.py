@@ -25,6 +25,10 @@ on `PYTHONPATH`.
 
 from __future__ import annotations
 
+from uma import __version__  # noqa: F401  (first: importing uma pins NumPy's and OpenCV's code paths)
+
+# isort: split
+
 import argparse
 import csv
 import json

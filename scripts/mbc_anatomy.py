@@ -21,6 +21,10 @@ then the MBC's and H.264's error x4, the regions) as PNGs under `--png-dir`.
 
 from __future__ import annotations
 
+from uma import __version__  # noqa: F401  (first: importing uma pins NumPy's and OpenCV's code paths)
+
+# isort: split
+
 import argparse
 from pathlib import Path
 

@@ -16,6 +16,10 @@ simulation (it patches `ReceiverCoder.decode` in this process and changes nothin
 
 from __future__ import annotations
 
+from uma import __version__  # noqa: F401  (first: importing uma pins NumPy's and OpenCV's code paths)
+
+# isort: split
+
 import argparse
 import json
 from collections import defaultdict

@@ -15,6 +15,10 @@ coded and decoded as the bench's plain stream (light against the mirror, body mo
 
 from __future__ import annotations
 
+from uma import __version__  # noqa: F401  (first: importing uma pins NumPy's and OpenCV's code paths)
+
+# isort: split
+
 import argparse
 import hashlib
 import json

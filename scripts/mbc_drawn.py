@@ -14,6 +14,10 @@ face and over the whole box (docs/mbc.md, session mbc6). The drawn layers are re
 
 from __future__ import annotations
 
+from uma import __version__  # noqa: F401  (first: importing uma pins NumPy's and OpenCV's code paths)
+
+# isort: split
+
 import argparse
 import sys
 from pathlib import Path

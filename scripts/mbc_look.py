@@ -10,6 +10,10 @@ enlarged `scale` times (nearest neighbour) so seams and smears are seen pixel by
 
 from __future__ import annotations
 
+from uma import __version__  # noqa: F401  (first: importing uma pins NumPy's and OpenCV's code paths)
+
+# isort: split
+
 import argparse
 
 

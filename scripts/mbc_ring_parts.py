@@ -14,6 +14,10 @@ each variant). It watches the simulation: what the receiver shows is unchanged.
 
 from __future__ import annotations
 
+from uma import __version__  # noqa: F401  (first: importing uma pins NumPy's and OpenCV's code paths)
+
+# isort: split
+
 import argparse
 import contextlib
 import copy

@@ -17,6 +17,10 @@ repository root with the checkout on `PYTHONPATH`.
 
 from __future__ import annotations
 
+from uma import __version__  # noqa: F401  (first: importing uma pins NumPy's and OpenCV's code paths)
+
+# isort: split
+
 import argparse
 import heapq
 import sys

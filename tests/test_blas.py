@@ -3,6 +3,7 @@ their AVX-512 paths, and OpenBLAS and OpenCV to one thread each, unless the user
 
 from __future__ import annotations
 
+import ast
 import os
 import subprocess
 import sys
@@ -17,6 +18,7 @@ from uma.blas import (
     PINNED_DISPATCH,
     PINNED_OPENCV_THREADS,
     cpu_flags,
+    loaded_too_late,
     pinned_blas_threads,
     pinned_core,
     pinned_dispatch,
@@ -171,3 +173,57 @@ def test_importing_uma_then_opencv_and_numpy_prints_nothing_and_pins_by_the_cpu(
     assert done.stdout.startswith(repr(told))
     if avx512:  # OpenCV marks a dispatched feature it was told not to use with "?"
         assert "AVX512-SKX?" in done.stdout
+
+
+def test_a_library_loaded_before_uma_that_a_pin_would_reach_is_named():
+    assert loaded_too_late({}, _AVX512, frozenset({"numpy", "cv2"})) == ("numpy", "cv2")
+    assert loaded_too_late({}, _AVX2, frozenset({"numpy", "cv2"})) == ("numpy",)  # threads
+    assert loaded_too_late({}, _AVX512, frozenset()) == ()
+    # Every variable already chosen (the user's, or a parent uma process's): nothing missed.
+    chosen = {variable: value for variable, value, _ in PINNED_DISPATCH}
+    chosen |= {"OPENBLAS_CORETYPE": "Haswell", "OPENBLAS_NUM_THREADS": "1"}
+    assert loaded_too_late(chosen, _AVX512, frozenset({"numpy", "cv2"})) == ()
+
+
+def _warnings_of(code: str) -> str:
+    clean = {k: v for k, v in os.environ.items() if k not in _PINNED_BY_UMA}
+    done = subprocess.run(
+        [sys.executable, "-W", "always", "-c", code], env=clean, capture_output=True, text=True
+    )
+    assert done.returncode == 0, done.stderr
+    return done.stderr
+
+
+def test_importing_numpy_before_uma_warns_and_uma_first_does_not():
+    assert "numpy imported before uma" in _warnings_of("import numpy\nimport uma")
+    assert _warnings_of("import uma\nimport numpy") == ""
+
+
+_HEAVY = {"numpy", "cv2", "pandas", "scipy", "av"}
+
+
+def _first_line(tree, wanted) -> int | None:
+    lines = [
+        node.lineno
+        for node in ast.walk(tree)
+        if isinstance(node, ast.Import | ast.ImportFrom) and wanted(node)
+    ]
+    return min(lines, default=None)
+
+
+def _names(node) -> set[str]:
+    if isinstance(node, ast.ImportFrom):
+        return {(node.module or "").split(".")[0]}
+    return {alias.name.split(".")[0] for alias in node.names}
+
+
+@pytest.mark.parametrize("script", sorted(Path("scripts").glob("*.py")), ids=lambda p: p.stem)
+def test_a_script_imports_uma_before_numpy_or_opencv(script):
+    """A script that loaded NumPy first ran the links bench's case with other figures than
+    the bench's on the AVX-512 machine (scripts/delay_tail.py, docs/measured.md section 21)."""
+    tree = ast.parse(script.read_text(encoding="utf-8"))
+    heavy = _first_line(tree, lambda node: _names(node) & _HEAVY)
+    if heavy is None:
+        return
+    first_uma = _first_line(tree, lambda node: "uma" in _names(node))
+    assert first_uma is not None and first_uma < heavy, f"{script}: uma after line {heavy}"

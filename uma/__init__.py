@@ -12,7 +12,9 @@ Importing uma pins OpenBLAS's kernel set and its thread count (one) before NumPy
 (`uma.blas`), so a seed gives the same figures on other machines with AVX2, whatever their
 number of cores (docs/experiments.md says how far that is shown), keeps OpenCV and NumPy off
 their AVX-512 paths where the CPU has them (the same figures as on an AVX2 machine), and runs
-OpenCV on one thread a process unless told otherwise (`OPENCV_FOR_THREADS_NUM`).
+OpenCV on one thread a process unless told otherwise (`OPENCV_FOR_THREADS_NUM`). NumPy or
+OpenCV imported before uma is too late for that: `import uma` then warns (a `RuntimeWarning`
+naming them), since a seed's figures may differ from `uma run`'s.
 """
 
 from uma.blas import pin_blas_threads, pin_dispatch, pin_kernels, pin_opencv_threads
@@ -21,6 +23,29 @@ pin_kernels()
 pin_blas_threads()
 pin_dispatch()
 pin_opencv_threads()
+
+
+def _warn_if_too_late() -> None:
+    """A `RuntimeWarning` naming NumPy or OpenCV if either was imported before uma (and a pin
+    would have reached it)."""
+    import os
+    import sys
+
+    from uma.blas import cpu_flags, cpuinfo_text, loaded_too_late
+
+    late = loaded_too_late(os.environ, cpu_flags(cpuinfo_text()), frozenset(sys.modules))
+    if late:
+        import warnings
+
+        warnings.warn(
+            f"uma: {' and '.join(late)} imported before uma, too late to pin its code paths "
+            "(uma.blas): a seed's figures may differ from `uma run`'s; import uma first",
+            RuntimeWarning,
+            stacklevel=3,
+        )
+
+
+_warn_if_too_late()
 
 from uma.errors import (  # noqa: E402
     ConfigError,

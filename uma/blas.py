@@ -35,6 +35,11 @@ and `NPY_DISABLE_CPU_FEATURES="X86_V4 AVX512_ICL AVX512_SPR"`, the gate and `uma
 every figure of the AVX2 machine's records (docs/experiments.md). The variables are left alone
 when set (the user's choice), when the library was imported before uma (its paths are chosen),
 and on a CPU without AVX-512, where OpenCV would print a line about a feature it cannot disable.
+
+`loaded_too_late` names the libraries imported before uma that one of these pins would have
+reached (OpenCV's thread count aside: it moves no pixel); `import uma` warns about them. A
+script that imported NumPy first ran the links bench's case on the AVX-512 machine with
+other figures than the bench's (docs/measured.md, section 21).
 """
 
 from __future__ import annotations
@@ -51,6 +56,7 @@ __all__ = [
     "PINNED_OPENCV_THREADS",
     "cpu_flags",
     "cpuinfo_text",
+    "loaded_too_late",
     "pin_blas_threads",
     "pin_dispatch",
     "pin_kernels",
@@ -161,3 +167,23 @@ def pin_dispatch(cpuinfo_path: Path = _CPUINFO) -> dict[str, str]:
     for variable, value in pinned.items():
         _pin(variable, value)
     return pinned
+
+
+def loaded_too_late(
+    environ: Mapping[str, str], flags: frozenset[str], loaded: frozenset[str]
+) -> tuple[str, ...]:
+    """The modules of `loaded` (imported before uma) that a pin would have reached had they not
+    been: NumPy (OpenBLAS's kernels or threads, NumPy's AVX-512 paths) and OpenCV (its
+    AVX-512 paths); a seed's figures may then differ from a process that imported uma first."""
+    would_pin = pinned_dispatch(environ, flags, frozenset())
+    late = []
+    numpy_pins = (
+        pinned_core(environ, flags, numpy_loaded=False) is not None
+        or pinned_blas_threads(environ, numpy_loaded=False) is not None
+        or "NPY_DISABLE_CPU_FEATURES" in would_pin
+    )
+    if "numpy" in loaded and numpy_pins:
+        late.append("numpy")
+    if "cv2" in loaded and "OPENCV_CPU_DISABLE" in would_pin:
+        late.append("cv2")
+    return tuple(late)
