@@ -17,23 +17,13 @@ OpenCV imported before uma is too late for that: `import uma` then warns (a `Run
 naming them), since a seed's figures may differ from `uma run`'s.
 """
 
-from uma.blas import pin_blas_threads, pin_dispatch, pin_kernels, pin_opencv_threads
-
-pin_kernels()
-pin_blas_threads()
-pin_dispatch()
-pin_opencv_threads()
+from uma.blas import pin_all
 
 
-def _warn_if_too_late() -> None:
-    """A `RuntimeWarning` naming NumPy or OpenCV if either was imported before uma (and a pin
-    would have reached it)."""
-    import os
-    import sys
-
-    from uma.blas import cpu_flags, cpuinfo_text, loaded_too_late
-
-    late = loaded_too_late(os.environ, cpu_flags(cpuinfo_text()), frozenset(sys.modules))
+def _pin() -> None:
+    """`uma.blas.pin_all`, and a `RuntimeWarning` naming NumPy or OpenCV if either was imported
+    before uma where a pin would have reached it."""
+    late = pin_all()
     if late:
         import warnings
 
@@ -45,7 +35,7 @@ def _warn_if_too_late() -> None:
         )
 
 
-_warn_if_too_late()
+_pin()
 
 from uma.errors import (  # noqa: E402
     ConfigError,

@@ -57,6 +57,7 @@ __all__ = [
     "cpu_flags",
     "cpuinfo_text",
     "loaded_too_late",
+    "pin_all",
     "pin_blas_threads",
     "pin_dispatch",
     "pin_kernels",
@@ -117,9 +118,10 @@ def pinned_core(
     return PINNED_CORE
 
 
-def pin_kernels(cpuinfo_path: Path = _CPUINFO) -> str | None:
-    """Set `OPENBLAS_CORETYPE` for this process and its children; the set pinned, or None."""
-    flags = cpu_flags(cpuinfo_text(cpuinfo_path))
+def pin_kernels(flags: frozenset[str] | None = None) -> str | None:
+    """Set `OPENBLAS_CORETYPE` for this process and its children; the set pinned, or None.
+    `flags`: the CPU's (None: read from /proc/cpuinfo)."""
+    flags = cpu_flags(cpuinfo_text()) if flags is None else flags
     return _pin("OPENBLAS_CORETYPE", pinned_core(os.environ, flags, "numpy" in sys.modules))
 
 
@@ -160,9 +162,10 @@ def pinned_dispatch(
     }
 
 
-def pin_dispatch(cpuinfo_path: Path = _CPUINFO) -> dict[str, str]:
-    """Set the variables `pinned_dispatch` names for this process and its children; them."""
-    flags = cpu_flags(cpuinfo_text(cpuinfo_path))
+def pin_dispatch(flags: frozenset[str] | None = None) -> dict[str, str]:
+    """Set the variables `pinned_dispatch` names for this process and its children; them.
+    `flags`: the CPU's (None: read from /proc/cpuinfo)."""
+    flags = cpu_flags(cpuinfo_text()) if flags is None else flags
     pinned = pinned_dispatch(os.environ, flags, frozenset(sys.modules))
     for variable, value in pinned.items():
         _pin(variable, value)
@@ -187,3 +190,15 @@ def loaded_too_late(
     if "cv2" in loaded and "OPENCV_CPU_DISABLE" in would_pin:
         late.append("cv2")
     return tuple(late)
+
+
+def pin_all() -> tuple[str, ...]:
+    """Every pin above, the CPU's flags read once; the modules `loaded_too_late` names, judged
+    before any pin set a variable (what `import uma` calls, and warns about)."""
+    flags = cpu_flags(cpuinfo_text())
+    late = loaded_too_late(os.environ, flags, frozenset(sys.modules))
+    pin_kernels(flags)
+    pin_blas_threads()
+    pin_dispatch(flags)
+    pin_opencv_threads()
+    return late
