@@ -38,12 +38,23 @@ def case_task(trace: str, offset_s: float, duration_s: float, engine: str, engin
     return task
 
 
+def bad_argument(message: str) -> None:
+    """One line on stderr naming the bad argument, and exit 2 (the CLI's rule for bad input)."""
+    print(f"{Path(sys.argv[0]).name}: error: {message}", file=sys.stderr)
+    raise SystemExit(2)
+
+
 def json_keys(items: list[str]) -> dict:
     """`KEY=JSON` arguments as a mapping."""
     keys = {}
     for item in items:
-        key, _, value = item.partition("=")
-        keys[key] = json.loads(value)
+        key, equals, value = item.partition("=")
+        try:
+            if not key or not equals:
+                raise ValueError("expected KEY=JSON")
+            keys[key] = json.loads(value)
+        except ValueError as err:
+            bad_argument(f"{item!r}: {err}")
     return keys
 
 
@@ -60,8 +71,16 @@ def cases(args: argparse.Namespace) -> list[tuple[str, float, float, str]]:
     """(trace, offset_s, duration_s, engine) for every `--case` and every engine of `--engines`."""
     out = []
     for case in args.case:
-        trace, offset_s, duration_s = case.rsplit(":", 2)
-        out += [(trace, float(offset_s), float(duration_s), e) for e in args.engines.split(",")]
+        try:
+            trace, offset_s, duration_s = case.rsplit(":", 2)
+            offset_s, duration_s = float(offset_s), float(duration_s)
+        except ValueError:
+            bad_argument(f"--case {case!r}: expected TRACE:OFFSET_S:DURATION_S")
+        if not Path(trace).is_file():
+            bad_argument(f"--case {case!r}: no trace file {trace}")
+        if not (offset_s >= 0 and duration_s > 0):
+            bad_argument(f"--case {case!r}: expected OFFSET_S >= 0 and DURATION_S > 0")
+        out += [(trace, offset_s, duration_s, e) for e in args.engines.split(",")]
     return out
 
 
