@@ -1,0 +1,131 @@
+"""`uma bench mbc` on clips made from akiyo: mirrored, halved to QCIF, and under a swinging light.
+
+    python scripts/mbc_transformed.py [--out DIR] [--frames N]
+
+writes, in DIR (default /tmp/mbc-transformed), each clip losslessly (libx264 at qp 0 through
+PyAV) with the hand-clicked points of `codecs/face/akiyo.yaml` moved with it, describes it with
+`uma describe`, runs `uma bench mbc --video CLIP --face CLIP.face --json --picture` on it, and
+prints a table of face-box PSNR dB / SSIM and whole-frame SSIM beside akiyo's own row (from a
+run of the same bench). The clips are akiyo's own frames transformed: a check of what the
+defaults assume (a face turned the other way, a small face, a light the background does not
+follow), not a clip of a new person (docs/mbc.md, session 32). Needs ../shared/data beside the
+clone. Run from the repository root.
+"""
+
+from __future__ import annotations
+
+from uma import __version__  # noqa: F401  (first: importing uma pins NumPy's and OpenCV's code paths)
+
+# isort: split
+
+import argparse
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+AKIYO = Path("../shared/data/faces/video/akiyo.mp4")
+POINTS = Path("codecs/face/akiyo.yaml")
+WIDTH, HEIGHT = 352, 288
+# MPEG-4 feature points named for the subject's left (odd) and right (even) in akiyo's file.
+PAIRS = [("3.5", "3.6"), ("3.7", "3.8"), ("3.11", "3.12"), ("3.1", "3.2"), ("3.3", "3.4"),
+         ("4.1", "4.2"), ("4.3", "4.4"), ("4.5", "4.6"), ("9.1", "9.2"), ("8.3", "8.4"),
+         ("2.13", "2.14")]  # fmt: skip
+DISPLAYS = ("quantised", "frozen", "h264_lowest", "av1_lowest", "mbc_refresh_lowest",
+            "h264_second", "av1_second", "mbc_refresh_second")  # fmt: skip
+
+
+def mirrored(bgr: np.ndarray, index: int) -> np.ndarray:
+    return bgr[:, ::-1]
+
+
+def qcif(bgr: np.ndarray, index: int) -> np.ndarray:
+    import cv2
+
+    return cv2.resize(bgr, (WIDTH // 2, HEIGHT // 2), interpolation=cv2.INTER_AREA)
+
+
+def dim(bgr: np.ndarray, index: int) -> np.ndarray:
+    """Colour times 0.85 + 0.10 sin(2 pi n / 180), plus 12 levels."""
+    gain = 0.85 + 0.10 * np.sin(2 * np.pi * index / 180)
+    return np.clip(bgr.astype(np.float32) * gain + 12, 0, 255).astype(np.uint8)
+
+
+def moved_points(name: str, points: dict) -> dict:
+    """akiyo's points as they lie in clip `name`."""
+    if name == "mirrored":
+        swap = {a: b for pair in PAIRS for a, b in (pair, pair[::-1])}
+        return {swap.get(k, k): [WIDTH - 1 - x, y] for k, (x, y) in points.items()}
+    if name == "qcif":  # pixel centres halved: x' = (x + 0.5) / 2 - 0.5
+        return {k: [(x + 0.5) / 2 - 0.5, (y + 0.5) / 2 - 0.5] for k, (x, y) in points.items()}
+    return dict(points)
+
+
+def write_clip(path: Path, change, size: tuple[int, int]) -> None:
+    import av
+
+    with av.open(str(AKIYO)) as source, av.open(str(path), "w") as out:
+        video = source.streams.video[0]
+        stream = out.add_stream("libx264", rate=video.average_rate)
+        stream.width, stream.height = size
+        stream.pix_fmt = "yuv420p"
+        stream.options = {"qp": "0", "preset": "ultrafast"}
+        for index, frame in enumerate(source.decode(video)):
+            picture = np.ascontiguousarray(change(frame.to_ndarray(format="bgr24"), index))
+            out.mux(stream.encode(av.VideoFrame.from_ndarray(picture, format="bgr24")))
+        out.mux(stream.encode())
+
+
+def bench(args: list[str]) -> dict:
+    """`uma bench mbc ... --json --quiet`'s clips."""
+    command = [sys.executable, "-m", "uma", "bench", "mbc", *args, "--json", "--quiet"]
+    return json.loads(subprocess.run(command, check=True, capture_output=True).stdout)["clips"]
+
+
+def row(name: str, clip: dict) -> str:
+    face = [f"{clip['face'][d]['psnr_db']:.2f} / {clip['face'][d]['ssim']:.3f}" for d in DISPLAYS]
+    frame = " / ".join(f"{clip['frame'][d]['ssim']:.3f}" for d in DISPLAYS[:3])
+    tracked = f"{clip['reinits']} / {clip['lost_tracks']}"
+    return f"| {name} | {tracked} | {' | '.join(face)} | {frame} |"
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=Path("/tmp/mbc-transformed"))
+    parser.add_argument("--frames", type=int, default=150)
+    args = parser.parse_args()
+    if not AKIYO.is_file():
+        print(f"mbc_transformed.py: error: {AKIYO}: not found (../shared/data)", file=sys.stderr)
+        return 2
+    args.out.mkdir(parents=True, exist_ok=True)
+    points = yaml.safe_load(POINTS.read_text())["points"]
+    frames = ["--frames", str(args.frames)]
+    rows = [row("akiyo", bench(frames)["akiyo"])]
+    for name, change, size in (("mirrored", mirrored, (WIDTH, HEIGHT)),
+                               ("qcif", qcif, (WIDTH // 2, HEIGHT // 2)),
+                               ("dim", dim, (WIDTH, HEIGHT))):  # fmt: skip
+        clip = args.out / f"akiyo_{name}.mp4"
+        write_clip(clip, change, size)
+        clicked = {"video": clip.name, "frame": 0, "points": moved_points(name, points)}
+        (args.out / f"akiyo_{name}.yaml").write_text(yaml.safe_dump(clicked))
+        subprocess.run([sys.executable, "-m", "uma", "describe", "--points",
+                        str(args.out / f"akiyo_{name}.yaml"), "--out", str(args.out)],
+                       check=True, capture_output=True)  # fmt: skip
+        result = bench(["--video", str(clip), "--face", str(clip.with_suffix(".face")),
+                        "--picture", str(args.out / f"akiyo_{name}.png"), *frames])  # fmt: skip
+        rows.append(row(name, next(iter(result.values()))))
+    print(
+        "| clip | re-inits / lost | "
+        + " | ".join(DISPLAYS)
+        + " | frame SSIM: MBC / frozen / H.264 16k |"
+    )
+    print("|---" * (len(DISPLAYS) + 3) + "|")
+    print("\n".join(rows))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

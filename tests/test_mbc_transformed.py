@@ -1,0 +1,48 @@
+"""`scripts/mbc_transformed.py`: akiyo's clicked points moved with each transformed clip."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
+
+import mbc_transformed as mt  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture
+def points() -> dict:
+    return yaml.safe_load((ROOT / mt.POINTS).read_text())["points"]
+
+
+def test_every_pair_names_points_of_akiyo_s_file(points):
+    assert all(a in points and b in points for a, b in mt.PAIRS)
+
+
+def test_mirroring_swaps_the_subject_s_sides_and_twice_is_the_original(points):
+    once = mt.moved_points("mirrored", points)
+    assert once["3.5"] == [mt.WIDTH - 1 - points["3.6"][0], points["3.6"][1]]  # left pupil
+    assert once["9.3"] == [mt.WIDTH - 1 - points["9.3"][0], points["9.3"][1]]  # nose tip
+    # the subject's left pupil stays on the viewer's right of the right pupil
+    assert once["3.5"][0] > once["3.6"][0]
+    assert mt.moved_points("mirrored", once) == points
+
+
+def test_qcif_halves_pixel_centres(points):
+    half = mt.moved_points("qcif", points)
+    assert half["9.3"] == [(points["9.3"][0] + 0.5) / 2 - 0.5, (points["9.3"][1] + 0.5) / 2 - 0.5]
+    assert mt.moved_points("dim", points) == points
+
+
+def test_the_clips_pictures():
+    picture = np.arange(2 * 4 * 3, dtype=np.uint8).reshape(2, 4, 3)
+    assert np.array_equal(mt.mirrored(picture, 0), picture[:, ::-1])
+    bright = np.full((2, 2, 3), 100, np.uint8)
+    assert mt.dim(bright, 0)[0, 0, 0] == 97  # 100 x 0.85 + 12
+    assert mt.dim(bright, 45)[0, 0, 0] == 107  # 100 x 0.95 + 12, a quarter period on
