@@ -138,8 +138,9 @@ def relight_face(
 
 
 def copy_where(dst: np.ndarray, src: np.ndarray, mask: np.ndarray) -> None:
-    """`np.copyto(dst, src, where=mask)` (uint8 pictures; `mask` bool or 0/1 uint8) by
-    OpenCV's vectorised masked copy, in place (numpy's where= copy costs several times more)."""
+    """`np.copyto(dst, src, where=mask)` (pictures or weights of one dtype; `mask` bool or 0/1
+    uint8) by OpenCV's vectorised masked copy, in place (numpy's where= copy costs several
+    times more)."""
     import cv2
 
     if cv2.copyTo(src, mask.view(np.uint8), dst) is not dst:  # a new array: copy it back
@@ -149,7 +150,4 @@ def copy_where(dst: np.ndarray, src: np.ndarray, mask: np.ndarray) -> None:
 def zero_where(weight: np.ndarray, where: np.ndarray) -> None:
     """`weight[where] = 0.0` (float32 weights, `where` bool of its shape) by OpenCV's masked
     copy of zeros, in place: the same weights at about half the boolean index's cost."""
-    import cv2
-
-    if cv2.copyTo(np.zeros_like(weight), where.view(np.uint8), weight) is not weight:
-        weight[where] = 0.0
+    copy_where(weight, np.zeros_like(weight), where)
