@@ -76,10 +76,11 @@ def _delta(a: float | None, b: float | None, spec: str) -> str:
 
 
 def headline_low_targets(results: Results, args: Args) -> str:
-    """Against H.264 alone in GPRS and GSM: face PSNR at least its, face SSIM at least +0.05."""
+    """Against H.264 alone in GPRS and GSM: face PSNR at least its, face SSIM at least +0.1
+    (issue 27's margin; issue 18 asked +0.05: `ssim_margin=` in the block sets another)."""
     rows = _scenario(results[0], args)
     base = rows["h264"]
-    ssim_margin = float(args.get("ssim_margin", "0.05"))
+    ssim_margin = float(args.get("ssim_margin", "0.1"))
     lines = [
         "| engine | GPRS face PSNR, SSIM vs H.264 | GSM face PSNR, SSIM vs H.264 | met in |",
         "|---|---|---|---|",

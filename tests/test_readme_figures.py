@@ -272,6 +272,31 @@ def test_the_links_rules_are_issue_26s_three_per_trace():
     )
 
 
+def _low_row(gprs: tuple[float, float], gsm: tuple[float, float]) -> dict:
+    techs = {"GPRS": gprs, "GSM": gsm}
+    return {
+        "by_technology": {
+            tech: {"psnr_face_db": psnr, "ssim_face": ssim} for tech, (psnr, ssim) in techs.items()
+        }
+    }
+
+
+def test_the_low_targets_ask_issue_27s_ssim_margin_of_a_tenth():
+    import readme_blocks
+
+    rows = {
+        "h264": _low_row((25.0, 0.70), (24.0, 0.60)),
+        "uma": _low_row((25.0, 0.80), (24.1, 0.68)),  # GPRS +0.10 met; GSM +0.08 is not
+        "predictive": _low_row((24.9, 0.90), (24.0, 0.75)),  # GPRS PSNR short; GSM met
+    }
+    record = {"scenarios": {"commute": rows}}
+    table = readme_blocks.headline_low_targets([record], {}).splitlines()
+    assert table[2] == "| uma (threshold switching) | +0.0 dB, +0.100 | +0.1 dB, +0.080 | GPRS |"
+    assert table[3].endswith("| GSM |")
+    wider = readme_blocks.headline_low_targets([record], {"ssim_margin": "0.05"}).splitlines()
+    assert wider[2].endswith("| GPRS and GSM |")
+
+
 def _seed_record(uma_p95: float, uma_frozen: float, h264_p95: float) -> dict:
     row = {"delay_p95_ms": uma_p95, "freeze_ratio": uma_frozen}
     base = {"delay_p95_ms": h264_p95, "freeze_ratio": 0.5}
