@@ -7,15 +7,28 @@ raises KeyError, which names the block.
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from readme_seeds import (  # noqa: E402  (beside this file)
+    LOW,
+    headline_seeds,
+    headline_seeds_faces,
+    headline_seeds_verdict,
+    low_target_met,
+)
+from readme_seeds import median as _median  # noqa: E402
+from readme_seeds import scenario as _scenario  # noqa: E402
 
 __all__ = ["RENDERERS"]
 
 Results = list[dict[str, Any]]
 Args = dict[str, str]
 
-LOW = ("GPRS", "GSM")
 ENGINE_LABELS = {
     "h264": "h264 (H.264 only)",
     "uma": "uma (threshold switching)",
@@ -38,11 +51,6 @@ def _face(cell: dict[str, Any] | None) -> str:
 
 def _tech(row: dict[str, Any], tech: str) -> dict[str, Any] | None:
     return row["by_technology"].get(tech)
-
-
-def _scenario(result: dict[str, Any], args: Args) -> dict[str, Any]:
-    name = args.get("scenario") or next(iter(result["scenarios"]))
-    return result["scenarios"][name]
 
 
 def headline_table(results: Results, args: Args) -> str:
@@ -94,9 +102,7 @@ def headline_low_targets(results: Results, args: Args) -> str:
             psnr_a, psnr_b = mine.get("psnr_face_db"), theirs.get("psnr_face_db")
             ssim_a, ssim_b = mine.get("ssim_face"), theirs.get("ssim_face")
             cells.append(f"{_delta(psnr_a, psnr_b, '.1f')} dB, {_delta(ssim_a, ssim_b, '.3f')}")
-            if None in (psnr_a, psnr_b, ssim_a, ssim_b):
-                continue
-            if psnr_a >= psnr_b and ssim_a >= ssim_b + ssim_margin:
+            if low_target_met(mine, theirs, ssim_margin):
                 met.append(tech)
         verdict = " and ".join(met) if met else "**neither**"
         lines.append(
@@ -290,62 +296,6 @@ def sim_table(results: Results, args: Args) -> str:
     return "\n".join(lines)
 
 
-def _seed_rows(results: Results, args: Args) -> list[tuple[str, dict[str, Any], dict[str, Any]]]:
-    """(seed label, engine row, base row) per record; `seeds=` labels the records in order."""
-    seeds = args["seeds"].split(",")
-    if len(seeds) != len(results):
-        raise ValueError(f"seeds={args['seeds']}: {len(results)} records, {len(seeds)} labels")
-    engine, base = args.get("engine", "uma"), args.get("base", "h264")
-    rows = [_scenario(result, args) for result in results]
-    return [(seed, row[engine], row[base]) for seed, row in zip(seeds, rows, strict=True)]
-
-
-def _median(values: list[float]) -> float:
-    ordered = sorted(values)
-    middle = len(ordered) // 2
-    return ordered[middle] if len(ordered) % 2 else (ordered[middle - 1] + ordered[middle]) / 2
-
-
-def headline_seeds(results: Results, args: Args) -> str:
-    """One scenario of `uma bench headline` at several seeds: p95 and frozen, engine and base."""
-    rows = _seed_rows(results, args)
-    engine, base = args.get("engine", "uma"), args.get("base", "h264")
-    lines = [
-        f"| seed | {engine} p95 ms | {base} p95 ms | {engine} frozen | {base} frozen |",
-        "|---|---|---|---|---|",
-    ]
-    for seed, mine, theirs in rows:
-        lines.append(
-            f"| {seed} | {mine['delay_p95_ms']:,.0f} | {theirs['delay_p95_ms']:,.0f} "
-            f"| {mine['freeze_ratio']:.3f} | {theirs['freeze_ratio']:.3f} |"
-        )
-    medians = [
-        _median([row[i][key] for row in rows])
-        for key in ("delay_p95_ms", "freeze_ratio")
-        for i in (1, 2)
-    ]
-    lines.append(
-        f"| median | {medians[0]:,.0f} | {medians[1]:,.0f} | {medians[2]:.3f} | {medians[3]:.3f} |"
-    )
-    return "\n".join(lines)
-
-
-def headline_seeds_verdict(results: Results, args: Args) -> str:
-    """How many seeds meet the real commute's rules: p95 below the base's, frozen <= `frozen=`."""
-    rows = _seed_rows(results, args)
-    limit = float(args.get("frozen", "0.15"))
-    below = sum(mine["delay_p95_ms"] < theirs["delay_p95_ms"] for _, mine, theirs in rows)
-    calm = sum(mine["freeze_ratio"] <= limit for _, mine, _ in rows)
-    p95 = _median([mine["delay_p95_ms"] for _, mine, _ in rows])
-    base_p95 = _median([theirs["delay_p95_ms"] for _, _, theirs in rows])
-    frozen = _median([mine["freeze_ratio"] for _, mine, _ in rows])
-    return (
-        f"over seeds {args['seeds']}, uma's p95 is below H.264 only's on {below} of {len(rows)} "
-        f"(medians {p95:,.0f} against {base_p95:,.0f} ms) and its frozen share at most "
-        f"{limit:g} on {calm} of {len(rows)} (median {frozen:.3f})"
-    )
-
-
 def mbc_speed_table(results: Results, args: Args) -> str:
     """`scripts/model_path_runs.py`: each clip's model path (wall ms a CIF frame) in every run,
     its medians over the runs, and which real clips' median is within `limit=` ms."""
@@ -388,5 +338,6 @@ RENDERERS: dict[str, Callable[[Results, Args], str]] = {
     "links-verdicts": links_verdicts,
     "headline-seeds": headline_seeds,
     "headline-seeds-verdict": headline_seeds_verdict,
+    "headline-seeds-faces": headline_seeds_faces,
     "mbc-speed-table": mbc_speed_table,
 }

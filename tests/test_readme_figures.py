@@ -297,6 +297,25 @@ def test_the_low_targets_ask_issue_27s_ssim_margin_of_a_tenth():
     assert wider[2].endswith("| GPRS and GSM |")
 
 
+def test_the_seeds_face_table_judges_each_seed_and_counts_each_technology():
+    import readme_blocks
+
+    seeds = [
+        {"uma": _low_row((22.4, 0.67), (22.6, 0.68)), "h264": _low_row((21.9, 0.55), (21.9, 0.55))},
+        {"uma": _low_row((21.9, 0.65), (21.9, 0.65)), "h264": _low_row((22.2, 0.57), (21.7, 0.54))},
+    ]
+    records = [{"scenarios": {"real": rows}} for rows in seeds]
+    text = readme_blocks.RENDERERS["headline-seeds-faces"](records, {"seeds": "1,2"}).splitlines()
+    assert (
+        text[2]
+        == "| 1 | 22.40 / 0.670 | 21.90 / 0.550 | 22.60 / 0.680 | 21.90 / 0.550 | GPRS and GSM |"
+    )
+    assert text[3].endswith("| GSM |")  # GPRS: PSNR 0.3 dB short
+    assert text[-1] == (
+        "Face PSNR at least h264's and face SSIM at least 0.1 above it: GPRS on 1 of 2, GSM on 2 of 2."
+    )
+
+
 def _seed_record(uma_p95: float, uma_frozen: float, h264_p95: float) -> dict:
     row = {"delay_p95_ms": uma_p95, "freeze_ratio": uma_frozen}
     base = {"delay_p95_ms": h264_p95, "freeze_ratio": 0.5}
