@@ -1,6 +1,7 @@
-"""`uma bench mbc` on clips made from akiyo: mirrored, halved to QCIF, and under a swinging light.
+"""`uma bench mbc` on clips made from akiyo: mirrored, halved to QCIF, under a swinging light,
+and rolled.
 
-    python scripts/mbc_transformed.py [--out DIR] [--frames N]
+    python scripts/mbc_transformed.py [--out DIR] [--frames N] [--only NAME ...]
 
 writes, in DIR (default /tmp/mbc-transformed), each clip losslessly (libx264 at qp 0 through
 PyAV) with the hand-clicked points of `codecs/face/akiyo.yaml` moved with it, describes it with
@@ -8,8 +9,8 @@ PyAV) with the hand-clicked points of `codecs/face/akiyo.yaml` moved with it, de
 prints a table of face-box PSNR dB / SSIM and whole-frame SSIM beside akiyo's own row (from a
 run of the same bench). The clips are akiyo's own frames transformed: a check of what the
 defaults assume (a face turned the other way, a small face, a light the background does not
-follow), not a clip of a new person (docs/mbc.md, session 32). Needs ../shared/data beside the
-clone. Run from the repository root.
+follow, a head tilted toward a shoulder), not a clip of a new person (docs/mbc.md, sessions 32
+and 33). Needs ../shared/data beside the clone. Run from the repository root.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from uma import __version__  # noqa: F401  (first: importing uma pins NumPy's an
 # isort: split
 
 import argparse
+import functools
 import json
 import subprocess
 import sys
@@ -52,6 +54,28 @@ def dim(bgr: np.ndarray, index: int) -> np.ndarray:
     """Colour times 0.85 + 0.10 sin(2 pi n / 180), plus 12 levels."""
     gain = 0.85 + 0.10 * np.sin(2 * np.pi * index / 180)
     return np.clip(bgr.astype(np.float32) * gain + 12, 0, 255).astype(np.uint8)
+
+
+ROLL_PEAK_RAD = 0.5  # rolled: to 29 degrees and back over 150 frames (carphone's head: 31)
+
+
+@functools.cache
+def _face_centre() -> tuple[float, float]:
+    """The mean of akiyo's clicked points (x, y)."""
+    points = yaml.safe_load(POINTS.read_text())["points"]
+    x, y = np.mean(list(points.values()), axis=0)
+    return float(x), float(y)
+
+
+def rolled(bgr: np.ndarray, index: int) -> np.ndarray:
+    """The picture turned about akiyo's face by ROLL_PEAK_RAD sin^2(pi n / 150), its edges
+    reflected: the camera rolls, so the background turns with the head (frame 0 unchanged)."""
+    import cv2
+
+    degrees = np.degrees(ROLL_PEAK_RAD) * np.sin(np.pi * index / 150) ** 2
+    matrix = cv2.getRotationMatrix2D(_face_centre(), float(degrees), 1.0)
+    size = (bgr.shape[1], bgr.shape[0])
+    return cv2.warpAffine(bgr, matrix, size, borderMode=cv2.BORDER_REFLECT)
 
 
 def moved_points(name: str, points: dict) -> dict:
@@ -92,10 +116,19 @@ def row(name: str, clip: dict) -> str:
     return f"| {name} | {tracked} | {' | '.join(face)} | {frame} |"
 
 
+CLIPS = {
+    "mirrored": (mirrored, (WIDTH, HEIGHT)),
+    "qcif": (qcif, (WIDTH // 2, HEIGHT // 2)),
+    "dim": (dim, (WIDTH, HEIGHT)),
+    "rolled": (rolled, (WIDTH, HEIGHT)),
+}
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=Path("/tmp/mbc-transformed"))
     parser.add_argument("--frames", type=int, default=150)
+    parser.add_argument("--only", action="append", choices=sorted(CLIPS), help="one clip")
     args = parser.parse_args()
     if not AKIYO.is_file():
         print(f"mbc_transformed.py: error: {AKIYO}: not found (../shared/data)", file=sys.stderr)
@@ -104,9 +137,9 @@ def main() -> int:
     points = yaml.safe_load(POINTS.read_text())["points"]
     frames = ["--frames", str(args.frames)]
     rows = [row("akiyo", bench(frames)["akiyo"])]
-    for name, change, size in (("mirrored", mirrored, (WIDTH, HEIGHT)),
-                               ("qcif", qcif, (WIDTH // 2, HEIGHT // 2)),
-                               ("dim", dim, (WIDTH, HEIGHT))):  # fmt: skip
+    for name, (change, size) in CLIPS.items():
+        if args.only and name not in args.only:
+            continue
         clip = args.out / f"akiyo_{name}.mp4"
         write_clip(clip, change, size)
         clicked = {"video": clip.name, "frame": 0, "points": moved_points(name, points)}

@@ -46,3 +46,15 @@ def test_the_clips_pictures():
     bright = np.full((2, 2, 3), 100, np.uint8)
     assert mt.dim(bright, 0)[0, 0, 0] == 97  # 100 x 0.85 + 12
     assert mt.dim(bright, 45)[0, 0, 0] == 107  # 100 x 0.95 + 12, a quarter period on
+
+
+def test_rolling_leaves_frame_0_and_turns_about_the_face_to_its_peak():
+    picture = np.zeros((mt.HEIGHT, mt.WIDTH, 3), np.uint8)
+    x, y = (round(v) for v in mt._face_centre())
+    picture[y, x + 40] = 255  # a dot 40 px right of the face's centre
+    assert np.array_equal(mt.rolled(picture, 0), picture)
+    peak = mt.rolled(picture, 75)  # sin^2 = 1: turned by ROLL_PEAK_RAD
+    ys, xs = np.nonzero(peak[..., 0] > 60)
+    # OpenCV's positive angle turns counter-clockwise on screen (y down): the dot goes up
+    angle = np.arctan2(y - ys.mean(), xs.mean() - x)
+    assert abs(angle - mt.ROLL_PEAK_RAD) < 0.05, angle
