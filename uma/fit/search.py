@@ -4,7 +4,8 @@ Units: pixels, radians, unitless action units. The face detector's box (or, fail
 template's own placement) gives the centre and size; the search may shift the face by a
 quarter of its width, scale it by -30 % to +45 % (the detector's box size errs by up to
 about 20 % on ORL faces), turn and nod it by up to 0.45 rad (26 deg),
-roll it by up to 0.35 rad, and move each action unit within [-1, 1.5].
+roll it by up to 0.35 rad about a given roll (0, upright, unless the detector found the face
+on a turned copy of the image), and move each action unit within [-1, 1.5].
 """
 
 from __future__ import annotations
@@ -15,7 +16,9 @@ import numpy as np
 
 from uma.face.geometry import N_POSE
 
-__all__ = ["SearchBox", "search_box"]
+__all__ = ["SearchBox", "search_box", "ROLL_SEARCH_RAD"]
+
+ROLL_SEARCH_RAD = 0.35  # the roll a search may add to its given roll, either way
 
 
 @dataclass(frozen=True, eq=False)
@@ -36,8 +39,11 @@ class SearchBox:
         return list(zip(self.low.tolist(), self.high.tolist(), strict=True))
 
 
-def search_box(start: np.ndarray, face_width_px: float, *, shift: float = 0.25) -> SearchBox:
-    """The search box around `start` (6 + A,) for a face `face_width_px` wide."""
+def search_box(
+    start: np.ndarray, face_width_px: float, *, shift: float = 0.25, roll_rad: float = 0.0
+) -> SearchBox:
+    """The search box around `start` (6 + A,) for a face `face_width_px` wide, its roll within
+    ROLL_SEARCH_RAD of `roll_rad`."""
     n_actions = start.size - N_POSE
     low = np.concatenate(
         [
@@ -47,7 +53,7 @@ def search_box(start: np.ndarray, face_width_px: float, *, shift: float = 0.25) 
                 0.7 * start[2],
                 -0.45,
                 -0.45,
-                -0.35,
+                roll_rad - ROLL_SEARCH_RAD,
             ],
             np.full(n_actions, -1.0),
         ]
@@ -60,7 +66,7 @@ def search_box(start: np.ndarray, face_width_px: float, *, shift: float = 0.25) 
                 1.45 * start[2],
                 0.45,
                 0.45,
-                0.35,
+                roll_rad + ROLL_SEARCH_RAD,
             ],
             np.full(n_actions, 1.5),
         ]

@@ -7,7 +7,8 @@ engine can model compute time.
 
 The first picture, and every re-initialisation, runs the project's best automatic
 initialisation (`uma.fit.fit_face`, the hybrid: detector, SAABs in two views, Gauss-Newton
-polish). Later pictures are tracked: Gauss-Newton (with a gain and offset per triangle patch)
+polish); where the detector finds no face upright nor around the last good pose, it looks on
+turned copies of the picture (`uma.fit.fit.turned_guess`: a head tilted toward a shoulder). Later pictures are tracked: Gauss-Newton (with a gain and offset per triangle patch)
 from the previous parameters moved on by a damped constant-velocity prediction of the pose; a
 step that ends doubtful also starts from a few poses around the last good one
 (`uma.mbc.tracking_search`) and keeps the best. A fit is trusted when it scores at least
@@ -32,7 +33,14 @@ from uma.face.describe import ContentDescription
 from uma.face.geometry import N_POSE, project
 from uma.failure import Failure
 from uma.fit.cost import FitTemplate
-from uma.fit.fit import DetectorCalibration, check_image, detect, fit_face
+from uma.fit.fit import (
+    DETECTOR_ROLLS_RAD,
+    DetectorCalibration,
+    check_image,
+    detect,
+    fit_face,
+    turned_guess,
+)
 from uma.fit.gauss_newton import GaussNewtonConfig, gauss_newton
 from uma.fit.search import search_box
 from uma.mbc.tracking_config import TRACK_GAUSS_NEWTON, TrackerConfig
@@ -331,7 +339,7 @@ class FaceTracker:
                 image,
                 method=self.config.init_method,
                 start=last,
-                box=search_box(last, width),
+                box=search_box(last, width, roll_rad=float(last[5])),
                 rng=self.rng,
             )
             if retry:
@@ -339,7 +347,31 @@ class FaceTracker:
                 fit = retry
             else:
                 fit = Failure(f"{fit.reason}; around the last pose: {retry.reason}")
+        if not fit and self.calibration is not None:
+            fit, detections, why = self._fit_turned(image, fit, detections, why)
         return fit, detections, why
+
+    def _fit_turned(self, image: np.ndarray, failed: Failure, detections: int, why: str):
+        """After the upright search failed: the detector on turned copies of `image` (a head
+        tilted toward a shoulder), and the fit from what it finds."""
+        guess = turned_guess(self.template, image, self.calibration)
+        if not guess:
+            return (
+                Failure(f"{failed.reason}; {guess.reason}"),
+                detections + len(DETECTOR_ROLLS_RAD),
+                why,
+            )
+        start, box = guess
+        detections += DETECTOR_ROLLS_RAD.index(start[5]) + 1
+        fit = fit_face(self.template, image, method=self.config.init_method, start=start,
+                       box=box, rng=self.rng)  # fmt: skip
+        if not fit:
+            return (
+                Failure(f"{failed.reason}; found turned by {start[5]:.1f} rad: {fit.reason}"),
+                detections,
+                why,
+            )
+        return fit, detections, f"{why} (found on the picture turned by {start[5]:.1f} rad)"
 
     def _refused(self, image: np.ndarray, params: np.ndarray, score: float) -> str:
         """Why an initialisation's fit at `params` scoring `score` is not taken, or ""."""
