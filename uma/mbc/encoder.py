@@ -8,8 +8,9 @@ engine can model compute time.
 The first picture, and every re-initialisation, runs the project's best automatic
 initialisation (`uma.fit.fit_face`, the hybrid: detector, SAABs in two views, Gauss-Newton
 polish); where the detector finds no face upright nor around the last good pose, it looks on
-turned copies of the picture (`uma.fit.fit.turned_guess`: a head tilted toward a shoulder). Later pictures are tracked: Gauss-Newton (with a gain and offset per triangle patch)
-from the previous parameters moved on by a damped constant-velocity prediction of the pose; a
+turned copies of the picture (`uma.fit.fit.turned_guess`: a head tilted toward a shoulder).
+Later pictures are tracked: Gauss-Newton (with a gain and offset per triangle patch) from the
+previous parameters moved on by a damped constant-velocity prediction of the pose; a
 step that ends doubtful also starts from a few poses around the last good one
 (`uma.mbc.tracking_search`) and keeps the best. A fit is trusted when it scores at least
 `lost_below` and the appearance gate (`uma.mbc.tracking_gate`) finds no large part of the face
