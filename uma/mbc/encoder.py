@@ -7,8 +7,8 @@ engine can model compute time.
 
 The first picture, and every re-initialisation, runs the project's best automatic
 initialisation (`uma.fit.fit_face`, the hybrid: detector, SAABs in two views, Gauss-Newton
-polish); where the detector finds no face upright nor around the last good pose, it looks on
-turned copies of the picture (`uma.fit.fit.turned_guess`: a head tilted toward a shoulder).
+polish), looking where `uma.mbc.tracking_init` says: the detector's upright box, around the
+last good pose, turned copies of the picture (a head tilted toward a shoulder).
 Later pictures are tracked: Gauss-Newton (with a gain and offset per triangle patch) from the
 previous parameters moved on by a damped constant-velocity prediction of the pose; a
 step that ends doubtful also starts from a few poses around the last good one
@@ -34,18 +34,11 @@ from uma.face.describe import ContentDescription
 from uma.face.geometry import N_POSE, project
 from uma.failure import Failure
 from uma.fit.cost import FitTemplate
-from uma.fit.fit import (
-    DETECTOR_ROLLS_RAD,
-    DetectorCalibration,
-    check_image,
-    detect,
-    fit_face,
-    turned_guess,
-)
+from uma.fit.fit import DetectorCalibration, check_image, detect
 from uma.fit.gauss_newton import GaussNewtonConfig, gauss_newton
-from uma.fit.search import search_box
 from uma.mbc.tracking_config import TRACK_GAUSS_NEWTON, TrackerConfig
 from uma.mbc.tracking_gate import AppearanceGate
+from uma.mbc.tracking_init import InitSearch
 from uma.mbc.tracking_search import Scorer, starts, tracking_box
 
 __all__ = ["TrackerConfig", "TrackResult", "TrackFailure", "FaceTracker", "TRACK_GAUSS_NEWTON"]
@@ -100,10 +93,11 @@ class FaceTracker:
         self.last_share = float("nan")  # the gate's share on the last fit it judged
         self._level: float | None = None  # running mean of the tracked scores
         box = detect(self.template.image)
-        self.calibration = DetectorCalibration.from_template(self.template, box) if box else None
+        calibration = DetectorCalibration.from_template(self.template, box) if box else None
         # Without a calibration, initialisation starts where the description was cut out.
-        self.home = self.template.params.copy()
-        self.home[:2] += np.asarray(description.origin_px, dtype=np.float64)
+        home = self.template.params.copy()
+        home[:2] += np.asarray(description.origin_px, dtype=np.float64)
+        self.search = InitSearch(self.template, config.init_method, calibration, home)
         self._previous: np.ndarray | None = None
         self._before: np.ndarray | None = None
         self._last_good: np.ndarray | None = None  # kept across resets
@@ -286,7 +280,7 @@ class FaceTracker:
         self, image: np.ndarray, frame: int, why: str, *, spent: int = 0
     ) -> TrackResult | TrackFailure:
         self._forget()
-        fit, detections, why = self._fit(image, why)
+        fit, detections, why = self.search.fit(image, why, self._last_good, self.rng)
         if not fit:
             return TrackFailure(
                 f"frame {frame}: {why}; initialisation failed: {fit.reason}",
@@ -313,66 +307,6 @@ class FaceTracker:
         self._held, self._next_init = 0, None
         self._last_good = fit.params
         return TrackResult(frame, fit.params, score, True, why, evaluations, detections)
-
-    def _fit(self, image: np.ndarray, why: str):
-        """The automatic initialisation on `image`: (fit or failure, detector runs, `why`
-        with how it was found). Where the detector misses (small or turned QCIF faces), the
-        search starts around the last good pose instead."""
-        start = box = None
-        if self.calibration is None:
-            start = self.home
-            box = search_box(start, self.template.face_width_px)
-        fit = fit_face(
-            self.template,
-            image,
-            method=self.config.init_method,
-            start=start,
-            box=box,
-            calibration=self.calibration,
-            rng=self.rng,
-        )
-        detections = int(self.calibration is not None)
-        if not fit and self._last_good is not None and start is None:
-            last = self._last_good
-            width = self.template.face_width_px * last[2] / self.template.params[2]
-            retry = fit_face(
-                self.template,
-                image,
-                method=self.config.init_method,
-                start=last,
-                box=search_box(last, width, roll_rad=float(last[5])),
-                rng=self.rng,
-            )
-            if retry:
-                why += f" ({fit.reason}: searched around the last pose)"
-                fit = retry
-            else:
-                fit = Failure(f"{fit.reason}; around the last pose: {retry.reason}")
-        if not fit and self.calibration is not None:
-            fit, detections, why = self._fit_turned(image, fit, detections, why)
-        return fit, detections, why
-
-    def _fit_turned(self, image: np.ndarray, failed: Failure, detections: int, why: str):
-        """After the upright search failed: the detector on turned copies of `image` (a head
-        tilted toward a shoulder), and the fit from what it finds."""
-        guess = turned_guess(self.template, image, self.calibration)
-        if not guess:
-            return (
-                Failure(f"{failed.reason}; {guess.reason}"),
-                detections + len(DETECTOR_ROLLS_RAD),
-                why,
-            )
-        start, box = guess
-        detections += DETECTOR_ROLLS_RAD.index(start[5]) + 1
-        fit = fit_face(self.template, image, method=self.config.init_method, start=start,
-                       box=box, rng=self.rng)  # fmt: skip
-        if not fit:
-            return (
-                Failure(f"{failed.reason}; found turned by {start[5]:.1f} rad: {fit.reason}"),
-                detections,
-                why,
-            )
-        return fit, detections, f"{why} (found on the picture turned by {start[5]:.1f} rad)"
 
     def _refused(self, image: np.ndarray, params: np.ndarray, score: float) -> str:
         """Why an initialisation's fit at `params` scoring `score` is not taken, or ""."""
