@@ -29,35 +29,37 @@ class _OverrideLines(KeyLines):
     """Key lines of the base file, except that a key an override gives cites the override."""
 
     overridden: tuple[tuple, ...] = ()
+    origin: str = ORIGIN
 
     def where(self, key_path) -> str:
         from uma.config.yamlfile import format_key_path
 
         key = tuple(key_path)
         if any(key[: len(given)] == given for given in self.overridden):
-            return f"{ORIGIN} ({format_key_path(key)})"
+            return f"{self.origin} ({format_key_path(key)})"
         return super().where(key_path)
 
 
 def _parsed_keys(
-    overrides: Iterable[tuple[str, Any]], base: dict[str, Any]
+    overrides: Iterable[tuple[str, Any]], base: dict[str, Any], origin: str = ORIGIN
 ) -> list[tuple[tuple, Any]]:
-    """(key path, value) of every override, each key checked against the schema."""
+    """(key path, value) of every override, each key checked against the schema; messages
+    name `origin` as where the key came from."""
     from uma.experiments.keypaths import check_key_path, parse_key_path
 
     parsed: list[tuple[tuple, Any]] = []
     seen: dict[tuple, str] = {}
     for text, value in overrides:
         if not isinstance(text, str):
-            raise ConfigError(f"{ORIGIN}: expected key paths such as engine.codec, got {text!r}")
+            raise ConfigError(f"{origin}: expected key paths such as engine.codec, got {text!r}")
         try:
             key_path = parse_key_path(text)
             check_key_path(key_path, base)
         except ValueError as err:
-            raise ConfigError(f"{ORIGIN} ({text}): {err}") from None
+            raise ConfigError(f"{origin} ({text}): {err}") from None
         if key_path in seen:
             raise ConfigError(
-                f"{ORIGIN} ({text}): given twice (also as {seen[key_path]!r}); give each key once"
+                f"{origin} ({text}): given twice (also as {seen[key_path]!r}); give each key once"
             )
         seen[key_path] = text
         parsed.append((key_path, value))
@@ -119,9 +121,12 @@ def override_pairs(overrides: Any, keys: Mapping[str, Any]) -> list[tuple[str, A
     return [*overrides.items(), *keys.items()]
 
 
-def resolve_scenario(scenario: Any, overrides: Iterable[tuple[str, Any]] = ()) -> Scenario:
+def resolve_scenario(
+    scenario: Any, overrides: Iterable[tuple[str, Any]] = (), *, origin: str = ORIGIN
+) -> Scenario:
     """`scenario` (a path or a `Scenario`) with `overrides` (key path, value) applied and
-    validated as YAML is."""
+    validated as YAML is; a bad override's message names `origin` (`uma run --set` gives
+    "--set") and the key."""
     from uma.config.load import scenario_from_dict
     from uma.experiments.keypaths import set_key_path
 
@@ -129,8 +134,9 @@ def resolve_scenario(scenario: Any, overrides: Iterable[tuple[str, Any]] = ()) -
     if isinstance(scenario, Scenario) and not overrides:
         return scenario
     data, lines, folder = _base(scenario)
-    parsed = _parsed_keys(overrides, data)
+    parsed = _parsed_keys(overrides, data, origin)
     for key_path, value in parsed:
         set_key_path(data, key_path, _absolute(key_path, value))
-    lines = _OverrideLines(lines.path, lines.lines, overridden=tuple(k for k, _ in parsed))
+    overridden = tuple(key for key, _ in parsed)
+    lines = _OverrideLines(lines.path, lines.lines, overridden=overridden, origin=origin)
     return scenario_from_dict(data, lines, base_dir=folder)

@@ -7,7 +7,8 @@ import re
 from typing import NoReturn
 
 __all__ = [
-    "frame_size", "seed", "workers", "seconds", "one_executor", "OneLineParser", "one_line"
+    "frame_size", "seed", "workers", "seconds", "setting", "one_executor", "OneLineParser",
+    "one_line",
 ]  # fmt: skip
 
 MAX_SEED = 2**63 - 1  # the scenario's own bound on `seed` (uma.config.scenario)
@@ -52,6 +53,17 @@ class OneLineParser(argparse.ArgumentParser):
 
 
 NAMED_SIZES = {"cif": (352, 288), "qcif": (176, 144)}
+
+
+def setting(text: str) -> tuple[str, str]:
+    """`KEY=VALUE` (`engine.mbc.refresh.enabled=true`) as (key path, value text); the value is
+    read as YAML and the key checked against the scenario by the command that takes it."""
+    key, equals, value = text.partition("=")
+    if not equals or not key.strip():
+        raise argparse.ArgumentTypeError(
+            f"expected KEY=VALUE such as engine.mbc.refresh.enabled=true, got {text!r}"
+        )
+    return key.strip(), value
 
 
 def frame_size(text: str) -> tuple[int, int]:

@@ -14,14 +14,14 @@ across WLAN, 3G, GPRS, GSM). Without SCENARIO, runs scenarios/stockholm-uppsala.
 
 Writes results/<scenario>/ (or --out DIR): metrics.json (aggregates), frames.csv (one row
 per displayed frame), events.csv (rung switches, handovers, keyframe requests) and the
-resolved scenario.yaml that repeats the run; with --report also timeline.png (see
-`uma report`). The folder is replaced whole: after a failure or a kill it holds the earlier
+resolved scenario.yaml that repeats the run (--set values included); with --report also
+timeline.png (see `uma report`). The folder is replaced whole: after a failure or a kill it holds the earlier
 run whole or this one whole, never a mix; a folder holding other files is refused.
 Exit status: 0 done, 2 bad input."""
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    from uma.cli.args import seed
+    from uma.cli.args import seed, setting
 
     parser = sub.add_parser(
         "run",
@@ -32,6 +32,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("scenario", nargs="?", metavar="SCENARIO.yaml", help="scenario file")
     parser.add_argument("--out", metavar="DIR", help="results folder (default results/<scenario>)")
     parser.add_argument("--seed", type=seed, help="random seed, overriding the scenario's")
+    parser.add_argument(
+        "--set", type=setting, action="append", default=[], metavar="KEY=VALUE",
+        help="a scenario key's value for this run, read as YAML, as an experiment's grid names "
+        "it (engine.mbc.refresh.enabled=true, route[1].trace=x.csv; a relative path from "
+        "here); repeatable",
+    )  # fmt: skip
     parser.add_argument("--quiet", action="store_true", help="no progress bar or summary")
     parser.add_argument(
         "--report", action="store_true", help="draw timeline.png in the results folder too"
@@ -43,10 +49,9 @@ def handle(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from uma.atomic import prepare_out_dir
-    from uma.config import load_scenario
     from uma.errors import ConfigError
 
-    scenario = load_scenario(args.scenario)
+    scenario = _scenario(args.scenario, args.set)
     if args.seed is not None:
         if args.seed < 0:
             raise ConfigError(f"--seed: expected a non-negative integer, got {args.seed}")
@@ -85,3 +90,18 @@ def handle(args: argparse.Namespace) -> int:
         if not args.quiet:
             print(f"  timeline  {picture}")
     return 0
+
+
+def _scenario(path, settings: list[tuple[str, str]]):
+    """The scenario at `path` (the default one if None) with the `--set` values applied,
+    validated as the file is; a bad key or value is one `ConfigError` naming it."""
+    from uma.config import load_scenario
+
+    if not settings:
+        return load_scenario(path)
+    from uma.api.overrides import resolve_scenario
+    from uma.config.load import default_scenario_path
+    from uma.config.yamlfile import parse_yaml_bounded
+
+    values = [(key, parse_yaml_bounded(text, f"--set {key}")[0]) for key, text in settings]
+    return resolve_scenario(path or default_scenario_path(), values, origin="--set")
