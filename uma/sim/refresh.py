@@ -27,7 +27,10 @@ __all__ = ["RefreshEncoder", "RefreshDecoder", "RefreshChain", "FACE_MARGIN", "F
 # Pictures the encoder keeps for the mirror, waiting for the receiver to say it took them.
 _KEPT = 8
 FACE_MARGIN = 1.6  # the box: this many times the model's extent (as `uma bench mbc`)
-FACE_SCALE = 0.5  # the box coded at this fraction of its size (as `uma bench mbc`)
+# The box coded at this fraction of its size. `uma bench mbc` codes 0.625 at its own cadence of
+# small units (docs/refresh.md, session refresh2); at the engine's cadence 0.625 moved the
+# default commute within noise, so this stayed.
+FACE_SCALE = 0.5
 _CORNER = struct.Struct(">HH")
 
 
