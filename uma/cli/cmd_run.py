@@ -15,8 +15,9 @@ across WLAN, 3G, GPRS, GSM). Without SCENARIO, runs scenarios/stockholm-uppsala.
 Writes results/<scenario>/ (or --out DIR): metrics.json (aggregates), frames.csv (one row
 per displayed frame), events.csv (rung switches, handovers, keyframe requests) and the
 resolved scenario.yaml that repeats the run (--set values included); with --report also
-timeline.png (see `uma report`). The folder is replaced whole: after a failure or a kill it holds the earlier
-run whole or this one whole, never a mix; a folder holding other files is refused.
+timeline.png (see `uma report`). The folder is replaced whole: after a failure or a kill it
+holds the earlier run whole or this one whole, never a mix; a folder holding other files is
+refused.
 Exit status: 0 done, 2 bad input."""
 
 
