@@ -90,6 +90,7 @@ def test_cli_json(scenario_file, tmp_path, capsys):
         (["--set", "foo=1"], "--set: foo: unknown receiver.adaptive key"),
         (["--set", "margin_ms=abc"], "--set: margin_ms:"),
         (["--set", "margin_ms"], "expected KEY=VALUE"),
+        (["--set", "margin_ms=[a"], "--set margin_ms:1: invalid YAML"),
         (["--set", "percentile=200"], "percentile"),
         (["--seeds", "1,x"], "--seeds"),
         (["--seeds", "1,1"], "--seeds"),

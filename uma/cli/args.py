@@ -7,8 +7,8 @@ import re
 from typing import NoReturn
 
 __all__ = [
-    "frame_size", "seed", "workers", "seconds", "setting", "one_executor", "OneLineParser",
-    "one_line",
+    "frame_size", "seed", "workers", "seconds", "setting", "setting_value", "one_executor",
+    "OneLineParser", "one_line",
 ]  # fmt: skip
 
 MAX_SEED = 2**63 - 1  # the scenario's own bound on `seed` (uma.config.scenario)
@@ -64,6 +64,14 @@ def setting(text: str) -> tuple[str, str]:
             f"expected KEY=VALUE such as engine.mbc.refresh.enabled=true, got {text!r}"
         )
     return key.strip(), value
+
+
+def setting_value(key: str, text: str):
+    """A `setting`'s value text read as YAML (bounded as a scenario file is); bad YAML is a
+    `ConfigError` naming `--set KEY`."""
+    from uma.config.yamlfile import parse_yaml_bounded
+
+    return parse_yaml_bounded(text, f"--set {key}")[0]
 
 
 def frame_size(text: str) -> tuple[int, int]:

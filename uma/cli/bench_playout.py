@@ -12,7 +12,7 @@ MAX_SETTINGS = 10_000
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    from uma.cli.args import seconds, workers
+    from uma.cli.args import seconds, setting, workers
 
     parser = sub.add_parser(
         "playout",
@@ -32,6 +32,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--set",
         dest="set_",
+        type=setting,
         metavar="KEY=VALUE",
         action="append",
         default=[],
@@ -71,23 +72,12 @@ def _seeds(text: str | None, default: int) -> tuple[int, ...]:
     return tuple(out)
 
 
-def _pairs(items: list[str]) -> dict[str, Any]:
-    """`--set KEY=VALUE` pairs; a value reads as YAML (`0.5`, `true`)."""
-    import yaml
+def _pairs(items: list[tuple[str, str]]) -> dict[str, Any]:
+    """`--set KEY=VALUE` pairs (`uma.cli.args.setting`), the key a receiver.adaptive one; a
+    value reads as YAML (`0.5`, `true`)."""
+    from uma.cli.args import setting_value
 
-    from uma.errors import ConfigError
-
-    out: dict[str, Any] = {}
-    for item in items:
-        key, sep, value = item.partition("=")
-        key = key.strip().removeprefix("receiver.adaptive.")
-        if not sep or not key:
-            raise ConfigError(f"--set: expected KEY=VALUE, got {item!r}")
-        try:
-            out[key] = yaml.safe_load(value)
-        except yaml.YAMLError:
-            raise ConfigError(f"--set {item}: not a value") from None
-    return out
+    return {key.removeprefix("receiver.adaptive."): setting_value(key, text) for key, text in items}
 
 
 def _grid(path: str) -> dict[str, Any]:

@@ -101,8 +101,8 @@ def _scenario(path, settings: list[tuple[str, str]]):
     if not settings:
         return load_scenario(path)
     from uma.api.overrides import resolve_scenario
+    from uma.cli.args import setting_value
     from uma.config.load import default_scenario_path
-    from uma.config.yamlfile import parse_yaml_bounded
 
-    values = [(key, parse_yaml_bounded(text, f"--set {key}")[0]) for key, text in settings]
+    values = [(key, setting_value(key, text)) for key, text in settings]
     return resolve_scenario(path or default_scenario_path(), values, origin="--set")
