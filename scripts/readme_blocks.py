@@ -23,8 +23,9 @@ from readme_seeds import (  # noqa: E402  (beside this file)
 )
 from readme_seeds import median as _median  # noqa: E402
 from readme_seeds import scenario as _scenario  # noqa: E402
+from readme_targets import TARGET_RENDERERS, WHOLE_RECORDS, links_rules  # noqa: E402
 
-__all__ = ["RENDERERS"]
+__all__ = ["RENDERERS", "WHOLE_RECORDS"]
 
 Results = list[dict[str, Any]]
 Args = dict[str, str]
@@ -239,17 +240,6 @@ def mbc_verdicts(results: Results, args: Args) -> str:
     )
 
 
-def _links_rules(trace: dict[str, Any]) -> tuple[bool, bool, bool]:
-    """Issue 26's three rules on one trace: p95 <= GCC's, <= max(1,000, 1.5 x the oracle's),
-    unfrozen SSIM at most 0.5 dB below GCC's."""
-    uma, gcc, oracle = (trace["engines"][name] for name in ("uma", "gcc", "oracle"))
-    return (
-        uma["delay_p95_ms"] <= gcc["delay_p95_ms"],
-        uma["delay_p95_ms"] <= max(1000.0, 1.5 * oracle["delay_p95_ms"]),
-        uma["ssim_db_unfrozen"] >= gcc["ssim_db_unfrozen"] - 0.5,
-    )
-
-
 def links_table(results: Results, args: Args) -> str:
     """`uma bench links`: uma against GCC and the oracle on each trace, and the three rules."""
     lines = [
@@ -264,7 +254,7 @@ def links_table(results: Results, args: Args) -> str:
             for e in (trace["engines"]["uma"], trace["engines"]["gcc"])
         ]
         oracle = _num(trace["engines"]["oracle"]["delay_p95_ms"], ",.0f")
-        rules = " | ".join("yes" if ok else "**no**" for ok in _links_rules(trace))
+        rules = " | ".join("yes" if ok else "**no**" for ok in links_rules(trace))
         lines.append(f"| {name} | {cells[0]} | {cells[1]} | {oracle} | {rules} |")
     return "\n".join(lines)
 
@@ -276,7 +266,7 @@ def links_verdicts(results: Results, args: Args) -> str:
              "unfrozen SSIM at most 0.5 dB below GCC's")  # fmt: skip
     parts = []
     for index, rule in enumerate(names):
-        missed = [name for name, trace in traces.items() if not _links_rules(trace)[index]]
+        missed = [name for name, trace in traces.items() if not links_rules(trace)[index]]
         parts.append(f"{rule} on {len(traces) - len(missed)} of {len(traces)}")
     return f"uma's {'; '.join(parts)}"
 
@@ -340,4 +330,5 @@ RENDERERS: dict[str, Callable[[Results, Args], str]] = {
     "headline-seeds-verdict": headline_seeds_verdict,
     "headline-seeds-faces": headline_seeds_faces,
     "mbc-speed-table": mbc_speed_table,
+    **TARGET_RENDERERS,
 }

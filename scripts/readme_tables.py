@@ -45,7 +45,11 @@ ROOT = Path(__file__).resolve().parent.parent
 RESULTS = "docs/results"
 # The documents rendered: path, whether a figure row outside a block is an error in it, and
 # the records' folder as its links reach it.
-DOCUMENTS = (("README.md", True, RESULTS), ("docs/measured.md", False, "results"))
+DOCUMENTS = (
+    ("README.md", True, RESULTS),
+    ("docs/measured.md", False, "results"),
+    ("docs/targets.md", True, "results"),
+)
 _BLOCK = re.compile(r"<!-- fig (?P<spec>[^>]*?) -->(?P<body>.*?)<!-- /fig -->", re.S)
 _COMMIT = re.compile(r"^[0-9a-f]{40}$")
 # A markdown table row holding a decimal figure (0.159, 3,116, 29.5 / 0.862): measured-looking.
@@ -187,7 +191,8 @@ def _render_block(match: re.Match, text: str, results_dir: Path, readme: str, li
         names = ", ".join(sorted(readme_blocks.RENDERERS))
         raise FiguresError(f"{where}: unknown renderer {renderer!r} (one of {names})")
     try:
-        body = render_fn([r.result for r in records], args)
+        whole = renderer in readme_blocks.WHOLE_RECORDS
+        body = render_fn([r.raw if whole else r.result for r in records], args)
     except (KeyError, TypeError, ValueError) as exc:
         raise FiguresError(f"{where}: {renderer} cannot render {files}: {exc!r}") from exc
     sources = "; ".join(r.provenance(link) for r in records)
