@@ -4,7 +4,8 @@
 scenario as `uma bench headline`'s `uma` engine does and, beside the receiver's own renderer,
 keeps copies of it (`VARIANTS`) that take every reference and refresh the receiver takes, each
 drawing with one part of the drawing changed (a module constant, the light, the body motion,
-the stretched scene). On every K-th model-codec frame it draws the decoded set with each and
+the stretched scene; `scene_fit`, the base relit by a gain and offset fitted to the source
+outside the face box). On every K-th model-codec frame it draws the decoded set with each and
 scores the face box of the source frame it stands for (the face box's middle half, "middle",
 and the rest, "ring": hair, neck, shoulders, background; luma PSNR of the mean squared error),
 split by technology and by the age of the refresh drawn from (`<2s`, `2-6s`, `>=6s`, "none").
@@ -330,6 +331,22 @@ def _errors(source, picture, box):
     return float(err.mean()), float(err[inner].mean()), float(err[~inner].mean())
 
 
+def _scene_fit(source, picture, box):
+    """The base drawing relit by a gain and offset fitted to the source outside the face box
+    (a scene light an engine could measure and send), all but the box's middle half."""
+    x0, y0, w, h = int(box.x), int(box.y), int(box.width), int(box.height)
+    outside = np.ones(source.shape, bool)
+    outside[y0 : y0 + h, x0 : x0 + w] = False
+    drawn = picture[outside].astype(float)
+    design = np.stack([drawn, np.ones_like(drawn)], axis=1)
+    (gain, offset), *_ = np.linalg.lstsq(design, source[outside].astype(float), rcond=None)
+    lit = np.clip(np.rint(gain * picture.astype(float) + offset), 0, 255).astype(np.uint8)
+    lit[y0 + h // 4 : y0 + h - h // 4, x0 + w // 4 : x0 + w - w // 4] = picture[
+        y0 + h // 4 : y0 + h - h // 4, x0 + w // 4 : x0 + w - w // 4
+    ]
+    return lit
+
+
 def _db(values):
     return round(float(10 * np.log10(255.0**2 / max(np.mean(values), 1e-9))), 2)
 
@@ -351,6 +368,8 @@ def report(args, table, drawn, ages, sources, techs, boxes) -> int:
                 err = (sources[frame].astype(float) - picture) ** 2
                 maps[name] = maps.get(name, 0) + err
                 counts[name] = counts.get(name, 0) + 1
+        fitted = _scene_fit(sources[frame], pictures["base"], boxes[frame])
+        pictures = {**pictures, "scene_fit": fitted}
         for name, picture in pictures.items():
             rows[key][name].append(_errors(sources[frame], picture, boxes[frame]))
         if key == ("GSM", ">=6s") and pngs < 4 and frame % (args.every * 40) == 0:
