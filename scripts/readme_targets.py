@@ -2,8 +2,9 @@
 
 Each renderer takes the results of the records its block names and returns a table of
 target, what the record measured, and the verdict, computed here from the record: a
-verdict is never typed. The rules are the issues' words; where a rule is shared with a
-README block (the links rules, the low-technology face rule) it is that block's function.
+verdict is never typed. The rules are the issues' words; a rule the README's blocks judge
+too (the links rules here, the low-technology face rule in `readme_seeds`) is one function
+both call.
 """
 
 from __future__ import annotations
