@@ -142,15 +142,19 @@ PUBLISHED = {
 
 
 def salsify_table(results: Results, args: Args) -> str:
-    """`uma bench salsify`: each estimator kind run beside the published figures."""
+    """`uma bench salsify`: each estimator kind run (`kinds=`: these only) beside the published
+    figures."""
     result = results[0]
     lines = [
         "| Salsify scenario | delay p95 ms | SSIM dB | SSIM dB unfrozen | frozen "
         "| video kbit/s (+ padding) |",
         "|---|---|---|---|---|---|",
     ]
-    names = {"uma": "uma's controller", "gcc": "the GCC baseline", "webrtc": "aiortc's estimator"}
-    for kind, row in result["estimators"].items():
+    names = {"uma": "uma's controller", "gcc": "the GCC baseline", "webrtc": "aiortc's estimator",
+             "oracle": "the oracle (reads the capacity)"}  # fmt: skip
+    kinds = args["kinds"].split(",") if "kinds" in args else list(result["estimators"])
+    for kind in kinds:
+        row = result["estimators"][kind]
         rate = _num(row["kbps_h264"], ",.0f")
         if row.get("kbps_padding"):
             rate += f" (+ {row['kbps_padding']:,.0f})"

@@ -105,3 +105,16 @@ def test_the_speed_target_refuses_a_headline_that_is_not_the_whole_bench():
     part = dict(whole, command="uma bench headline --workers 2 --skip-real --json")
     with pytest.raises(ValueError, match="not the whole"):
         readme_targets.speed_targets(records + [part], {})
+
+
+def test_the_salsify_targets_say_what_the_oracle_reached_when_it_ran():
+    def row(p95, ssim, frozen):
+        return {"delay_p95_ms": p95, "ssim_db_unfrozen": ssim, "freeze_ratio": frozen}
+
+    result = {"estimators": {"uma": row(2999.0, 13.2, 0.12), "gcc": row(4000.0, 11.0, 0.12)},
+              "published": {"salsify_1c": {"ssim_db": 13.2}}}  # fmt: skip
+    table = readme_targets.salsify_targets([result], {})
+    assert "oracle" not in table and table.count("| met |") == 3
+    result["estimators"]["oracle"] = row(2074.0, 11.68, 0.1143)
+    table = readme_targets.salsify_targets([result], {})
+    assert table.startswith("The oracle policy") and "unfrozen SSIM 11.68 dB" in table

@@ -101,3 +101,21 @@ def test_bench_salsify_json_keys(capsys, shared_data):
         assert set(row) == {"delay_p95_ms", "ssim_db"}
     assert result["published"]["salsify_1c"] == {"delay_p95_ms": 3907.0, "ssim_db": 13.2}
     assert result["estimators"]["webrtc"]["kbps_padding"] >= 0
+
+
+def test_bench_salsify_oracle_is_the_oracle_policy_not_an_estimator():
+    from uma.bench.salsify import KINDS, ORACLE, _with_estimator
+    from uma.config import load_scenario
+
+    scenario = load_scenario(None)
+    oracle = _with_estimator(scenario, ORACLE)
+    assert oracle.engine.policy == "oracle" and ORACLE in KINDS
+    assert oracle.engine.estimator == scenario.engine.estimator
+    gcc = _with_estimator(scenario, "gcc")
+    assert gcc.engine.policy == scenario.engine.policy and gcc.engine.estimator.kind == "gcc"
+
+
+def test_bench_salsify_refuses_an_unknown_kind_naming_the_choices(capsys, shared_data):
+    assert main(["bench", "salsify", "--estimators", "uma,gcc,psychic", "--frames", "1"]) == 2
+    err = capsys.readouterr().err
+    assert "--estimators" in err and "oracle" in err and "psychic" in err

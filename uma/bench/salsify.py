@@ -3,8 +3,9 @@
 Units: delays in ms, rates in kbit/s, SSIM in dB, wall-clock seconds for the run times.
 
 The Salsify scenario (`scenarios/salsify-tmobile-umts.yaml`) runs twice on the same prepared
-frames, once with each `engine.estimator` kind of `ESTIMATOR_NAMES` (`uma`, `gcc`, `webrtc`);
-the default scenario does too; the targets judge uma against the GCC baseline. Beside them stand the figures
+frames, once with each `engine.estimator` kind of `ESTIMATOR_NAMES` (`uma`, `gcc`, `webrtc`),
+and with the oracle policy when asked (`ORACLE`: what knowing the capacity reaches); the
+default scenario does too; the targets judge uma against the GCC baseline. Beside them stand the figures
 published for the trace given (`uma.bench.published`: Salsify, Fouladi et al., NSDI 2018, per
 trace), or none when nothing was published for it. Salsify's delay is
 the 95th percentile of the displayed picture's age ("signal delay", a frame never shown
@@ -27,6 +28,8 @@ from typing import Any
 from uma.config.scenario import Scenario
 
 __all__ = [
+    "KINDS",
+    "ORACLE",
     "SalsifyBenchConfig",
     "run_salsify_bench",
     "format_table",
@@ -38,6 +41,10 @@ DELAY_OFFSET_MS = 0.0
 # uma's controller, the GCC baseline (the rate targets are judged against it), aiortc's estimator
 ESTIMATOR_NAMES = ("uma", "gcc", "webrtc")
 BASELINE = "gcc"
+# Not an estimator: the oracle policy, which reads the link's capacity (a reference for what
+# any controller could reach with this codec and source); run only when asked for.
+ORACLE = "oracle"
+KINDS = (*ESTIMATOR_NAMES, ORACLE)
 # Issue 26's targets on the Salsify trace: delay p95 at most, unfrozen SSIM dB at least.
 TARGET_DELAY_P95_MS = 3000.0
 TARGET_SSIM_DB_UNFROZEN = 13.2
@@ -93,7 +100,11 @@ def _prepared(scenario: Scenario, clip_frames: int) -> _LoopedSource:
 
 
 def _with_estimator(scenario: Scenario, kind: str) -> Scenario:
+    """The scenario with `engine.estimator.kind` set to `kind`, or for `ORACLE` with
+    `engine.policy: oracle` (its estimator left as the scenario has it: the oracle reads none)."""
     engine = scenario.engine
+    if kind == ORACLE:
+        return scenario.model_copy(update={"engine": engine.model_copy(update={"policy": ORACLE})})
     estimator = engine.estimator.model_copy(update={"kind": kind})
     return scenario.model_copy(
         update={"engine": engine.model_copy(update={"estimator": estimator})}

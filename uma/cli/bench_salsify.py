@@ -53,7 +53,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="KINDS",
         default="uma,gcc,webrtc",
         help="comma-separated engine.estimator kinds to run (uma and gcc at least; "
-        "default uma,gcc,webrtc)",
+        "default uma,gcc,webrtc); oracle adds the oracle policy, which reads the capacity",
     )
     add_common_arguments(parser)
     parser.set_defaults(func=handle)
@@ -88,12 +88,12 @@ def handle(args: argparse.Namespace) -> int:
     scenario_path = args.scenario or scenarios_dir() / "salsify-tmobile-umts.yaml"
     scenario = load_scenario(scenario_path).with_seed(args.seed)
     default = None if args.skip_default else load_scenario(None).with_seed(args.seed)
-    from uma.bench.salsify import BASELINE, ESTIMATOR_NAMES
+    from uma.bench.salsify import BASELINE, KINDS
 
     kinds = tuple(k.strip() for k in args.estimators.split(",") if k.strip())
-    if not set(kinds) <= set(ESTIMATOR_NAMES) or not {"uma", BASELINE} <= set(kinds):
+    if not set(kinds) <= set(KINDS) or not {"uma", BASELINE} <= set(kinds):
         raise ConfigError(
-            f"--estimators: expected kinds among {', '.join(ESTIMATOR_NAMES)} including uma "
+            f"--estimators: expected kinds among {', '.join(KINDS)} including uma "
             f"and {BASELINE}, got {args.estimators!r}"
         )
     config = SalsifyBenchConfig(
