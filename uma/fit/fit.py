@@ -15,7 +15,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from uma.face.detect import Box, detect_face
+from uma.face.detect import Box, detect_face, detect_faces
 from uma.failure import Failure
 from uma.fit.cost import Cost, FitTemplate
 from uma.fit.gauss_newton import GaussNewtonConfig, gauss_newton
@@ -28,6 +28,7 @@ __all__ = [
     "fit_face",
     "initial_guess",
     "turned_guess",
+    "small_guess",
     "detect",
     "DETECTOR_ROLLS_RAD",
     "DetectorCalibration",
@@ -78,12 +79,21 @@ def check_image(image: np.ndarray) -> Failure | None:
 
 
 DETECTOR_SIDE_PX = 144  # the detector looks at the image scaled so its shorter side is this
+CASCADE_MIN_PX = 24  # the cascade's own smallest face
+
+
+def _scaled_min_px(shape: tuple[int, ...]) -> int:
+    """The smallest face `detect` looks for, in pixels of its scaled picture."""
+    side = min(shape[:2])
+    factor = min(1.0, DETECTOR_SIDE_PX / side)
+    return max(CASCADE_MIN_PX, round(side * factor) // 5)
 
 
 def detect(image: np.ndarray) -> Box | Failure:
     """The face detector's box on `image` (pixels of `image`). Large images are searched at a
     shorter side of DETECTOR_SIDE_PX: faces filling a fifth of the picture or more stay over
-    the cascade's 24-px minimum, and a CIF frame costs ~4 ms instead of ~17."""
+    the cascade's 24-px minimum, and a CIF frame costs ~4 ms instead of ~17 (a smaller face:
+    `small_guess`)."""
     import cv2
 
     gray = np.clip(np.nan_to_num(image), 0, 255).astype(np.uint8)
@@ -92,7 +102,7 @@ def detect(image: np.ndarray) -> Box | Failure:
     if factor < 1.0:
         size = (round(gray.shape[1] * factor), round(gray.shape[0] * factor))
         small = cv2.resize(gray, size, interpolation=cv2.INTER_AREA)
-    box = detect_face(small, min_size_px=max(24, min(small.shape) // 5), neighbours=3)
+    box = detect_face(small, min_size_px=_scaled_min_px(gray.shape), neighbours=3)
     if not box or factor == 1.0:
         return box
     sx, sy = gray.shape[1] / small.shape[1], gray.shape[0] / small.shape[0]
@@ -104,19 +114,47 @@ def initial_guess(
 ) -> tuple[np.ndarray, SearchBox] | Failure:
     """Start and search box from the face detector on `image`; without a calibration (the
     template's own box), the template's placement is the start."""
+    if calibration is None:
+        return template.params.copy(), search_box(template.params, template.face_width_px)
+    box = detect(image)
+    if not box:
+        return Failure(f"no face found ({box.reason})")
+    return _guess_from_box(template, calibration, box)
+
+
+def _guess_from_box(
+    template: FitTemplate, calibration: DetectorCalibration, box: Box
+) -> tuple[np.ndarray, SearchBox]:
+    """The upright start the detector's `box` says (`calibration`'s offset and scale) and the
+    search box about it."""
     start = template.params.copy()
-    width = template.face_width_px
-    if calibration is not None:
-        box = detect(image)
-        if not box:
-            return Failure(f"no face found ({box.reason})")
-        cx, cy = box.centre
-        start[0] = cx + calibration.dx * box.width
-        start[1] = cy + calibration.dy * box.width
-        start[2] = calibration.scale * box.width
-        start[3:6] = 0.0
-        width = width * start[2] / template.params[2]
-    return start, search_box(start, width)
+    cx, cy = box.centre
+    start[0] = cx + calibration.dx * box.width
+    start[1] = cy + calibration.dy * box.width
+    start[2] = calibration.scale * box.width
+    start[3:6] = 0.0
+    return start, search_box(start, template.face_width_px * start[2] / template.params[2])
+
+
+def small_guess(
+    template: FitTemplate, image: np.ndarray, calibration: DetectorCalibration
+) -> tuple[np.ndarray, SearchBox] | Failure:
+    """Start and search box from the detector on `image` at its own size, for an upright face
+    smaller than `detect` looks for (a wide shot: under a fifth of the picture's shorter side,
+    scaled to DETECTOR_SIDE_PX); of several, the one nearest the description's own size. The
+    whole picture at full size costs several times `detect`: the initialisation asks last."""
+    gray = np.clip(np.nan_to_num(image), 0, 255).astype(np.uint8)
+    factor = min(1.0, DETECTOR_SIDE_PX / min(gray.shape))
+    found = detect_faces(gray, min_size_px=CASCADE_MIN_PX, neighbours=3)
+    if not found:
+        return Failure(f"no small face found ({found.reason})")
+    smallest_px = _scaled_min_px(gray.shape) / factor  # what `detect` finds, here
+    small = [box for box in found if box.width < smallest_px]
+    if not small:
+        return Failure("no face smaller than the scaled search's smallest")
+    expected_px = template.params[2] / calibration.scale  # the description's box width
+    box = min(small, key=lambda b: abs(np.log(b.width / expected_px)))
+    return _guess_from_box(template, calibration, box)
 
 
 # Where the upright detector found no face (OpenCV's cascade is trained on upright faces),

@@ -6,6 +6,8 @@ the description was cut out); a fit whose roll stops at that search's edge is se
 past it (a head tilted further that the detector still found upright). Failing that, around
 the last good pose, its roll searched about that pose's. Failing that, the detector on turned
 copies of the picture (`uma.fit.fit.turned_guess`: OpenCV's cascade finds upright faces only).
+Failing that, the detector on the picture at its own size, for a face too small for the
+scaled search (`uma.fit.fit.small_guess`: a wide shot).
 Each step is a `uma.fit.fit_face` with the tracker's method; a failure tests false and names
 every place looked.
 """
@@ -18,7 +20,13 @@ import numpy as np
 
 from uma.failure import Failure
 from uma.fit.cost import FitTemplate
-from uma.fit.fit import DETECTOR_ROLLS_RAD, DetectorCalibration, fit_face, turned_guess
+from uma.fit.fit import (
+    DETECTOR_ROLLS_RAD,
+    DetectorCalibration,
+    fit_face,
+    small_guess,
+    turned_guess,
+)
 from uma.fit.search import ROLL_SEARCH_RAD, search_box
 
 __all__ = ["InitSearch"]
@@ -47,6 +55,8 @@ class InitSearch:
             fit, why = self._around(image, fit, why, last_good, rng)
         if not fit and self.calibration is not None:
             fit, detections, why = self._turned(image, fit, detections, why, rng)
+        if not fit and self.calibration is not None:
+            fit, detections, why = self._small(image, fit, detections, why, rng)
         return fit, detections, why
 
     def _width(self, params: np.ndarray) -> float:
@@ -83,3 +93,19 @@ class InitSearch:
             reason = f"{failed.reason}; found turned by {start[5]:.1f} rad: {fit.reason}"
             return Failure(reason), detections, why
         return fit, detections, f"{why} (found on the picture turned by {start[5]:.1f} rad)"
+
+    def _small(self, image: np.ndarray, failed: Failure, detections: int, why: str, rng):
+        """The detector on `image` at its own size, for a face too small for the scaled search
+        (a wide shot), and the fit from what it finds."""
+        guess = small_guess(self.template, image, self.calibration)
+        if not guess:
+            return Failure(f"{failed.reason}; {guess.reason}"), detections + 1, why
+        start, box = guess
+        fit = fit_face(self.template, image, method=self.method, start=start, box=box, rng=rng)
+        if not fit:
+            return (
+                Failure(f"{failed.reason}; a small face found: {fit.reason}"),
+                detections + 1,
+                why,
+            )
+        return fit, detections + 1, f"{why} (a small face, found at the picture's own size)"
