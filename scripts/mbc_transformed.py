@@ -1,5 +1,5 @@
 """`uma bench mbc` on clips made from akiyo: mirrored, halved to QCIF, under a swinging light,
-and rolled.
+rolled, a wide shot, 16:9, portrait, 15 frames/s and gray.
 
     python scripts/mbc_transformed.py [--out DIR] [--frames N] [--only NAME ...]
 
@@ -9,8 +9,8 @@ PyAV) with the hand-clicked points of `codecs/face/akiyo.yaml` moved with it, de
 prints a table of face-box PSNR dB / SSIM and whole-frame SSIM beside akiyo's own row (from a
 run of the same bench). The clips are akiyo's own frames transformed: a check of what the
 defaults assume (a face turned the other way, a small face, a light the background does not
-follow, a head tilted toward a shoulder), not a clip of a new person (docs/mbc.md, sessions 32
-and 33). Needs ../shared/data beside the clone. Run from the repository root.
+follow, a head tilted toward a shoulder, a small face in a large picture, other shapes, half
+the frame rate, no colour), not a clip of a new person (docs/mbc.md, sessions 32, 33 and 35). Needs ../shared/data beside the clone. Run from the repository root.
 """
 
 from __future__ import annotations
@@ -78,26 +78,70 @@ def rolled(bgr: np.ndarray, index: int) -> np.ndarray:
     return cv2.warpAffine(bgr, matrix, size, borderMode=cv2.BORDER_REFLECT)
 
 
+def wide(bgr: np.ndarray, index: int) -> np.ndarray:
+    """A wide shot: the picture halved and set in the middle of a grey one of the same size."""
+    import cv2
+
+    small = cv2.resize(bgr, (WIDTH // 2, HEIGHT // 2), interpolation=cv2.INTER_AREA)
+    x, y = WIDTH // 4, HEIGHT // 4
+    return cv2.copyMakeBorder(small, y, y, x, x, cv2.BORDER_CONSTANT, value=(90, 100, 110))
+
+
+# Crops (x0, y0, width, height) of akiyo and the size each is scaled to: 16:9 and portrait.
+CROPS = {
+    "wide169": ((0, 45, WIDTH, 198), (640, 360)),
+    "portrait": ((58, 0, 236, HEIGHT), (288, 352)),
+}
+
+
+def cropped(name: str):
+    """The picture cut to `CROPS[name]` and scaled to its size."""
+    (x0, y0, w, h), size = CROPS[name]
+
+    def change(bgr: np.ndarray, index: int) -> np.ndarray:
+        import cv2
+
+        return cv2.resize(bgr[y0 : y0 + h, x0 : x0 + w], size, interpolation=cv2.INTER_CUBIC)
+
+    return change
+
+
+def gray(bgr: np.ndarray, index: int) -> np.ndarray:
+    import cv2
+
+    return cv2.cvtColor(cv2.cvtColor(bgr, cv2.COLOR_BGR2GRAY), cv2.COLOR_GRAY2BGR)
+
+
 def moved_points(name: str, points: dict) -> dict:
     """akiyo's points as they lie in clip `name`."""
     if name == "mirrored":
         swap = {a: b for pair in PAIRS for a, b in (pair, pair[::-1])}
         return {swap.get(k, k): [WIDTH - 1 - x, y] for k, (x, y) in points.items()}
-    if name == "qcif":  # pixel centres halved: x' = (x + 0.5) / 2 - 0.5
-        return {k: [(x + 0.5) / 2 - 0.5, (y + 0.5) / 2 - 0.5] for k, (x, y) in points.items()}
+    if name in ("qcif", "wide"):  # pixel centres halved: x' = (x + 0.5) / 2 - 0.5
+        dx, dy = (WIDTH // 4, HEIGHT // 4) if name == "wide" else (0, 0)
+        return {k: [(x + 0.5) / 2 - 0.5 + dx, (y + 0.5) / 2 - 0.5 + dy]
+                for k, (x, y) in points.items()}  # fmt: skip
+    if name in CROPS:
+        (x0, y0, w, h), (width, height) = CROPS[name]
+        return {k: [(x - x0 + 0.5) * width / w - 0.5, (y - y0 + 0.5) * height / h - 0.5]
+                for k, (x, y) in points.items()}  # fmt: skip
     return dict(points)
 
 
-def write_clip(path: Path, change, size: tuple[int, int]) -> None:
+def write_clip(path: Path, change, size: tuple[int, int], every: int = 1) -> None:
+    """akiyo changed by `change` and written losslessly at `size`, every `every`-th frame (at
+    its rate over `every`)."""
     import av
 
     with av.open(str(AKIYO)) as source, av.open(str(path), "w") as out:
         video = source.streams.video[0]
-        stream = out.add_stream("libx264", rate=video.average_rate)
+        stream = out.add_stream("libx264", rate=video.average_rate / every)
         stream.width, stream.height = size
         stream.pix_fmt = "yuv420p"
         stream.options = {"qp": "0", "preset": "ultrafast"}
         for index, frame in enumerate(source.decode(video)):
+            if index % every:
+                continue
             picture = np.ascontiguousarray(change(frame.to_ndarray(format="bgr24"), index))
             out.mux(stream.encode(av.VideoFrame.from_ndarray(picture, format="bgr24")))
         out.mux(stream.encode())
@@ -116,11 +160,16 @@ def row(name: str, clip: dict) -> str:
     return f"| {name} | {tracked} | {' | '.join(face)} | {frame} |"
 
 
-CLIPS = {
-    "mirrored": (mirrored, (WIDTH, HEIGHT)),
-    "qcif": (qcif, (WIDTH // 2, HEIGHT // 2)),
-    "dim": (dim, (WIDTH, HEIGHT)),
-    "rolled": (rolled, (WIDTH, HEIGHT)),
+CLIPS = {  # name: (change, size, every other frame kept)
+    "mirrored": (mirrored, (WIDTH, HEIGHT), 1),
+    "qcif": (qcif, (WIDTH // 2, HEIGHT // 2), 1),
+    "dim": (dim, (WIDTH, HEIGHT), 1),
+    "rolled": (rolled, (WIDTH, HEIGHT), 1),
+    "wide": (wide, (WIDTH, HEIGHT), 1),
+    "wide169": (cropped("wide169"), CROPS["wide169"][1], 1),
+    "portrait": (cropped("portrait"), CROPS["portrait"][1], 1),
+    "fps15": (lambda bgr, index: bgr, (WIDTH, HEIGHT), 2),
+    "gray": (gray, (WIDTH, HEIGHT), 1),
 }
 
 
@@ -137,11 +186,11 @@ def main() -> int:
     points = yaml.safe_load(POINTS.read_text())["points"]
     frames = ["--frames", str(args.frames)]
     rows = [row("akiyo", bench(frames)["akiyo"])]
-    for name, (change, size) in CLIPS.items():
+    for name, (change, size, every) in CLIPS.items():
         if args.only and name not in args.only:
             continue
         clip = args.out / f"akiyo_{name}.mp4"
-        write_clip(clip, change, size)
+        write_clip(clip, change, size, every)
         clicked = {"video": clip.name, "frame": 0, "points": moved_points(name, points)}
         (args.out / f"akiyo_{name}.yaml").write_text(yaml.safe_dump(clicked))
         subprocess.run([sys.executable, "-m", "uma", "describe", "--points",

@@ -58,3 +58,18 @@ def test_rolling_leaves_frame_0_and_turns_about_the_face_to_its_peak():
     # OpenCV's positive angle turns counter-clockwise on screen (y down): the dot goes up
     angle = np.arctan2(y - ys.mean(), xs.mean() - x)
     assert abs(angle - mt.ROLL_PEAK_RAD) < 0.05, angle
+
+
+@pytest.mark.parametrize("name", ["wide", "wide169", "portrait"])
+def test_a_point_moves_with_the_picture(points, name):
+    """A bright spot under the nose tip lands where the moved point says, within a pixel."""
+    change, size, every = mt.CLIPS[name]
+    x, y = (int(round(v)) for v in points["9.3"])
+    picture = np.zeros((mt.HEIGHT, mt.WIDTH, 3), np.uint8)
+    picture[y - 2 : y + 3, x - 2 : x + 3] = 255
+    moved = change(picture, 0)
+    assert moved.shape[1::-1] == size and every == 1
+    weights = np.clip(moved[..., 0].astype(float) - 128.0, 0.0, None)  # the spot, not the border
+    rows, cols = np.indices(weights.shape)
+    centre = np.array([(cols * weights).sum(), (rows * weights).sum()]) / weights.sum()
+    assert np.hypot(*(centre - mt.moved_points(name, {"9.3": [x, y]})["9.3"])) < 1.0
