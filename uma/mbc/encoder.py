@@ -8,7 +8,8 @@ engine can model compute time.
 The first picture, and every re-initialisation, runs the project's best automatic
 initialisation (`uma.fit.fit_face`, the hybrid: detector, SAABs in two views, Gauss-Newton
 polish), looking where `uma.mbc.tracking_init` says: the detector's upright box, around the
-last good pose, turned copies of the picture (a head tilted toward a shoulder).
+last good pose, turned copies of the picture (a head tilted toward a shoulder), the picture at
+its own size (a small face in a wide shot).
 Later pictures are tracked: Gauss-Newton (with a gain and offset per triangle patch) from the
 previous parameters moved on by a damped constant-velocity prediction of the pose; a
 step that ends doubtful also starts from a few poses around the last good one
