@@ -115,7 +115,8 @@ def initial_guess(
     """Start and search box from the face detector on `image`; without a calibration (the
     template's own box), the template's placement is the start."""
     if calibration is None:
-        return template.params.copy(), search_box(template.params, template.face_width_px)
+        start = template.params.copy()
+        return start, search_box(start, template.face_width_px)
     box = detect(image)
     if not box:
         return Failure(f"no face found ({box.reason})")
