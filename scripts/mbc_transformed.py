@@ -1,5 +1,5 @@
 """`uma bench mbc` on clips made from akiyo: mirrored, halved to QCIF, under a swinging light,
-rolled, a wide shot, 16:9, portrait, 15 frames/s and gray.
+rolled, a wide shot, 16:9, portrait, 15 frames/s, gray, a close-up and sensor noise.
 
     python scripts/mbc_transformed.py [--out DIR] [--frames N] [--only NAME ...]
 
@@ -91,6 +91,7 @@ def wide(bgr: np.ndarray, index: int) -> np.ndarray:
 CROPS = {
     "wide169": ((0, 45, WIDTH, 198), (640, 360)),
     "portrait": ((58, 0, 236, HEIGHT), (288, 352)),
+    "closeup": ((88, 58, WIDTH // 2, HEIGHT // 2), (WIDTH, HEIGHT)),  # the face twice as large
 }
 
 
@@ -104,6 +105,12 @@ def cropped(name: str):
         return cv2.resize(bgr[y0 : y0 + h, x0 : x0 + w], size, interpolation=cv2.INTER_CUBIC)
 
     return change
+
+
+def noisy(bgr: np.ndarray, index: int) -> np.ndarray:
+    """Sensor noise: Gaussian, 6 levels, drawn afresh each frame (seeded by the frame)."""
+    noise = np.random.default_rng(index).normal(0.0, 6.0, bgr.shape)
+    return np.clip(bgr + noise, 0, 255).astype(np.uint8)
 
 
 def gray(bgr: np.ndarray, index: int) -> np.ndarray:
@@ -170,6 +177,8 @@ CLIPS = {  # name: (change, size, every other frame kept)
     "portrait": (cropped("portrait"), CROPS["portrait"][1], 1),
     "fps15": (lambda bgr, index: bgr, (WIDTH, HEIGHT), 2),
     "gray": (gray, (WIDTH, HEIGHT), 1),
+    "closeup": (cropped("closeup"), CROPS["closeup"][1], 1),
+    "noisy": (noisy, (WIDTH, HEIGHT), 1),
 }
 
 

@@ -60,7 +60,7 @@ def test_rolling_leaves_frame_0_and_turns_about_the_face_to_its_peak():
     assert abs(angle - mt.ROLL_PEAK_RAD) < 0.05, angle
 
 
-@pytest.mark.parametrize("name", ["wide", "wide169", "portrait"])
+@pytest.mark.parametrize("name", ["wide", "wide169", "portrait", "closeup"])
 def test_a_point_moves_with_the_picture(points, name):
     """A bright spot under the nose tip lands where the moved point says, within a pixel."""
     change, size, every = mt.CLIPS[name]
