@@ -78,12 +78,15 @@ def rolled(bgr: np.ndarray, index: int) -> np.ndarray:
     return cv2.warpAffine(bgr, matrix, size, borderMode=cv2.BORDER_REFLECT)
 
 
+WIDE_OFFSET = (WIDTH // 4, HEIGHT // 4)  # where the wide shot's halved picture sits
+
+
 def wide(bgr: np.ndarray, index: int) -> np.ndarray:
     """A wide shot: the picture halved and set in the middle of a grey one of the same size."""
     import cv2
 
     small = cv2.resize(bgr, (WIDTH // 2, HEIGHT // 2), interpolation=cv2.INTER_AREA)
-    x, y = WIDTH // 4, HEIGHT // 4
+    x, y = WIDE_OFFSET
     return cv2.copyMakeBorder(small, y, y, x, x, cv2.BORDER_CONSTANT, value=(90, 100, 110))
 
 
@@ -125,7 +128,7 @@ def moved_points(name: str, points: dict) -> dict:
         swap = {a: b for pair in PAIRS for a, b in (pair, pair[::-1])}
         return {swap.get(k, k): [WIDTH - 1 - x, y] for k, (x, y) in points.items()}
     if name in ("qcif", "wide"):  # pixel centres halved: x' = (x + 0.5) / 2 - 0.5
-        dx, dy = (WIDTH // 4, HEIGHT // 4) if name == "wide" else (0, 0)
+        dx, dy = WIDE_OFFSET if name == "wide" else (0, 0)
         return {k: [(x + 0.5) / 2 - 0.5 + dx, (y + 0.5) / 2 - 0.5 + dy]
                 for k, (x, y) in points.items()}  # fmt: skip
     if name in CROPS:

@@ -79,11 +79,12 @@ def commute_targets(results: Results, args: Args) -> str:
     return _table(table)
 
 
-def _seeds(results: Results, args: Args) -> list[str]:
-    seeds = args["seeds"].split(",")
-    if len(seeds) != len(results):
-        raise ValueError(f"seeds={args['seeds']}: {len(results)} records, {len(seeds)} labels")
-    return seeds
+def _labels(results: Results, args: Args, key: str) -> list[str]:
+    """The records' labels the block gives as `key=` (one each, comma-separated)."""
+    labels = args[key].split(",")
+    if len(labels) != len(results):
+        raise ValueError(f"{key}={args[key]}: {len(results)} records, {len(labels)} labels")
+    return labels
 
 
 def real_targets(results: Results, args: Args) -> str:
@@ -95,7 +96,7 @@ def real_targets(results: Results, args: Args) -> str:
     results = results[:-1] if bound is not None else results
     table: list[Row] = []
     oracle: list[str] = []
-    for seed, result in zip(_seeds(results, args), results, strict=True):
+    for seed, result in zip(_labels(results, args, "seeds"), results, strict=True):
         rows = _scenario(result, args)
         uma, h264 = rows["uma"], rows["h264"]
         if args.get("faces") == "27":
@@ -142,11 +143,8 @@ def links_targets(results: Results, args: Args) -> str:
     hold on every trace of a set; the traces that miss are named."""
     names = ("uma's p95 at most GCC's", "uma's p95 at most max(1,000 ms, 1.5 x the oracle's)",
              "uma's unfrozen SSIM at most 0.5 dB below GCC's")  # fmt: skip
-    labels = args["sets"].split(",")
-    if len(labels) != len(results):
-        raise ValueError(f"sets={args['sets']}: {len(results)} records, {len(labels)} labels")
     table: list[Row] = []
-    for label, result in zip(labels, results, strict=True):
+    for label, result in zip(_labels(results, args, "sets"), results, strict=True):
         traces = result["traces"]
         for index, rule in enumerate(names):
             missed = [name for name, trace in traces.items() if not links_rules(trace)[index]]

@@ -82,11 +82,14 @@ DETECTOR_SIDE_PX = 144  # the detector looks at the image scaled so its shorter 
 CASCADE_MIN_PX = 24  # the cascade's own smallest face
 
 
+def _scale(shape: tuple[int, ...]) -> float:
+    """What `detect` scales a picture of `shape` by (at most 1)."""
+    return min(1.0, DETECTOR_SIDE_PX / min(shape[:2]))
+
+
 def _scaled_min_px(shape: tuple[int, ...]) -> int:
     """The smallest face `detect` looks for, in pixels of its scaled picture."""
-    side = min(shape[:2])
-    factor = min(1.0, DETECTOR_SIDE_PX / side)
-    return max(CASCADE_MIN_PX, round(side * factor) // 5)
+    return max(CASCADE_MIN_PX, round(min(shape[:2]) * _scale(shape)) // 5)
 
 
 def detect(image: np.ndarray) -> Box | Failure:
@@ -97,7 +100,7 @@ def detect(image: np.ndarray) -> Box | Failure:
     import cv2
 
     gray = np.clip(np.nan_to_num(image), 0, 255).astype(np.uint8)
-    factor = min(1.0, DETECTOR_SIDE_PX / min(gray.shape))
+    factor = _scale(gray.shape)
     small = gray
     if factor < 1.0:
         size = (round(gray.shape[1] * factor), round(gray.shape[0] * factor))
@@ -145,11 +148,10 @@ def small_guess(
     scaled to DETECTOR_SIDE_PX); of several, the one nearest the description's own size. The
     whole picture at full size costs several times `detect`: the initialisation asks last."""
     gray = np.clip(np.nan_to_num(image), 0, 255).astype(np.uint8)
-    factor = min(1.0, DETECTOR_SIDE_PX / min(gray.shape))
     found = detect_faces(gray, min_size_px=CASCADE_MIN_PX, neighbours=3)
     if not found:
         return Failure(f"no small face found ({found.reason})")
-    smallest_px = _scaled_min_px(gray.shape) / factor  # what `detect` finds, here
+    smallest_px = _scaled_min_px(gray.shape) / _scale(gray.shape)  # what `detect` finds, here
     small = [box for box in found if box.width < smallest_px]
     if not small:
         return Failure("no face smaller than the scaled search's smallest")
