@@ -95,7 +95,7 @@ def coded_run(clip, seed: int = 0):
     units = FaceUnits.of(clip.description.model, clip.description.params, light=True, body=True,
                          camera=mbc.CAMERA_MOTION)  # fmt: skip
     results[0] = mbc._as_decoded(results[0], units, config)
-    *renderers, receiver = mbc._renderers(clip, results, "picture", MbcConfig())
+    *renderers, receiver, _scorer = mbc._renderers(clip, results, "picture", MbcConfig())
     coded = encode(lumas, results, units, config, renderers, clock)
     decoded, _ = decode(units, config, coded.packets, clock, coded.map_blocks)
     h264 = codec_display(clip.frames, clip.fps, 0, "h264")[0]
