@@ -26,6 +26,10 @@ root with the checkout on `PYTHONPATH`.
 
 from __future__ import annotations
 
+from uma import __version__  # noqa: F401  (first: importing uma pins NumPy's and OpenCV's code paths)
+
+# isort: split
+
 import argparse
 import json
 import re
