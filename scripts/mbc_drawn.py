@@ -29,21 +29,23 @@ SHOWN = ("mbc", "frozen", "h264")
 
 
 def _recorder() -> dict:
-    """Wrap the layered renderer's steps so each rendering leaves its person and torso masks."""
+    """Wrap the layered renderer's steps so each rendering leaves its person and torso masks
+    (the torso's as `_torso_layer` gives it: drawn, or kept from the last call)."""
     import uma.mbc.layered_render as layered
 
     drawn: dict = {}
-    soften, draw_layer = layered.soften_outline, layered._draw_layer
+    soften, torso_layer = layered.soften_outline, layered._torso_layer
 
-    def recording_soften(out, person, face, moved):
+    def recording_soften(out, person, face, moved, *more):
         drawn["person"] = person.copy()
-        return soften(out, person, face, moved)
+        return soften(out, person, face, moved, *more)
 
-    def recording_layer(renderer, out, mask, matrix, box):
-        drawn.setdefault("layers", []).append(mask.copy())
-        return draw_layer(renderer, out, mask, matrix, box)
+    def recording_torso(*args):
+        layer = torso_layer(*args)
+        drawn["torso"] = layer[2].copy()
+        return layer
 
-    layered.soften_outline, layered._draw_layer = recording_soften, recording_layer
+    layered.soften_outline, layered._torso_layer = recording_soften, recording_torso
     return drawn
 
 
@@ -70,8 +72,7 @@ def run(clip) -> dict:
             drawn.clear()
             p, light = units.split(decoded[index])
             shown, _ = receiver.render(p, light, units.body_of(decoded[index]))
-            layers = drawn.get("layers", [])
-            torso = layers[0] > 0 if len(layers) == 2 else np.zeros((height, width), bool)
+            torso = drawn["torso"] > 0
             person, known = drawn["person"], receiver.plate.known
             kinds = np.select([person, torso, known], [3, 2, 0], 1)
             target = head_ring_points(receiver.scene, receiver.scene.points(p))
