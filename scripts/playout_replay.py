@@ -43,6 +43,8 @@ def replay(frames: pd.DataFrame, playout: AdaptivePlayout, fps: float) -> dict[s
     arrival_s = frames["arrival_ms"].to_numpy() / 1000.0
     decoded = frames["decoded"].to_numpy().astype(bool)
     scheduled = frames["scheduled"].to_numpy().astype(bool)
+    # the receiver's technology at an instant: the one logged at the last capture by then
+    technology = frames["technology"].fillna("").astype(str).to_numpy()
     order = [int(i) for i in np.argsort(arrival_s, kind="stable") if decoded[i]]
     count = len(frames)
     display_ms, shown, frozen = np.zeros(count), np.full(count, -1), np.zeros(count, dtype=int)
@@ -59,7 +61,8 @@ def replay(frames: pd.DataFrame, playout: AdaptivePlayout, fps: float) -> dict[s
 
     for index in range(count):
         decode_until(now_s)
-        now_s = max(now_s, index / fps + playout.delay_s(now_s))
+        at = technology[max(0, int(np.searchsorted(capture_s, now_s, side="right")) - 1)]
+        now_s = max(now_s, index / fps + playout.delay_s(now_s, at))
         decode_until(now_s)
         if scheduled[index]:
             last_scheduled = index
