@@ -129,6 +129,7 @@ def main() -> None:
         "residual": residual_variants,
         "preset": preset_variants,
         "codec": codec_variants,
+        "fresh": fresh_variants,
     }[args.set]()
     shown = [*specs, "quantised", "h264_lowest", "h264_second", "av1_lowest", "av1_second"]
     for clip in default_clips(args.frames, start=args.start):
