@@ -75,6 +75,27 @@ def test_odd_size_and_other_pixel_formats_are_cropped_and_converted(tmp_path, pi
     assert np.abs(frames[0][74:].astype(int) - 128).max() <= 2  # grey ramp: neutral chroma
 
 
+@pytest.mark.parametrize(
+    ("codec", "pix_fmt", "suffix"), [("mjpeg", "yuvj420p", ".avi"), ("libx264rgb", "bgr24", ".mp4")]
+)
+def test_full_range_and_rgb_pictures_come_out_in_limited_range(tmp_path, codec, pix_fmt, suffix):
+    # MJPEG's full-range yuvj420p and RGB clips were passed on with luma 0-255: the texture
+    # (BGR) and the clip's luma then disagreed by up to 20 levels, and every PSNR was off.
+    path = tmp_path / f"range{suffix}"
+    with av.open(str(path), "w") as container:
+        stream = container.add_stream(codec, rate=10)
+        stream.width, stream.height, stream.pix_fmt = 32, 16, pix_fmt
+        stream.options = {"qp": "0"} if codec == "libx264rgb" else {}
+        rgb = np.zeros((16, 32, 3), np.uint8)
+        rgb[:, 16:] = 255  # black | white
+        for packet in stream.encode(av.VideoFrame.from_ndarray(rgb, format="rgb24")):
+            container.mux(packet)
+        for packet in stream.encode():
+            container.mux(packet)
+    luma = next(VideoFileSource(path).frames())[:16].astype(int)
+    assert abs(luma[:, 2:6].mean() - 16) <= 2 and abs(luma[:, 26:30].mean() - 235) <= 2
+
+
 def test_missing_and_undecodable_files_name_the_file(tmp_path):
     with pytest.raises(VideoError, match=r"none\.mp4: no such video file"):
         VideoFileSource(tmp_path / "none.mp4")

@@ -121,9 +121,13 @@ class VideoFileSource:
 
 
 def _to_yuv420(frame, width: int, height: int, path: Path, index: int) -> np.ndarray:
-    """A decoded picture as a (height * 3 // 2, width) YUV 4:2:0 array, cropped to that size."""
-    if frame.format.name != "yuv420p":
-        frame = frame.reformat(format="yuv420p")
+    """A decoded picture as a (height * 3 // 2, width) YUV 4:2:0 array, cropped to that size,
+    in limited range (luma 16-235, as the codecs and `uma.face.colour` take it): full-range
+    pictures (MJPEG's yuvj420p, RGB, a clip flagged full range) are scaled to it."""
+    from av.video.reformatter import ColorRange
+
+    if frame.format.name != "yuv420p" or frame.color_range == ColorRange.JPEG:
+        frame = frame.reformat(format="yuv420p", dst_color_range=ColorRange.MPEG)
     if frame.width < width or frame.height < height:
         raise VideoError(
             f"{path}: frame {index} is {frame.width}x{frame.height}, smaller than the first "
