@@ -6,10 +6,11 @@ import pytest
 
 from uma.errors import FaceError
 from uma.face.clip import read_picture
+from uma.face.description_file import load_description
 from uma.face.load import load_model
 
 
-@pytest.mark.parametrize("reader", [read_picture, load_model])
+@pytest.mark.parametrize("reader", [read_picture, load_model, load_description])
 def test_a_fifo_is_refused_without_blocking(tmp_path, reader):
     path = tmp_path / "face.yaml"
     os.mkfifo(path)
@@ -17,7 +18,7 @@ def test_a_fifo_is_refused_without_blocking(tmp_path, reader):
         reader(path)
 
 
-@pytest.mark.parametrize("reader", [read_picture, load_model])
+@pytest.mark.parametrize("reader", [read_picture, load_model, load_description])
 def test_a_symlink_loop_is_one_line(tmp_path, reader):
     path = tmp_path / "face.png"
     path.symlink_to(path)
