@@ -1,3 +1,5 @@
+import os
+
 import av
 import numpy as np
 import pytest
@@ -132,6 +134,22 @@ def test_yuv_size_must_match(tmp_path):
         RawYuvSource(tmp_path / "y.yuv", 176, 144, 25)
     with pytest.raises(VideoError, match="even"):
         RawYuvSource(path, 175, 144, 25)
+
+
+def test_a_fifo_or_folder_is_refused_without_blocking_and_an_endless_rate_too(tmp_path):
+    fifo = tmp_path / "clip.yuv"
+    os.mkfifo(fifo)
+    with pytest.raises(VideoError, match=r"clip\.yuv: expected a video file .*got a FIFO"):
+        VideoFileSource(fifo)
+    with pytest.raises(VideoError, match=r"clip\.yuv: expected a YUV file .*got a FIFO"):
+        RawYuvSource(fifo, 16, 16, 25)
+    with pytest.raises(VideoError, match=r"expected a video file .*got a folder"):
+        VideoFileSource(tmp_path)
+    path = tmp_path / "x.yuv"
+    path.write_bytes(bytes(16 * 16 * 3 // 2))
+    for fps in (float("inf"), float("nan"), 0.0):  # --fps inf was an OverflowError traceback
+        with pytest.raises(VideoError, match=r"x\.yuv: expected a positive frame rate"):
+            RawYuvSource(path, 16, 16, fps)
 
 
 def test_pattern_source_is_deterministic_and_moves():

@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from uma.errors import VideoError
+from uma.paths import check_regular_file
 
 __all__ = ["VideoFileSource", "RawYuvSource", "PatternSource"]
 
@@ -44,8 +45,7 @@ class VideoFileSource:
             raise VideoError(
                 f"{self.path}: max_frames: expected a positive integer, got {max_frames}"
             )
-        if not self.path.is_file():
-            raise VideoError(f"{self.path}: no such video file")
+        check_regular_file(self.path, error=VideoError, what="video file")  # a FIFO, a folder
         try:
             with av.open(str(self.path)) as container:
                 if not container.streams.video:
@@ -156,16 +156,14 @@ class RawYuvSource:
             raise VideoError(
                 f"{self.path}: expected an even positive frame size, got {width}x{height}"
             )
-        if not self.path.is_file():
-            raise VideoError(f"{self.path}: no such YUV file")
+        size = check_regular_file(self.path, error=VideoError, what="YUV file")
         frame_bytes = width * height * 3 // 2
-        size = self.path.stat().st_size
         if size == 0 or size % frame_bytes:
             raise VideoError(
                 f"{self.path}: {size} bytes is not a whole number of {width}x{height} 4:2:0 "
                 f"frames ({frame_bytes} bytes each)"
             )
-        if not fps > 0:
+        if not 0 < fps < float("inf"):  # --fps inf was a traceback deep in the bench
             raise VideoError(f"{self.path}: expected a positive frame rate, got {fps}")
         self.width, self.height, self.fps = width, height, float(fps)
         self.clip_frames = size // frame_bytes
