@@ -123,3 +123,12 @@ def test_a_clip_without_a_face_is_one_line_and_exit_2(tmp_path, capsys, head_des
     head_description.save(face)
     assert main(["bench", "mbc", "--video", str(video), "--face", str(face), "--frames", "3"]) == 2
     assert "no face tracked" in _one_error_line(capsys)
+
+
+def test_a_clip_of_one_frame_is_one_line_and_exit_2(tmp_path, capsys, head_description):
+    video = tmp_path / "one.mp4"
+    _write_clip(video, [np.full((144, 176), 100, np.uint8)])
+    face = tmp_path / "head.face"
+    head_description.save(face)
+    assert main(["bench", "mbc", "--video", str(video), "--face", str(face)]) == 2
+    assert "one.mp4: holds 1 frame(s): expected at least 2" in _one_error_line(capsys)

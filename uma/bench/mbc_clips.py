@@ -15,6 +15,7 @@ import numpy as np
 __all__ = [
     "ClipSpec",
     "FOREMAN",
+    "check_clip",
     "default_clips",
     "file_clip",
     "foreman_clip",
@@ -75,6 +76,30 @@ class ClipSpec:
     description: Any  # ContentDescription
     truth: Callable[[int], np.ndarray] | None = None
     where: str = ""
+
+
+def check_clip(clip: ClipSpec, face: str | Path) -> None:
+    """Refuse, in one line, a clip the bench cannot score: fewer than 2 frames (frame 0 is the
+    reference, the others are scored: one frame gave every PSNR as 0.0), or a description
+    `face` whose texture lies past the clip's pictures (made from a larger clip: its face was
+    drawn off the picture). One pixel of slack: an odd-sized clip is cropped to even."""
+    from uma.errors import FaceError, VideoError
+
+    where = clip.where or clip.name
+    if len(clip.frames) < 2:
+        raise VideoError(
+            f"{where}: holds {len(clip.frames)} frame(s): expected at least 2 (the first is the "
+            "reference, the others are scored)"
+        )
+    height, width = clip.frames[0].shape[0] * 2 // 3, clip.frames[0].shape[1]
+    x0, y0 = (int(round(v)) for v in clip.description.origin_px)
+    right, bottom = x0 + clip.description.texture.shape[1], y0 + clip.description.texture.shape[0]
+    if right > width + 1 or bottom > height + 1:
+        raise FaceError(
+            f"{face}: its texture reaches to x {right}, y {bottom}, past {where}'s "
+            f"{width}x{height} pictures: expected a description made from a frame of this clip "
+            "(uma describe)"
+        )
 
 
 def talking_head_clip(frames: int, *, seed: int = 0, start: int = 0) -> ClipSpec:

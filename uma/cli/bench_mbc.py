@@ -54,6 +54,7 @@ def handle(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from uma.bench.mbc import default_clips, file_clip, format_table, run_model_bench
+    from uma.bench.mbc_clips import check_clip
     from uma.cli.cmd_bench import emit
     from uma.errors import ConfigError
 
@@ -76,6 +77,7 @@ def handle(args: argparse.Namespace) -> int:
             clips = [yuv_clip(video, args.size, args.fps, description, args.frames)]
         else:
             clips = [file_clip(video, description, args.frames)]
+        check_clip(clips[0], args.face)
     else:
         clips = default_clips(args.frames, seed=args.seed)
     quiet = args.quiet or args.json or not sys.stderr.isatty()

@@ -1,0 +1,38 @@
+"""`uma.bench.mbc_clips.check_clip`: what the bench cannot score is one line, before tracking."""
+
+import numpy as np
+import pytest
+
+from uma.bench.mbc_clips import ClipSpec, check_clip
+from uma.errors import FaceError, VideoError
+
+
+@pytest.fixture(scope="module")
+def description():
+    from uma.face.talking_head import astronaut_description
+
+    return astronaut_description(176, 144)  # its texture: the whole 176x144 picture
+
+
+def _clip(description, count, width=176, height=144):
+    frames = [np.full((height * 3 // 2, width), 128, np.uint8) for _ in range(count)]
+    return ClipSpec("clip", frames, 25.0, description, None, "clip.mp4")
+
+
+def test_a_clip_of_one_frame_is_refused(description):
+    # it was scored as PSNR 0.0 everywhere: frame 0 is the reference, no frame was scored
+    with pytest.raises(VideoError, match=r"clip\.mp4: holds 1 frame\(s\): expected at least 2"):
+        check_clip(_clip(description, 1), "a.face")
+    check_clip(_clip(description, 2), "a.face")
+
+
+def test_a_description_from_a_larger_clip_is_refused(description):
+    with pytest.raises(FaceError, match=r"a\.face: its texture reaches to x 176, y 144, past clip"):
+        check_clip(_clip(description, 2, 88, 72), "a.face")
+
+
+def test_an_odd_sized_clip_cropped_by_one_pixel_keeps_its_description(description):
+    from dataclasses import replace
+
+    odd = replace(description, texture=description.texture[:143])  # cut from a 176x143 frame
+    check_clip(_clip(odd, 2, 176, 142), "a.face")  # the clip's 143 rows are read as 142
