@@ -33,3 +33,19 @@ def test_raw_yuv_without_its_size_is_one_line(tmp_path, capsys):
     assert main(["describe", str(clip), "--size", "176x144", "--frame", "3", "--points",
                  str(points), "--out", str(tmp_path)]) == 2  # fmt: skip
     assert "past the clip's end (1 frames)" in capsys.readouterr().err
+
+
+def test_a_points_file_naming_a_raw_clip_is_read_with_size(shared_data, tmp_path, capsys):
+    import yaml
+
+    # was "neither an image OpenCV reads nor a video PyAV decodes": video: was read as a video
+    shipped = yaml.safe_load((codecs_dir() / "face" / "foreman.yaml").read_text())
+    own = {"video": str(shared_data.joinpath(*FOREMAN)), "frame": 0, "points": shipped["points"]}
+    points = tmp_path / "foreman.yaml"
+    points.write_text(yaml.safe_dump(own))
+    args = ["describe", "--points", str(points), "--size", "176x144", "--out", str(tmp_path)]
+    assert main(args) == 0
+    assert (tmp_path / "foreman_part_qcif.face").is_file()
+    capsys.readouterr()
+    assert main(args[:3] + args[5:]) == 2  # without --size: one line asking for it
+    assert "foreman_part_qcif.yuv: a raw YUV clip: expected --size" in capsys.readouterr().err

@@ -146,8 +146,11 @@ def _picture(args: argparse.Namespace, points_file):
     from uma.errors import FaceError
     from uma.face.clip import picture_of, read_picture
 
-    if args.image is not None and Path(args.image).suffix.lower() == ".yuv":
-        return Path(args.image), _yuv_picture(args, points_file)
+    # A raw clip the command line names, or the points file's video: (read as a video before:
+    # "neither an image OpenCV reads nor a video PyAV decodes").
+    raw = args.image if args.image is not None else points_file.video
+    if raw is not None and Path(raw).suffix.lower() == ".yuv":
+        return Path(raw), _yuv_picture(args, points_file, raw)
     if args.image is not None:
         image_path = Path(args.image)
         # The file's frame: is of its video:, or of the one the command line names (no video:).
@@ -191,21 +194,21 @@ def _clip_frames(args: argparse.Namespace, points_file, image_path) -> list:
     return pictures[frame:]
 
 
-def _yuv_picture(args: argparse.Namespace, points_file):
-    """Frame N (--frame, else the points file's, else 0) of a raw YUV 4:2:0 clip of --size,
-    as BGR; a missing size or a frame past the clip's end is a `FaceError` naming it."""
+def _yuv_picture(args: argparse.Namespace, points_file, path):
+    """Frame N (--frame, else the points file's, else 0) of raw YUV 4:2:0 clip `path` of
+    --size, as BGR; a missing size or a frame past the clip's end is a `FaceError` naming it."""
     import cv2
 
     from uma.errors import FaceError
     from uma.video.sources import RawYuvSource
 
     if args.size is None:
-        raise FaceError(f"{args.image}: a raw YUV clip: expected --size WxH (e.g. 176x144)")
+        raise FaceError(f"{path}: a raw YUV clip: expected --size WxH (e.g. 176x144)")
     frame = args.frame if args.frame is not None else (points_file.frame or 0)
-    for index, picture in enumerate(RawYuvSource(args.image, *args.size, 25.0).frames()):
+    for index, picture in enumerate(RawYuvSource(path, *args.size, 25.0).frames()):
         if index == frame:
             return cv2.cvtColor(picture, cv2.COLOR_YUV2BGR_I420)
-    raise FaceError(f"{args.image}: --frame {frame}: past the clip's end ({index + 1} frames)")
+    raise FaceError(f"{path}: --frame {frame}: past the clip's end ({index + 1} frames)")
 
 
 def _draw_fit(image, result, points, box, png_path):
