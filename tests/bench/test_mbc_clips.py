@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from uma.bench.mbc_clips import ClipSpec, check_clip
+from uma.bench.mbc_clips import ClipSpec, check_clip, check_first_frame
 from uma.errors import FaceError, VideoError
 
 
@@ -36,3 +36,17 @@ def test_an_odd_sized_clip_cropped_by_one_pixel_keeps_its_description(descriptio
 
     odd = replace(description, texture=description.texture[:143])  # cut from a 176x143 frame
     check_clip(_clip(odd, 2, 176, 142), "a.face")  # the clip's 143 rows are read as 142
+
+
+def test_a_clip_opening_without_the_face_is_refused(description):
+    import cv2
+
+    face = cv2.cvtColor(description.texture, cv2.COLOR_BGR2YUV_I420)
+    opens = ClipSpec("clip", [face, face], 25.0, description, None, "clip.mp4")
+    check_first_frame(opens)
+    # 10 black frames, then the face: the bench drew the face over grey and scored 49 dB
+    black = np.zeros_like(face)
+    black[face.shape[0] * 2 // 3 :] = 128
+    late = ClipSpec("clip", [black, face], 25.0, description, None, "clip.mp4")
+    with pytest.raises(VideoError, match=r"clip\.mp4: frame 0: no face tracked \(image is flat"):
+        check_first_frame(late)

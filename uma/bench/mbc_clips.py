@@ -16,6 +16,7 @@ __all__ = [
     "ClipSpec",
     "FOREMAN",
     "check_clip",
+    "check_first_frame",
     "default_clips",
     "file_clip",
     "foreman_clip",
@@ -99,6 +100,25 @@ def check_clip(clip: ClipSpec, face: str | Path) -> None:
             f"{face}: its texture reaches to x {right}, y {bottom}, past {where}'s "
             f"{width}x{height} pictures: expected a description made from a frame of this clip "
             "(uma describe)"
+        )
+
+
+def check_first_frame(clip: ClipSpec, *, seed: int = 0) -> None:
+    """Refuse, in one line, a clip whose frame 0 the tracker finds no face in: the bench
+    renders the scene from frame 0 at the pose tracked there; without one it drew the face
+    over grey, labelled the reference "picture", and scored frames with no face in them (10
+    black frames: face PSNR 49 dB)."""
+    from uma.errors import VideoError
+    from uma.mbc.encoder import FaceTracker
+
+    first = clip.frames[0]
+    result = FaceTracker(clip.description, rng=seed).track(first[: first.shape[0] * 2 // 3])
+    if not result:
+        why = result.reason.split("; ")[0].split(": ", 1)[-1]
+        raise VideoError(
+            f"{clip.where or clip.name}: frame 0: no face tracked ({why}):"
+            " expected a clip that opens on the face the description shows (the bench renders "
+            "the scene from its first frame): cut it to start where the face is"
         )
 
 

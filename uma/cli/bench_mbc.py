@@ -54,7 +54,7 @@ def handle(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from uma.bench.mbc import default_clips, file_clip, format_table, run_model_bench
-    from uma.bench.mbc_clips import check_clip
+    from uma.bench.mbc_clips import check_clip, check_first_frame
     from uma.cli.cmd_bench import emit
     from uma.errors import ConfigError
 
@@ -78,6 +78,7 @@ def handle(args: argparse.Namespace) -> int:
         else:
             clips = [file_clip(video, description, args.frames)]
         check_clip(clips[0], args.face)
+        check_first_frame(clips[0], seed=args.seed)
     else:
         clips = default_clips(args.frames, seed=args.seed)
     quiet = args.quiet or args.json or not sys.stderr.isatty()
