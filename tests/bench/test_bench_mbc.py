@@ -132,3 +132,20 @@ def test_a_clip_of_one_frame_is_one_line_and_exit_2(tmp_path, capsys, head_descr
     head_description.save(face)
     assert main(["bench", "mbc", "--video", str(video), "--face", str(face)]) == 2
     assert "one.mp4: holds 1 frame(s): expected at least 2" in _one_error_line(capsys)
+
+
+def test_an_opening_the_tracker_finds_no_face_in_is_drawn_from_the_description(head_description):
+    # frame 0 is a picture (not blank) with no face: the bench runs on from the description's
+    # own picture and says so, where it said "picture" before
+    import cv2
+
+    from uma.bench.mbc import run_clip
+    from uma.bench.mbc_clips import ClipSpec
+
+    face = cv2.cvtColor(head_description.texture, cv2.COLOR_BGR2YUV_I420)
+    noise = np.random.default_rng(0).integers(0, 256, face.shape, dtype=np.uint8)
+    # the tracker tries again 10 frames after a failed initialisation
+    clip = ClipSpec("late", [noise] + [face] * 11, 25.0, head_description, None, "late.mp4")
+    result = run_clip(clip, refresh={})
+    assert result["reference"] == "description" and result["frames"] == 12
+    assert 1 <= result["failures"] <= 10

@@ -235,7 +235,9 @@ def run_clip(
     scored = _score(clip, results, units, coded, (decoded, shares, map_changes),
                     (receiver, *renderers[1:], scorer), displays, refreshed, clock, keep_frame,
                     kept)  # fmt: skip
-    out = {"frames": len(lumas), "kept_frame": keep_frame, "reference": reference,
+    # Frame 0 untracked: every renderer drew from the description's own picture (`_renderer`).
+    drawn_from = reference if results[0] else "description"
+    out = {"frames": len(lumas), "kept_frame": keep_frame, "reference": drawn_from,
            "head_ring_outlines": ring, "fps": round(clip.fps, 3)}  # fmt: skip
     out.update(rates(lumas, coded.packets, stream_config, scored))
     out.update(tracking(results, clock, scored["mde"]))

@@ -103,23 +103,24 @@ def check_clip(clip: ClipSpec, face: str | Path) -> None:
         )
 
 
-def check_first_frame(clip: ClipSpec, *, seed: int = 0) -> None:
-    """Refuse, in one line, a clip whose frame 0 the tracker finds no face in: the bench
-    renders the scene from frame 0 at the pose tracked there; without one it drew the face
-    over grey, labelled the reference "picture", and scored frames with no face in them (10
-    black frames: face PSNR 49 dB)."""
+def check_first_frame(clip: ClipSpec) -> None:
+    """Refuse, in one line, a clip whose frame 0 holds nothing to fit (flat or saturated: a
+    black or blank opening): the bench renders the scene from frame 0 at the pose tracked there,
+    and on 10 black frames it drew the face over grey and scored frames with no face in them
+    (face PSNR 49 dB). A frame 0 that shows a picture but where the tracker finds no face runs
+    on, from the description's own picture (`uma.bench.mbc`'s `reference` says so)."""
     from uma.errors import VideoError
-    from uma.mbc.encoder import FaceTracker
+    from uma.fit.fit import check_image
 
     first = clip.frames[0]
-    result = FaceTracker(clip.description, rng=seed).track(first[: first.shape[0] * 2 // 3])
-    if not result:
-        why = result.reason.split("; ")[0].split(": ", 1)[-1]
-        raise VideoError(
-            f"{clip.where or clip.name}: frame 0: no face tracked ({why}):"
-            " expected a clip that opens on the face the description shows (the bench renders "
-            "the scene from its first frame): cut it to start where the face is"
-        )
+    failure = check_image(first[: first.shape[0] * 2 // 3])  # a Failure (false) or None
+    if failure is None:
+        return
+    raise VideoError(
+        f"{clip.where or clip.name}: frame 0: {failure.reason}: expected a clip that opens on the"
+        " face the description shows (the bench renders the scene from its first frame): cut it"
+        " to start where the face is"
+    )
 
 
 def talking_head_clip(frames: int, *, seed: int = 0, start: int = 0) -> ClipSpec:

@@ -78,7 +78,7 @@ def handle(args: argparse.Namespace) -> int:
         else:
             clips = [file_clip(video, description, args.frames)]
         check_clip(clips[0], args.face)
-        check_first_frame(clips[0], seed=args.seed)
+        check_first_frame(clips[0])
     else:
         clips = default_clips(args.frames, seed=args.seed)
     quiet = args.quiet or args.json or not sys.stderr.isatty()
