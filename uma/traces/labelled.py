@@ -111,6 +111,7 @@ def read_labelled_csv(source: str | os.PathLike | TraceText, *, duplicates: str 
         )
     text = source if isinstance(source, TraceText) else TraceText(source)
     groups = _groups(text)
+    text.check_seconds_apart([stamp for stamp, _, _ in groups], [n for _, _, n in groups])
     origin = groups[0][0]
     starts: list[float] = []
     rates: list[float] = []

@@ -15,7 +15,7 @@ from pathlib import Path
 from uma.errors import TraceError
 from uma.paths import read_capped
 
-__all__ = ["TraceText", "shown", "MAX_TRACE_BYTES"]
+__all__ = ["TraceText", "shown", "MAX_TRACE_BYTES", "MAX_MEDIAN_STEP_S"]
 
 # Plain decimal numbers only: float() would also take "1_000", "nan", "infinity" and spaces.
 _NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
@@ -27,6 +27,11 @@ def shown(text: str, limit: int = 60) -> str:
     """`text` quoted for a message, cut to `limit` characters."""
     return repr(text if len(text) <= limit else text[:limit] + "...")
 
+
+# Measured traces hold a sample every second or so (Pensieve's FCC copies every 5 s): rows a
+# median of more than this apart are times in ms read as s (1000 s a row: a 300 s ride read as
+# 83 hours, every rate held 1000 times too long), refused rather than stretched.
+MAX_MEDIAN_STEP_S = 100.0
 
 # A trace file, or what a gzip trace expands to, may hold at most this much text: a day of a
 # fast Mahimahi trace (one line per 1,500-byte packet) is a few hundred MiB, beyond what the
@@ -120,3 +125,19 @@ class TraceText:
                     f"expected a time after {times[i - 1]:g} {unit} (times must increase), "
                     f"got {times[i]:g} {unit}",
                 )
+
+    def check_seconds_apart(self, times: Sequence[float], numbers: Sequence[int]) -> None:
+        """A TraceError when rows are a median of more than MAX_MEDIAN_STEP_S apart (ms read
+        as s), naming the first row that far from the one before."""
+        if len(times) < 2:
+            return
+        steps = [b - a for a, b in zip(times, times[1:], strict=False)]
+        median = sorted(steps)[len(steps) // 2]
+        if median <= MAX_MEDIAN_STEP_S:
+            return
+        i = next(k for k, step in enumerate(steps) if step >= median) + 1
+        raise self.error(
+            numbers[i],
+            f"expected times in s, rows seconds apart; got rows a median {median:g} s apart "
+            f"({times[i - 1]:.15g} then {times[i]:.15g}): are the times in ms?",
+        )

@@ -58,6 +58,7 @@ def _intervals_ending_at(
 ) -> Trace:
     """Sample i describes the interval (stamps[i-1], stamps[i]]; the first one lasts `first_width_s`."""
     text.check_increasing(stamps_s, numbers, "s")
+    text.check_seconds_apart(stamps_s, numbers)
     stamps = np.asarray(stamps_s, dtype=np.float64)
     origin = stamps[0] - first_width_s
     starts = np.concatenate(([0.0], stamps[:-1] - origin))
