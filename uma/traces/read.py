@@ -24,6 +24,7 @@ import os
 from collections.abc import Callable
 
 from uma.errors import TraceError
+from uma.traces.header import HEADER_COLUMNS, check_header, column_unit, is_header
 from uma.traces.labelled import read_labelled_csv
 from uma.traces.parsing import TraceText, shown
 from uma.traces.readers import (
@@ -80,19 +81,29 @@ def _shape(line: str) -> str | None:
     return None
 
 
-def _sniff(text: TraceText) -> str:
+def _sniff(text: TraceText) -> tuple[str, str | None]:
+    """(format, the header line over rows of a header-less format, or None)."""
     first_number, first = text.lines[0]
     columns = [name.strip() for name in first.split(",")]
-    if columns[0] == "time_s":  # uma's header, maybe misspelt: its reader says how
-        return "uma-csv"
+    # uma's header, maybe misspelt (its reader says how), unless it names another rate unit
+    if columns[0] == "time_s" and column_unit(columns[-1]) in (None, "kbit/s", "s"):
+        return "uma-csv", None
     if "NetworkMode" in columns and "DL_bitrate" in columns:
-        return "labelled-csv"
+        return "labelled-csv", None
     shapes = {_shape(line) for _, line in text.lines[:5]}
     if len(shapes) == 1 and None not in shapes:
-        return shapes.pop()
+        return shapes.pop(), None
+    below = {_shape(line) for _, line in text.lines[1:6]}
+    if is_header(first) and len(below) == 1 and None not in below:
+        shape = below.pop()
+        if shape in ("pensieve", "bytes-per-sec"):  # the header's unit picks, not the commas
+            names = first.split("," if "," in first else None)
+            unit = column_unit(names[-1]) if len(names) == 2 else None
+            shape = {"Mbit/s": "pensieve", "bytes/s": "bytes-per-sec"}.get(unit or "", shape)
+        return shape, first
     hint = _NAME_HINTS.get(text.path.suffix.lower())
     if hint is not None:
-        return hint
+        return hint, None
     raise TraceError(
         f"line {first_number} of {text.name}: cannot tell the trace format from "
         f"{shown(first)}; expected one of the formats {', '.join(FORMATS)} "
@@ -102,7 +113,7 @@ def _sniff(text: TraceText) -> str:
 
 def sniff_format(path: str | os.PathLike) -> str:
     """The name of the format `path` is written in (a key of `FORMATS`), or a TraceError."""
-    return _sniff(TraceText(path, comments=True))
+    return _sniff(TraceText(path, comments=True))[0]
 
 
 def read_trace(path: str | os.PathLike, *, format: str = "auto", **options: object) -> Trace:
@@ -115,8 +126,9 @@ def read_trace(path: str | os.PathLike, *, format: str = "auto", **options: obje
             f"{path}: unknown trace format {format!r}; expected auto or one of {', '.join(FORMATS)}"
         )
     text = TraceText(path, comments=True)
-    if format == "auto":
-        format = _sniff(text)
+    sniffed = format == "auto"
+    if sniffed:
+        format, _ = _sniff(text)
     unknown = set(options) - _OPTIONS.get(format, set())
     if unknown:
         allowed = ", ".join(sorted(_OPTIONS.get(format, ()))) or "none"
@@ -127,4 +139,61 @@ def read_trace(path: str | os.PathLike, *, format: str = "auto", **options: obje
     if format != "uma-csv":
         # Only uma's own format has comments: elsewhere a '#' line is a malformed line.
         text = TraceText(path) if text.comments else text
+    header = _strip_header(text, format)
+    if sniffed and header is None:
+        _check_plausible(text, format)
     return FORMATS[format](text, **options)
+
+
+def _strip_header(text: TraceText, format: str) -> str | None:
+    """Take a header row off a format that has none (checked against it), and return it."""
+    number, first = text.lines[0]
+    if format not in HEADER_COLUMNS or len(text.lines) < 2 or not is_header(first):
+        return None
+    check_header(text, number, first, format, HEADER_COLUMNS[format])
+    text.lines = text.lines[1:]
+    return first
+
+
+# Sniffed by their separator alone, a `time_s,Mbit/s` file would be read as bytes per second
+# (125,000 times too slow) and `sec<TAB>bytes_per_sec` as Mbit/s: rates no link has are refused.
+# The fastest second under 1,000 bytes (8 kbit/s) is Mbit/s written with commas; over 10 Gbit/s,
+# bytes per second written with a tab. A dead link (every row 0) is read as it is.
+_MAX_PENSIEVE_MBPS = 1e4
+
+
+def _fastest_row(text: TraceText) -> tuple[float, int, str]:
+    """(the largest second column, its line number, the line) of a two-column file; a row
+    that does not read is left to the reader, which names it."""
+    top, where = -1.0, text.lines[0]
+    for n, line in text.lines:
+        fields = line.split("," if "," in line else None)
+        try:
+            value = float(fields[1]) if len(fields) == 2 else -1.0
+        except ValueError:
+            continue
+        if value > top:  # NaN never is
+            top, where = value, (n, line)
+    return top, where[0], where[1]
+
+
+def _check_plausible(text: TraceText, format: str) -> None:
+    """A TraceError naming the fastest row when a two-column trace's rates say its unit is
+    not the one its separator chose."""
+    if format not in ("bytes-per-sec", "pensieve"):
+        return
+    top, number, line = _fastest_row(text)
+    if format == "bytes-per-sec" and 0 < top < 1000:
+        raise text.error(
+            number,
+            f"expected sec,bytes_per_sec (commas), whose fastest row should carry 1,000 bytes "
+            f"or more (8 kbit/s); got at most {top:g} bytes in a second ({shown(line)}); if the "
+            f"rates are Mbit/s, name the unit in a header row: time_s,Mbit/s",
+        )
+    if format == "pensieve" and top > _MAX_PENSIEVE_MBPS:
+        raise text.error(
+            number,
+            f"expected time_s<TAB>Mbit/s (blanks), at most 10 Gbit/s; got {top:g} Mbit/s "
+            f"({shown(line)}); if the rates are bytes per second, name the unit in a "
+            f"header row: sec<TAB>bytes_per_sec",
+        )

@@ -124,7 +124,10 @@ def read_pensieve(source: Source) -> Trace:
     text = _text(source)
     stamps, rates, numbers = [], [], []
     for n, line in text.lines:
-        time_field, rate_field = text.fields(n, line, separator=None, layout="time_s<TAB>Mbit/s")
+        separator = "," if "," in line else None  # `time_s,Mbit/s` under a header saying so
+        time_field, rate_field = text.fields(
+            n, line, separator=separator, layout="time_s<TAB>Mbit/s"
+        )
         stamps.append(text.number(n, time_field, "time in s"))
         rates.append(1000.0 * text.number(n, rate_field, "rate in Mbit/s"))
         numbers.append(n)
@@ -179,7 +182,8 @@ def read_bytes_per_sec(source: Source) -> Trace:
     text = _text(source)
     stamps, rates, numbers = [], [], []
     for n, line in text.lines:
-        sec, per_sec = text.fields(n, line, separator=",", layout="sec,bytes_per_sec")
+        separator = "," if "," in line else None  # `sec<TAB>bytes_per_sec` under a header
+        sec, per_sec = text.fields(n, line, separator=separator, layout="sec,bytes_per_sec")
         stamps.append(text.number(n, sec, "time in s"))
         rates.append(text.number(n, per_sec, "bytes per second") * 8.0 / 1000.0)
         numbers.append(n)
