@@ -15,7 +15,12 @@ Units: the `Trace` returned is in seconds and kbit/s whatever the file's units.
 
 `format="auto"` looks at the first data lines (all of the first five must agree), and falls back
 on the file name (`*.down`, `*.up`: Mahimahi) so a broken Mahimahi file gets the Mahimahi
-reader's exact complaint.
+reader's exact complaint. A header row over a format that has none (`time_s,Mbit/s`,
+`sec<TAB>bytes_per_sec`) is skipped when the units its column names say are the format's, and
+refused at line 1 when not (`uma.traces.header`); it also tells a two-column file's unit
+(Mbit/s or bytes/s) where the numbers alone cannot. Without a header, a two-column file whose
+rates do not fit its format's unit is refused naming its fastest row, and rows a median of more
+than 100 s apart are refused as times in ms (`TraceText.check_seconds_apart`).
 """
 
 from __future__ import annotations
@@ -107,7 +112,7 @@ def _sniff(text: TraceText) -> tuple[str, str | None]:
     raise TraceError(
         f"line {first_number} of {text.name}: cannot tell the trace format from "
         f"{shown(first)}; expected one of the formats {', '.join(FORMATS)} "
-        f"(or give format=)"
+        f"(a scenario's route segment may name it: format: NAME)"
     )
 
 
