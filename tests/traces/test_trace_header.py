@@ -6,7 +6,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 # pytest (prepend import mode) puts this folder on sys.path, so the sibling module imports.
-from test_trace_bad_inputs import VALID
+from test_trace_bad_inputs import VALID, write
 
 from uma.errors import TraceError
 from uma.traces import read_trace
@@ -20,12 +20,6 @@ HEADERS = {
     "nyu-mets": "value,unit",
     "nyu-mets-multivariate": "throughput,neighbors,echng,rsrp,rsrq,ta,speed,band",
 }
-
-
-def write(tmp_path, text, name="trace.txt"):
-    path = tmp_path / name
-    path.write_text(text, encoding="utf-8")
-    return path
 
 
 @pytest.mark.parametrize("fmt", sorted(HEADERS))
