@@ -5,6 +5,7 @@ import math
 import re
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
@@ -13,6 +14,7 @@ from test_trace_bad_inputs import VALID
 
 from uma.errors import TraceError
 from uma.traces import LABELS, Trace, read_trace, write_uma_csv
+from uma.traces.parsing import TraceText
 
 rates = st.floats(min_value=0, max_value=1e9, allow_nan=False, allow_infinity=False)
 widths = st.floats(min_value=1e-6, max_value=1e5, allow_nan=False)
@@ -105,3 +107,22 @@ def test_any_text_is_a_trace_or_a_trace_error(tmp_path, text):
             assert str(path) in str(err) or "any.down" in str(err)
         else:
             assert np.all(np.isfinite(trace.rates_kbps)) and trace.rates_kbps.min() >= 0
+
+
+@given(text=st.text(max_size=120), comments=st.booleans())
+@example(text="\ufeff\n# c\n\x0c1\r\n2 \n\n3\n4\n5\n6\n7\n", comments=True)
+@settings(
+    max_examples=300, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+def test_the_head_is_the_first_lines(tmp_path, text, comments):
+    # a format is sniffed from the first lines, read one at a time: they are the full read's
+    path = tmp_path / "any.txt"
+    path.write_bytes(text.encode("utf-8", "surrogatepass"))
+    try:
+        every = TraceText(path, comments=comments)
+    except TraceError as err:
+        with pytest.raises(TraceError) as head_err:
+            TraceText(path, comments=comments, limit=6)
+        assert str(head_err.value) == str(err)
+        return
+    assert TraceText(path, comments=comments, limit=6).lines == every.lines[:6]

@@ -2,25 +2,30 @@
 
 No units of its own: the readers say what each number means. Every problem with a file's text
 becomes a `TraceError` worded `line 12 of foo.csv: expected ..., got ...`; nothing else escapes.
+
+A file is read once (`TraceFile`), and its format is sniffed from its first lines: only the
+reader splits the whole text into lines (`TraceText`).
 """
 
 from __future__ import annotations
 
+import codecs
 import math
 import os
 import re
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 from uma.errors import TraceError
 from uma.paths import read_capped
 
-__all__ = ["TraceText", "shown", "MAX_TRACE_BYTES", "MAX_MEDIAN_STEP_S"]
+__all__ = ["TraceFile", "TraceText", "shown", "MAX_TRACE_BYTES", "MAX_MEDIAN_STEP_S"]
 
 # Plain decimal numbers only: float() would also take "1_000", "nan", "infinity" and spaces.
 _NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
 _INTEGER = re.compile(r"\+?\d+")
 _NOT_FINITE = re.compile(r"[+-]?(?:nan|inf|infinity)", re.IGNORECASE)
+_BOM = codecs.BOM_UTF8
 
 
 def shown(text: str, limit: int = 60) -> str:
@@ -35,35 +40,82 @@ MAX_MEDIAN_STEP_S = 100.0
 
 # A trace file, or what a gzip trace expands to, may hold at most this much text: a day of a
 # fast Mahimahi trace (one line per 1,500-byte packet) is a few hundred MiB, beyond what the
-# reader's lists hold comfortably; anything near it is a mistake (/dev/zero, a video).
+# other readers' lists of lines hold comfortably (a 51 MB Mahimahi file read line by line took
+# 1.3 GB); anything near it is a mistake (/dev/zero, a video).
 MAX_TRACE_BYTES = 64 * 2**20
 
 
-class TraceText:
-    """A trace file's numbered lines: blank lines skipped, `#` comments kept apart if allowed."""
+class TraceFile:
+    """A trace file's bytes, read once and checked as UTF-8 text; split into lines only when a
+    reader asks (`TraceText`), so a format is sniffed from a large file's first lines."""
 
-    def __init__(self, path: str | os.PathLike, *, comments: bool = False) -> None:
+    def __init__(self, path: str | os.PathLike) -> None:
         self.path = Path(path)
         self.name = str(path)
         # gzip: traces are often shipped compressed
-        data = read_capped(
+        self.data = read_capped(
             path, max_bytes=MAX_TRACE_BYTES, error=TraceError, what="trace file", gunzip=True
         )
-        try:
-            if b"\0" in data:
-                raise UnicodeDecodeError("utf-8", data, data.index(b"\0"), 1, "NUL byte")
-            text = data.decode("utf-8-sig")
-        except UnicodeDecodeError as err:
-            line = data.count(b"\n", 0, err.start) + 1
-            raise TraceError(
-                f"line {line} of {self.name}: expected UTF-8 text, got binary data "
-                f"(byte {data[err.start : err.start + 1]!r})"
-            ) from None
+        _check_utf8(self.data, self.name)
+
+    def decoded(self) -> str:
+        """The whole text, without a leading byte-order mark."""
+        return self.data.decode("utf-8-sig")
+
+    def numbered_lines(self) -> Iterator[tuple[int, str]]:
+        """(number, text) of each line as `decoded().split("\n")` has them, one at a time."""
+        data = self.data
+        start, number = (len(_BOM) if data.startswith(_BOM) else 0), 0
+        while True:
+            end = data.find(b"\n", start)
+            number += 1
+            if end < 0:
+                yield number, data[start:].decode("utf-8")
+                return
+            yield number, data[start:end].decode("utf-8")
+            start = end + 1
+
+
+def _check_utf8(data: bytes, name: str) -> None:
+    """A TraceError naming the line of the first byte that is not UTF-8 text (or is NUL)."""
+    try:
+        if b"\0" in data:
+            raise UnicodeDecodeError("utf-8", data, data.index(b"\0"), 1, "NUL byte")
+        if not data.isascii():
+            data.decode("utf-8-sig")
+    except UnicodeDecodeError as err:
+        line = data.count(b"\n", 0, err.start) + 1
+        raise TraceError(
+            f"line {line} of {name}: expected UTF-8 text, got binary data "
+            f"(byte {data[err.start : err.start + 1]!r})"
+        ) from None
+
+
+class TraceText:
+    """A trace file's numbered lines: blank lines skipped, `#` comments kept apart if allowed.
+
+    `limit`: only the first that many data lines (what a format is sniffed from).
+    """
+
+    def __init__(
+        self,
+        path: str | os.PathLike | TraceFile,
+        *,
+        comments: bool = False,
+        limit: int | None = None,
+    ) -> None:
+        file = path if isinstance(path, TraceFile) else TraceFile(path)
+        self.path = file.path
+        self.name = file.name
         self.lines: list[tuple[int, str]] = []
         self.comments: list[tuple[int, str]] = []
         # split("\n"), not splitlines(): line numbers must match what an editor shows, and
         # splitlines() also breaks at form feeds, \x1c-\x1e, U+2028 and friends.
-        for number, raw in enumerate(text.split("\n"), 1):
+        if limit is None:
+            numbered: Iterator[tuple[int, str]] = enumerate(file.decoded().split("\n"), 1)
+        else:
+            numbered = file.numbered_lines()
+        for number, raw in numbered:
             line = raw.strip()
             if not line:
                 continue
@@ -71,8 +123,10 @@ class TraceText:
                 self.comments.append((number, line))
             else:
                 self.lines.append((number, line))
+                if len(self.lines) == limit:
+                    break
         if not self.lines:
-            what = "empty file" if not data.strip() else "no data lines"
+            what = "empty file" if not file.data.strip() else "no data lines"
             raise TraceError(f"{self.name}: no samples ({what})")
 
     def error(self, number: int, message: str) -> TraceError:

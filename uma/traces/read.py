@@ -31,7 +31,7 @@ from collections.abc import Callable
 from uma.errors import TraceError
 from uma.traces.header import HEADER_COLUMNS, check_header, column_unit, is_header
 from uma.traces.labelled import read_labelled_csv
-from uma.traces.parsing import TraceText, shown
+from uma.traces.parsing import TraceFile, TraceText, shown
 from uma.traces.readers import (
     read_bytes_per_sec,
     read_hsdpa_log,
@@ -57,6 +57,7 @@ FORMATS: dict[str, Callable[..., Trace]] = {
 }
 _OPTIONS = {"mahimahi": {"bin_ms"}, "labelled-csv": {"duplicates"}}
 _NAME_HINTS = {".down": "mahimahi", ".up": "mahimahi"}
+_HEAD = 6  # the data lines a format is sniffed from (`_sniff`)
 
 
 def _is_number(text: str) -> bool:
@@ -118,7 +119,7 @@ def _sniff(text: TraceText) -> tuple[str, str | None]:
 
 def sniff_format(path: str | os.PathLike) -> str:
     """The name of the format `path` is written in (a key of `FORMATS`), or a TraceError."""
-    return _sniff(TraceText(path, comments=True))[0]
+    return _sniff(TraceText(path, comments=True, limit=_HEAD))[0]
 
 
 def read_trace(path: str | os.PathLike, *, format: str = "auto", **options: object) -> Trace:
@@ -130,10 +131,11 @@ def read_trace(path: str | os.PathLike, *, format: str = "auto", **options: obje
         raise TraceError(
             f"{path}: unknown trace format {format!r}; expected auto or one of {', '.join(FORMATS)}"
         )
-    text = TraceText(path, comments=True)
+    file = TraceFile(path)
+    head = TraceText(file, comments=True, limit=_HEAD)
     sniffed = format == "auto"
     if sniffed:
-        format, _ = _sniff(text)
+        format, _ = _sniff(head)
     unknown = set(options) - _OPTIONS.get(format, set())
     if unknown:
         allowed = ", ".join(sorted(_OPTIONS.get(format, ()))) or "none"
@@ -141,9 +143,8 @@ def read_trace(path: str | os.PathLike, *, format: str = "auto", **options: obje
             f"{path}: format {format} takes no option {', '.join(sorted(unknown))} "
             f"(its options: {allowed})"
         )
-    if format != "uma-csv":
-        # Only uma's own format has comments: elsewhere a '#' line is a malformed line.
-        text = TraceText(path) if text.comments else text
+    # Only uma's own format has comments: elsewhere a '#' line is a malformed line.
+    text = TraceText(file, comments=format == "uma-csv")
     header = _strip_header(text, format)
     if sniffed and header is None:
         _check_plausible(text, format)

@@ -18,7 +18,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from uma.errors import TraceError
-from uma.traces.parsing import TraceText
+from uma.traces.parsing import TraceFile, TraceText
 from uma.traces.trace import MAX_STEPS, Trace
 
 __all__ = [
@@ -42,7 +42,7 @@ MAHIMAHI_PACKET_BITS = 1500 * 8
 # each step's rate meaningless (20 ms bins: a rate is 0 or a multiple of 600 kbit/s).
 DEFAULT_BIN_MS = 100.0
 
-Source = str | os.PathLike | TraceText
+Source = str | os.PathLike | TraceFile | TraceText
 
 
 def _text(source: Source) -> TraceText:
