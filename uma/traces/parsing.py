@@ -3,8 +3,10 @@
 No units of its own: the readers say what each number means. Every problem with a file's text
 becomes a `TraceError` worded `line 12 of foo.csv: expected ..., got ...`; nothing else escapes.
 
-A file is read once (`TraceFile`), and its format is sniffed from its first lines: only the
-reader splits the whole text into lines (`TraceText`).
+A file is read once (`TraceFile`); its format is sniffed from its first lines, and a file of one
+plain number a line (Mahimahi) is parsed in one pass (`TraceFile.whole_numbers`), in memory a
+few times its size instead of a list of lines some 25 times it; anything else in such a file
+goes line by line (`TraceText`), which names the line.
 """
 
 from __future__ import annotations
@@ -13,8 +15,11 @@ import codecs
 import math
 import os
 import re
+import sys
 from collections.abc import Iterator, Sequence
 from pathlib import Path
+
+import numpy as np
 
 from uma.errors import TraceError
 from uma.paths import read_capped
@@ -26,6 +31,9 @@ _NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
 _INTEGER = re.compile(r"\+?\d+")
 _NOT_FINITE = re.compile(r"[+-]?(?:nan|inf|infinity)", re.IGNORECASE)
 _BOM = codecs.BOM_UTF8
+_DIGITS = b"0123456789"
+_BLANKS = b"\t\x0b\x0c\r "  # what str.strip() takes off an ASCII line (and \x1c-\x1f)
+_SHARED_LINE = re.compile(rb"[0-9][\t\x0b\x0c\r ]+[0-9]")  # two numbers on one line
 
 
 def shown(text: str, limit: int = 60) -> str:
@@ -74,6 +82,32 @@ class TraceFile:
                 return
             yield number, data[start:end].decode("utf-8")
             start = end + 1
+
+    def whole_numbers(self) -> np.ndarray | None:
+        """Every line's number in one pass (int64, each exact as a float64), when each line
+        holds at most one number, in plain digits (a plain Mahimahi file); else None: a sign,
+        a `#`, a header or two numbers on a line are for the line-by-line reader to name."""
+        data = self.data
+        bom = len(_BOM) if data.startswith(_BOM) else 0
+        if len(data.translate(None, _DIGITS + b"\n" + _BLANKS)) != bom:
+            return None
+        blanks = len(data.translate(None, _DIGITS + b"\n")) - bom
+        if blanks and not _crlf_only(data, blanks) and _SHARED_LINE.search(data):
+            return None
+        # The line-by-line reader's int() refuses a number of more digits than this.
+        most = sys.get_int_max_str_digits()
+        if most and b"0" * (most - 16) in data:
+            return None
+        # sep=" ": any run of blanks and line breaks separates two numbers
+        numbers = np.fromstring(data[bom:] if bom else data, dtype=np.int64, sep=" ")
+        if not numbers.size or numbers.max() >= 2**53:  # int64 saturates; float64 rounds
+            return None
+        return numbers
+
+
+def _crlf_only(data: bytes, blanks: int) -> bool:
+    """Whether the `blanks` bytes of `data` that are neither digits nor \\n all end a line."""
+    return blanks == data.count(b"\r") == data.count(b"\r\n")
 
 
 def _check_utf8(data: bytes, name: str) -> None:

@@ -39,6 +39,7 @@ from uma.traces.readers import (
     read_nyu_mets,
     read_nyu_mets_multivariate,
     read_pensieve,
+    read_plain_mahimahi,
 )
 from uma.traces.trace import Trace
 from uma.traces.uma_csv import read_uma_csv
@@ -143,6 +144,11 @@ def read_trace(path: str | os.PathLike, *, format: str = "auto", **options: obje
             f"{path}: format {format} takes no option {', '.join(sorted(unknown))} "
             f"(its options: {allowed})"
         )
+    if format == "mahimahi":
+        # one pass over a plain file: its lines are never split into a list
+        trace = read_plain_mahimahi(file, **options)
+        if trace is not None:
+            return trace
     # Only uma's own format has comments: elsewhere a '#' line is a malformed line.
     text = TraceText(file, comments=format == "uma-csv")
     header = _strip_header(text, format)

@@ -23,6 +23,7 @@ from uma.traces.trace import MAX_STEPS, Trace
 
 __all__ = [
     "read_mahimahi",
+    "read_plain_mahimahi",
     "read_pensieve",
     "read_hsdpa_log",
     "read_bytes_per_sec",
@@ -76,9 +77,14 @@ def read_mahimahi(source: Source, *, bin_ms: float = DEFAULT_BIN_MS) -> Trace:
     and the last bin is cut at T (its rate is its count over its true width). So the trace's
     mean rate is exactly lines x 12,000 bit / T.
     """
-    if not (math.isfinite(bin_ms) and bin_ms > 0):
-        raise TraceError(f"mahimahi bin_ms: expected a duration > 0 ms, got {bin_ms!r}")
-    text = _text(source)
+    _check_bin_ms(bin_ms)
+    if not isinstance(source, TraceText):
+        file = source if isinstance(source, TraceFile) else TraceFile(source)
+        trace = read_plain_mahimahi(file, bin_ms=bin_ms)
+        if trace is not None:
+            return trace
+        source = TraceText(file)
+    text = source
     lines = [line for _, line in text.lines]
     if all(line.isascii() and line.isdigit() for line in lines):
         ms = np.array([int(line) for line in lines], dtype=np.float64)
@@ -105,12 +111,47 @@ def read_mahimahi(source: Source, *, bin_ms: float = DEFAULT_BIN_MS) -> Trace:
             f"expected a period of at most {MAX_STEPS:,} bins of {bin_ms:g} ms, got "
             f"{period_ms:.0f} ms ({bins:,} bins; give a larger bin_ms)",
         )
-    index = np.minimum((np.mod(ms, period_ms) // bin_ms).astype(np.int64), bins - 1)
-    counts = np.bincount(index, minlength=bins)
+    return _binned(ms, period_ms, bin_ms, bins, text.path.name)
+
+
+def read_plain_mahimahi(file: TraceFile, *, bin_ms: float = DEFAULT_BIN_MS) -> Trace | None:
+    """`read_mahimahi` of a plain file (digits, one stamp a line, in order), parsed in one pass
+    in memory a few times the file's size; None for any other, which the line-by-line reader
+    reads or refuses naming the line (a sign, a `#`, a header, a stamp that goes back, ...)."""
+    stamps = file.whole_numbers()
+    if stamps is None:
+        return None
+    _check_bin_ms(bin_ms)
+    if np.any(stamps[1:] < stamps[:-1]):
+        return None
+    period_ms = float(stamps[-1])
+    bins = math.ceil(period_ms / bin_ms)
+    if period_ms <= 0 or bins > MAX_STEPS:
+        return None
+    return _binned(stamps, period_ms, bin_ms, bins, file.path.name)
+
+
+def _check_bin_ms(bin_ms: float) -> None:
+    if not (math.isfinite(bin_ms) and bin_ms > 0):
+        raise TraceError(f"mahimahi bin_ms: expected a duration > 0 ms, got {bin_ms!r}")
+
+
+# Stamps binned at a time: each chunk's temporaries are 8 MB an array, whatever the file.
+_CHUNK = 2**20
+
+
+def _binned(ms: np.ndarray, period_ms: float, bin_ms: float, bins: int, name: str) -> Trace:
+    """The trace of the delivery times `ms` (in order, exact as float64) in `bins` bins."""
+    counts = np.zeros(bins, dtype=np.int64)
+    for start in range(0, ms.size, _CHUNK):
+        part = ms[start : start + _CHUNK].astype(np.float64)
+        index = np.minimum((np.mod(part, period_ms) // bin_ms).astype(np.int64), bins - 1)
+        counted = np.bincount(index)
+        counts[: counted.size] += counted
     starts_ms = np.arange(bins) * bin_ms
     widths_ms = np.minimum(bin_ms, period_ms - starts_ms)
     rates = counts * MAHIMAHI_PACKET_BITS / widths_ms  # bits per ms = kbit/s
-    return Trace(starts_ms / 1000.0, rates, ("",) * bins, period_ms / 1000.0, text.path.name)
+    return Trace(starts_ms / 1000.0, rates, ("",) * bins, period_ms / 1000.0, name)
 
 
 def read_pensieve(source: Source) -> Trace:
