@@ -94,7 +94,7 @@ class TraceFile:
         blanks = len(data.translate(None, _DIGITS + b"\n")) - bom
         if blanks and not _crlf_only(data, blanks) and _SHARED_LINE.search(data):
             return None
-        # The line-by-line reader's int() refuses a number of more digits than this.
+        # A number of more digits than int() takes: left to the line-by-line reader to read.
         most = sys.get_int_max_str_digits()
         if most and b"0" * (most - 16) in data:
             return None

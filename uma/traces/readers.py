@@ -85,10 +85,13 @@ def read_mahimahi(source: Source, *, bin_ms: float = DEFAULT_BIN_MS) -> Trace:
             return trace
         source = TraceText(file)
     text = source
-    lines = [line for _, line in text.lines]
-    if all(line.isascii() and line.isdigit() for line in lines):
-        ms = np.array([int(line) for line in lines], dtype=np.float64)
-    else:
+    ms = None
+    if all(line.isascii() and line.isdigit() for _, line in text.lines):
+        try:
+            ms = np.array([int(line) for _, line in text.lines], dtype=np.float64)
+        except (ValueError, OverflowError):  # past int()'s 4,300 digits, or float64's range
+            ms = None  # the reader below names the line (a ValueError traceback before)
+    if ms is None:
         ms = np.array(
             [text.number(n, line, "delivery time in ms", integer=True) for n, line in text.lines]
         )
