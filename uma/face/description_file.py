@@ -30,11 +30,7 @@ MEMBERS = ("meta", "vertices", "triangles", "action_units", "params", "shape", "
 def load_description(path: str | Path) -> ContentDescription:
     """Read a description written by `ContentDescription.save`; anything else (truncated,
     damaged, foreign, NaN) is a one-line `FaceError` naming the file and the field."""
-    from uma.paths import check_regular_file
-
     path = Path(path)
-    # A FIFO or device would block the read (`uma bench mbc --face FIFO` waited forever).
-    check_regular_file(path, error=FaceError, what="content description (.face)")
     arrays = read_npz(path, what=WHAT, names=MEMBERS)
     meta = _meta(arrays["meta"], f"{path}: meta")
     vertices, triangles, actions = _mesh(arrays, meta, path)

@@ -300,10 +300,11 @@ def _short(line: str, limit: int = 40) -> str:
 
 def read_fap(path: str | Path) -> FapSequence:
     """Read a `.fap` file (see the module docstring for the layout)."""
-    from uma.face.capped import read_capped
+    from uma.errors import FaceError
+    from uma.paths import read_capped
 
     path = Path(path)
-    data = read_capped(path, what=".fap file", limit=MAX_FAP_BYTES)
+    data = read_capped(path, max_bytes=MAX_FAP_BYTES, error=FaceError, what=".fap file")
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError:

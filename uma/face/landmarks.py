@@ -191,10 +191,10 @@ def _pts_point(take, where: str, k: int, count: int) -> list[float]:
 
 def read_pts(path: str | Path, *, one_based: bool = True) -> np.ndarray:
     """(N, 2) points of a `.pts` file, 0-based (see `parse_pts`)."""
-    from uma.face.capped import read_capped
+    from uma.paths import read_capped
 
     path = Path(path)
-    data = read_capped(path, what="landmark file", limit=MAX_LANDMARK_BYTES)
+    data = read_capped(path, max_bytes=MAX_LANDMARK_BYTES, error=FaceError, what="landmark file")
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError as err:
@@ -209,10 +209,10 @@ def read_dlib_xml(path: str | Path) -> list[LandmarkFace]:
     `<image file=...><box top= left= width= height=><part name="00" x= y=/>...`."""
     import xml.etree.ElementTree as ElementTree
 
-    from uma.face.capped import read_capped
+    from uma.paths import read_capped
 
     path = Path(path)
-    data = read_capped(path, what="landmark file", limit=MAX_LANDMARK_BYTES)
+    data = read_capped(path, max_bytes=MAX_LANDMARK_BYTES, error=FaceError, what="landmark file")
     try:
         root = ElementTree.fromstring(data)
     except ElementTree.ParseError as err:

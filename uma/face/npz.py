@@ -15,8 +15,8 @@ from pathlib import Path
 import numpy as np
 
 from uma.errors import FaceError
-from uma.face.capped import read_capped
 from uma.face.image_bytes import what_the_bytes_look_like
+from uma.paths import read_capped
 
 __all__ = ["write_npz", "read_npz", "MAX_ARCHIVE_BYTES"]
 
@@ -51,7 +51,7 @@ def read_npz(path: str | Path, *, what: str, names: tuple[str, ...]) -> dict[str
     import zlib
 
     path = Path(path)
-    data = read_capped(path, what=what, limit=MAX_ARCHIVE_BYTES)
+    data = read_capped(path, max_bytes=MAX_ARCHIVE_BYTES, error=FaceError, what=what)
     expected = f"expected {what} (a zip of .npy arrays)"
     if not data.startswith(b"PK\x03\x04"):
         raise FaceError(f"{path}: {expected}, got {what_the_bytes_look_like(data)}")

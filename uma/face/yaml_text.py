@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from uma.errors import FaceError
-from uma.face.capped import read_capped
+from uma.paths import read_capped
 
 __all__ = ["read_yaml", "yaml_error_text"]
 
@@ -25,7 +25,7 @@ def read_yaml(path: str | Path, *, what: str, loader: type | None = None) -> tup
     import yaml
 
     path = Path(path)
-    raw = read_capped(path, what=what, limit=MAX_YAML_BYTES)
+    raw = read_capped(path, max_bytes=MAX_YAML_BYTES, error=FaceError, what=what)
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as err:

@@ -15,7 +15,6 @@ import codecs
 import math
 import os
 import re
-import sys
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 
@@ -93,10 +92,6 @@ class TraceFile:
             return None
         blanks = len(data.translate(None, _DIGITS + b"\n")) - bom
         if blanks and not _crlf_only(data, blanks) and _SHARED_LINE.search(data):
-            return None
-        # A number of more digits than int() takes: left to the line-by-line reader to read.
-        most = sys.get_int_max_str_digits()
-        if most and b"0" * (most - 16) in data:
             return None
         # sep=" ": any run of blanks and line breaks separates two numbers
         numbers = np.fromstring(data[bom:] if bom else data, dtype=np.int64, sep=" ")
